@@ -1,0 +1,7 @@
+"""The shared disk of the 1985 rig: Data General REALs, the JHDATA file layouts,
+and RDOS file semantics (publish by rename, wait, take)."""
+
+from .dgreal import Real, fortran_f
+from .layouts import FormatError
+
+__all__ = ["Real", "fortran_f", "FormatError"]

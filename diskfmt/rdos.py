@@ -1,0 +1,215 @@
+"""The shared RDOS directory JHDATA: publishing, waiting and taking files.
+
+In 1985 NSTAR (NOVA) and ESTAR (Eclipse) shared one disk partition and spoke only
+through files in it.  RIG-NOTES §2 fixes the semantics kept here:
+
+* every result is written under a temporary name and renamed; RDOS RENAM refused
+  an existing target, so :meth:`JHData.publish` waits until the target name is
+  free and then publishes with a no-overwrite hard link — a reader never sees a
+  partial file and an unread file is never replaced;
+* waiting for a file uses ``watchdog`` file-system events with a poll fallback,
+  and every wait can time out with a message naming the file and the program
+  that should have written (or taken) it.
+"""
+
+from __future__ import annotations
+
+import errno
+import fcntl
+import os
+from pathlib import Path
+import threading
+import time
+
+try:                                     # watchdog is a core dependency; the poll
+    from watchdog.events import FileSystemEventHandler   # fallback keeps a broken
+    from watchdog.observers import Observer              # install usable.
+except ImportError:                      # pragma: no cover
+    Observer = None
+    FileSystemEventHandler = object
+
+__all__ = ["JHData", "LinkTimeout", "LockedError", "default_jhdata"]
+
+
+class LinkTimeout(TimeoutError):
+    """The other program did not write (or take) a file in time."""
+
+
+class LockedError(RuntimeError):
+    """Another copy of the program already works on this JHDATA directory."""
+
+
+def default_jhdata() -> Path:
+    """``$JHDATA`` when set, else ``./jhdata``."""
+    return Path(os.environ.get("JHDATA") or "jhdata")
+
+
+class _Wake(FileSystemEventHandler):
+    def __init__(self, owner: "JHData"):
+        super().__init__()
+        self.owner = owner
+
+    def on_any_event(self, event):       # noqa: D401 - watchdog callback
+        self.owner._poke()
+
+
+class JHData:
+    """One program's view of the JHDATA directory.
+
+    ``me`` and ``peer`` name the programs for messages ("no SLICE.DT from NSTAR
+    after 30 s — is nstar running on this jhdata directory?")."""
+
+    def __init__(self, directory, *, me: str, peer: str, timeout: float | None = 30.0,
+                 use_events: bool = True, poll: float = 0.002):
+        self.dir = Path(directory)
+        self.me, self.peer = me, peer
+        self.timeout = timeout
+        self.poll = poll
+        self._cond = threading.Condition()
+        self._generation = 0
+        self._observer = None
+        self._lock_fd = None
+        if not self.dir.is_dir():
+            raise FileNotFoundError(f"jhdata directory {self.dir} does not exist "
+                                    f"(create it, or give --jhdata DIR)")
+        if use_events and Observer is not None:
+            try:
+                obs = Observer()
+                obs.schedule(_Wake(self), str(self.dir), recursive=False)
+                obs.daemon = True
+                obs.start()
+                self._observer = obs
+                self.poll = max(poll, 0.05)  # events do the work; polling only backs up
+            except OSError:                   # inotify limits etc.: poll instead
+                self._observer = None
+
+    # --- housekeeping -------------------------------------------------------
+    def close(self) -> None:
+        if self._observer is not None:
+            self._observer.stop()
+            self._observer = None
+        if self._lock_fd is not None:
+            os.close(self._lock_fd)
+            self._lock_fd = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _poke(self) -> None:
+        with self._cond:
+            self._generation += 1
+            self._cond.notify_all()
+
+    def path(self, name: str) -> Path:
+        return self.dir / name
+
+    def exists(self, name: str) -> bool:
+        return os.path.exists(self.dir / name)
+
+    def lock(self, name: str) -> None:
+        """Hold an exclusive lock file for the life of this process (two ESTARs on
+        one directory would steal each other's answers)."""
+        fd = os.open(self.dir / name, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            os.close(fd)
+            if exc.errno in (errno.EAGAIN, errno.EACCES):
+                raise LockedError(f"another {self.me} is already running on "
+                                  f"{self.dir} (it holds {name}); stop it first") from None
+            raise
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()}\n".encode())
+        self._lock_fd = fd
+
+    # --- waiting ------------------------------------------------------------
+    def _wait(self, done, describe, timeout) -> None:
+        limit = self.timeout if timeout is None else timeout
+        deadline = None if not limit else time.monotonic() + limit
+        while True:
+            with self._cond:
+                gen = self._generation
+            if done():
+                return
+            if deadline is not None and time.monotonic() >= deadline:
+                raise LinkTimeout(describe(limit))
+            with self._cond:
+                if self._generation == gen:
+                    wait = self.poll
+                    if deadline is not None:
+                        wait = min(wait, max(0.0, deadline - time.monotonic()))
+                    self._cond.wait(wait)
+
+    def wait_for(self, name: str, timeout: float | None = None) -> None:
+        """NWAIT: wait until ``name`` exists."""
+        self._wait(lambda: self.exists(name),
+                   lambda t: (f"no {name} from {self.peer} after {t:g} s — is "
+                              f"{self.peer.lower()} running on this jhdata directory "
+                              f"({self.dir})?"), timeout)
+
+    def wait_gone(self, name: str, timeout: float | None = None) -> None:
+        """Wait until ``name`` has been taken by the other program."""
+        self._wait(lambda: not self.exists(name),
+                   lambda t: (f"{name} still waiting for {self.peer} after {t:g} s — "
+                              f"{self.peer.lower()} has not taken it; is it running on "
+                              f"this jhdata directory ({self.dir})?"), timeout)
+
+    # --- moving files ---------------------------------------------------------
+    def publish(self, temp_name: str, name: str, data: bytes,
+                timeout: float | None = None) -> None:
+        """Write ``data`` as ``temp_name``, then rename it to ``name`` — but never
+        over an unread ``name``: wait until it is gone, then link atomically."""
+        tmp = self.dir / temp_name
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+        target = self.dir / name
+        while True:
+            self.wait_gone(name, timeout)
+            try:
+                os.link(tmp, target)          # fails if the name reappeared: wait again
+                break
+            except FileExistsError:
+                continue
+        os.unlink(tmp)
+
+    def take(self, name: str) -> bytes:
+        """Read ``name`` and delete it (OPEN, READ, CLOSE, DELETE)."""
+        path = self.dir / name
+        data = path.read_bytes()
+        path.unlink()
+        return data
+
+    def read(self, name: str) -> bytes:
+        return (self.dir / name).read_bytes()
+
+    def delete(self, name: str) -> bool:
+        """RDOS DELETE: no error when the file is absent."""
+        try:
+            (self.dir / name).unlink()
+            return True
+        except FileNotFoundError:
+            return False
+
+    def rename(self, old: str, new: str) -> None:
+        os.replace(self.dir / old, self.dir / new)
+
+    def set_aside(self, name: str, why: str) -> Path | None:
+        """Move a stale ``name`` into ``STALE/`` instead of deleting it, so
+        nothing is lost; returns where it went."""
+        src = self.dir / name
+        if not src.exists():
+            return None
+        stale = self.dir / "STALE"
+        stale.mkdir(exist_ok=True)
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        n = 0
+        while True:
+            dest = stale / f"{name}.{stamp}.{n}"
+            if not dest.exists():
+                break
+            n += 1
+        os.replace(src, dest)
+        return dest
