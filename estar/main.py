@@ -1,0 +1,169 @@
+"""``estar`` — the Eclipse program: ESTAR.FR's dialogue (camera separation,
+virtual image distance, debug flags, then line after line), each line through
+LCLN, talking to ``nstar`` only through files in JHDATA.
+
+Every value the 1985 dialogue asks for can be given as a flag; what is not
+given is asked for exactly as in 1985.  With ``--line`` the lines are done in
+order and the program ends; a line outside 0..119 stops, as in 1985.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+from diskfmt.dgreal import Real
+from diskfmt.layouts import FormatError
+from diskfmt.listing import Console, Listing
+from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
+from .link import ESTAR_STALE, FileLink
+from .masl import Options
+from .program import Eclipse
+
+BANNER = ["", "ROBOT VISION SYSTEM", "", " By James R. Holten III", ""]
+DEBUG_MENU = ["", "The debugger options are:",
+              " 1---Print feature lists.",
+              " 2--Print blob characterizations.",
+              " 4---Print match lists.",
+              " 8---Print position lists.",
+              " 16--Print bit maps.",
+              " 32--Print compared bit maps.",
+              "",
+              " Add together the options desired.",
+              ""]
+LOCK_NAME = "ESTAR.LCK"
+
+
+def parse_real(text: str, what: str) -> Real:
+    try:
+        value = Fraction(text.strip())
+    except (ValueError, ZeroDivisionError):
+        raise ValueError(f"{what} '{text}' is not a number") from None
+    if value <= 0:
+        raise ValueError(f"{what} must be positive, got {text}")
+    return Real.from_fraction(value)
+
+
+def _ask(console: Console, prompt: str, convert):
+    """ACCEPT with a second chance on a bad answer; EOF ends the program."""
+    while True:
+        answer = console.prompt(prompt)
+        if answer is None:
+            raise EOFError
+        try:
+            return convert(answer)
+        except ValueError as exc:
+            console.type(f" {exc}; answer again.")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="estar",
+        description="ESTAR, the Eclipse half of the 1985 stereo vision system: for each "
+                    "epipolar line asks NSTAR for the two slices and edge bit maps, matches "
+                    "the edges, locates them in 3-D with error bounds and writes POSIT.DT. "
+                    "Values not given as flags are asked for as in 1985.")
+    p.add_argument("--jhdata", type=Path, default=None,
+                   help="shared directory (default: $JHDATA, else ./jhdata)")
+    p.add_argument("--separation", metavar="DS", help="camera separation (any unit; "
+                                                      "results come in the same unit)")
+    p.add_argument("--virtual-distance", metavar="DV",
+                   help="virtual image distance in pixels (about 180 for 128-px pictures)")
+    p.add_argument("--debug", type=int, default=None, metavar="N",
+                   help="1 feature lists, 2 blob maps, 4 match lists, 8 positions, "
+                        "16 bit maps, 32 compared bit maps (-1 all; 13 is the usual)")
+    p.add_argument("--line", type=int, nargs="+", metavar="Y",
+                   help="process these lines (0..119) in order, then exit")
+    p.add_argument("--listing", type=Path, help="debug listing file (FORTRAN unit 12; "
+                                                "default standard output)")
+    p.add_argument("--terminate", action="store_true",
+                   help="send code -1 to NSTAR before exiting (NSTAR writes TERM.DT, stops)")
+    p.add_argument("--timeout", type=float, default=30.0, metavar="SECONDS",
+                   help="how long to wait for NSTAR's answer (default 30)")
+    p.add_argument("--quiet", action="store_true", help="no console messages")
+    p.add_argument("--verbose", action="store_true",
+                   help="also the per-comparison messages of MASL")
+    p.add_argument("--marf-sign-fix", action="store_true",
+                   help="FIX (not 1985): store MARF's refined right-image location with "
+                        "the sign the geometry implies")
+    return p
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    console = Console(quiet=args.quiet, verbose=args.verbose)
+    listing_stream = None
+    jh = None
+    try:
+        for line in BANNER:
+            console.type(line)
+        if args.separation is not None:
+            dsep = parse_real(args.separation, "--separation")
+        else:
+            dsep = _ask(console, " Camera seperation = ",
+                        lambda t: parse_real(t, "camera separation"))
+        if args.virtual_distance is not None:
+            dvirt = parse_real(args.virtual_distance, "--virtual-distance")
+        else:
+            dvirt = _ask(console, " Virtual image distance = ",
+                         lambda t: parse_real(t, "virtual image distance"))
+        for line in DEBUG_MENU:
+            console.type(line)
+        debug = args.debug
+        if debug is None:
+            debug = _ask(console, " Desired debug flags (0 for none) = ", int)
+        if args.listing:
+            listing_stream = open(args.listing, "a", encoding="ascii")
+        jh = JHData(args.jhdata or default_jhdata(), me="ESTAR", peer="NSTAR",
+                    timeout=args.timeout)
+        jh.lock(LOCK_NAME)
+        for name in ESTAR_STALE:
+            where = jh.set_aside(name, "stale")
+            if where:
+                console.type(f" Found {name} from an earlier run; moved it to {where}")
+
+        def publish_posit(data: bytes) -> None:
+            tmp = jh.path("EDAT.DT")
+            tmp.write_bytes(data)
+            jh.rename("EDAT.DT", "POSIT.DT")      # DELETE + RENAM, done atomically
+
+        eclipse = Eclipse(FileLink(jh), dsep, dvirt, debug & 0xFFFF, Listing(listing_stream),
+                          console, Options(marf_sign_fix=args.marf_sign_fix),
+                          publish=publish_posit)
+        lines = list(args.line) if args.line is not None else None
+        while True:
+            console.type("")
+            if lines is not None:
+                if not lines:
+                    break
+                iyloc = lines.pop(0)
+            else:
+                iyloc = _ask(console, " Which horizontal line? (0 to 119) IY=", int)
+            if iyloc < 0 or 119 < iyloc:
+                break
+            eclipse.lcln(iyloc)
+        if args.terminate:
+            eclipse.terminate()
+        return 0
+    except EOFError:
+        return 0
+    except ValueError as exc:                 # a bad flag value (FormatError is one too)
+        print(f"estar: {exc}", file=sys.stderr)
+        return 1
+    except (FileNotFoundError, LinkTimeout, LockedError) as exc:
+        print(f"estar: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("estar: interrupted", file=sys.stderr)
+        return 130
+    finally:
+        if listing_stream:
+            listing_stream.close()
+        if jh is not None:
+            jh.close()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

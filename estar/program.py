@@ -1,0 +1,147 @@
+"""ESTAR.FR — the Eclipse half: LCLN (one epipolar line), CFEAT (get the two
+slices), PNPL (write POSIT.DT), around MASL and LCSL.
+
+:class:`Eclipse` holds ESTAR's COMMON blocks: /CALIB/ DSEP, DVIRT; /POSIT/ NP,
+POS(640) (never cleared between lines, RIG-NOTES §4); /MATCH/; /BLOBS/ (reset
+at the start of every line).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from diskfmt.dgreal import Real, ZERO
+from diskfmt.layouts import Command, Positions, encode_posit, CODE_SLICE, CODE_TERMINATE
+from diskfmt.listing import Console, Listing, fi
+from nstar.printouts import prqvfl, prbm
+from .lcsl import lcsl
+from .masl import MatchTables, masl, Options as MaslOptions
+from .printouts import pmal, prfpos
+
+
+@dataclass
+class LineResult:
+    """What one LCLN produced, for pictures and scans (not part of 1985's output)."""
+    iyloc: int
+    features1: list[tuple[int, int, int, int]]
+    features2: list[tuple[int, int, int, int]]
+    matches: dict[int, list[tuple[int, int, int, int]]]
+    positions: dict[int, tuple[float, ...] | None]
+    posit: bytes
+    requests: int = 0
+
+
+class Eclipse:
+    """ESTAR's state and its per-line routine."""
+
+    def __init__(self, link, dsep: Real, dvirt: Real, debug: int = 0,
+                 listing: Listing | None = None, console: Console | None = None,
+                 options: MaslOptions | None = None, publish=None):
+        self.link = link
+        self.dsep, self.dvirt = dsep, dvirt
+        self.debug = debug
+        self.listing = listing or Listing()
+        self.console = console or Console(quiet=True)
+        self.options = options or MaslOptions()
+        self.np_ = 0
+        self.pos: list[Real] = [ZERO] * 640
+        self.tables = MatchTables()
+        self.publish = publish            # PNPL's writer; None keeps POSIT.DT in memory
+        self.requests = 0
+
+    def cfeat(self, iyloc: int):
+        """CFEAT — ask NSTAR for the left then the right slice of line IYLOC and
+        read them back (the first is renamed to SL.DT so the second can come)."""
+        say = self.console.type
+        self.link.discard_stale("SLICE.DT", say)
+        cmd = Command(CODE_SLICE, 1, 0, iyloc, 128, 0)
+        self.link.cnova(cmd)
+        self.link.cnova(Command(CODE_SLICE, 2, 0, iyloc, 128, 0))
+        sl1 = self.link.read_slice(1, iyloc, say)
+        sl2 = self.link.read_slice(2, iyloc, say)
+        return sl1, sl2
+
+    def lcln(self, iyloc: int) -> LineResult:
+        """LCLN — features, matches, 3-D locations and POSIT.DT for one line."""
+        say = self.console.type
+        for name in ("SLICE.FR", "WBMAP.DT", "BLOCK.DT"):   # "SLICE.FR": kept, QUIRKS E2
+            self.link.discard_stale(name, say)
+        say("Getting slices from IY = ", iyloc)
+        sl1, sl2 = self.cfeat(iyloc)
+        nfeat1, nfeat2 = sl1.nfeat, sl2.nfeat
+        ifeat1 = _columns(sl1)
+        ifeat2 = _columns(sl2)
+        f1, f2 = sl1.features(), sl2.features()
+        if self.debug & 1:
+            self.listing.records(prqvfl(nfeat1, f1))
+            self.listing.records(prqvfl(nfeat2, f2))
+        iblb1 = [[0] * 17 for _ in range(100)]             # flag word 1 = 0: no map yet
+        iblb2 = [[0] * 17 for _ in range(100)]
+        say("Matching feature lists. N1 = ", nfeat1, " N2 =", nfeat2)
+        counting = _CountingLink(self.link, self.debug, self.listing)
+        masl(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, self.tables, counting,
+             self.debug, self.listing, self.console if self.console.verbose else None,
+             self.options)
+        if self.debug & 2:
+            self._print_maps(nfeat1, iblb1, nfeat2, iblb2)
+        if self.debug & 4:
+            self.listing.records(pmal(nfeat1, self.tables))
+        say(" Computing locations.")
+        lcsl(iyloc, nfeat1, self.tables, self.pos, self.dsep, self.dvirt)
+        self.np_ = nfeat1
+        if self.debug & 8:
+            self.listing.records(prfpos(self.np_, self.pos, self.dsep, self.dvirt))
+        say(" Storing positions.")
+        posit = self.pnpl()
+        self.requests += counting.count
+        return LineResult(
+            iyloc, f1, f2,
+            {e: self.tables.entries(e) for k in range(1, nfeat1 + 1) for e in (k, k + 50)},
+            {e: (tuple(float(v) for v in self.pos[(e - 1) * 6:(e - 1) * 6 + 6])
+                 if self.pos[(e - 1) * 6] > 0 else None)
+             for k in range(1, nfeat1 + 1) for e in (k, k + 50)},
+            posit, counting.count)
+
+    def pnpl(self) -> bytes:
+        """PNPL — POSIT.DT: NP and COMMON /POSIT/ cut at 5 blocks, written as
+        EDAT.DT and renamed (atomically replacing the previous POSIT.DT)."""
+        data = encode_posit(Positions(self.np_, self.pos))
+        if self.publish is not None:
+            self.publish(data)
+        return data
+
+    def terminate(self) -> None:
+        """Send code -1: NSTAR writes TERM.DT and stops."""
+        self.link.cnova(Command(CODE_TERMINATE, 0, 0, 0, 0, 0))
+
+    def _print_maps(self, nfeat1, iblb1, nfeat2, iblb2) -> None:
+        for nfeat, iblb in ((nfeat1, iblb1), (nfeat2, iblb2)):
+            for iloc in range(1, nfeat + 1):
+                self.listing.record(" MAP #" + fi(iloc, 3))
+                for k in (iloc, iloc + 50):
+                    if iblb[k - 1][0] == 1:
+                        self.listing.records(prbm(iblb[k - 1][1:]))
+                    else:
+                        self.listing.record(" There is no map stored.")
+                    if k == iloc:
+                        self.listing.record(" ")
+
+
+class _CountingLink:
+    """Counts NBLOB round trips (for benchmarks) and prints received maps on
+    debug flag 16 (NBLOB is not listed; QUIRKS E11)."""
+
+    def __init__(self, link, debug, listing):
+        self.link, self.debug, self.listing = link, debug, listing
+        self.count = 0
+
+    def nblob(self, image, x, y, ies, ibm):
+        self.count += 1
+        self.link.nblob(image, x, y, ies, ibm)
+        if self.debug & 16:
+            self.listing.records(prbm(ibm[1:]))
+
+
+def _columns(sl) -> list[list[int]]:
+    """IFEAT(50,4) of a slice as four 50-word columns."""
+    return [sl.ifbuf[10 + 50 * j:60 + 50 * j] for j in range(4)]
