@@ -89,6 +89,10 @@ class JHData:
             self._observer.stop()
             self._observer = None
         if self._lock_fd is not None:
+            try:
+                os.unlink(self._lock_path)    # still ours: we hold the lock
+            except FileNotFoundError:
+                pass
             os.close(self._lock_fd)
             self._lock_fd = None
 
@@ -124,6 +128,7 @@ class JHData:
         os.ftruncate(fd, 0)
         os.write(fd, f"{os.getpid()}\n".encode())
         self._lock_fd = fd
+        self._lock_path = self.dir / name
 
     # --- waiting ------------------------------------------------------------
     def _wait(self, done, describe, timeout) -> None:
@@ -153,9 +158,9 @@ class JHData:
     def wait_gone(self, name: str, timeout: float | None = None) -> None:
         """Wait until ``name`` has been taken by the other program."""
         self._wait(lambda: not self.exists(name),
-                   lambda t: (f"{name} still waiting for {self.peer} after {t:g} s — "
-                              f"{self.peer.lower()} has not taken it; is it running on "
-                              f"this jhdata directory ({self.dir})?"), timeout)
+                   lambda t: (f"{name} not taken by {self.peer} after {t:g} s — is "
+                              f"{self.peer.lower()} running on this jhdata directory "
+                              f"({self.dir})?"), timeout)
 
     # --- moving files ---------------------------------------------------------
     def publish(self, temp_name: str, name: str, data: bytes,

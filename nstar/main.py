@@ -117,8 +117,8 @@ def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) ->
         try:
             replies = nova.execute(data)
         except FormatError:
-            raise Abort(f"jhdata/NCONT.DT is not a command file ({len(data)} bytes, "
-                        f"expected 12); left in {jh.dir} for inspection") from None
+            raise Abort(f"{jh.path('NCONT.DT')}: {len(data)} bytes, expected 12 — not a "
+                        f"command file; left in place for inspection") from None
         jh.delete("NCONT.DT")
         if data[:2] == b"\x00\x03":
             new_images_dialogue(nova, console)
