@@ -1,0 +1,117 @@
+"""Reading and publishing PRE's picture files (.VD, .BI) safely.
+
+The byte layouts are :mod:`diskfmt.layouts` (Appendix E, RIG-NOTES §3).  This
+module adds what the 1985 OPEN/WRBLK calls did not promise: an output is
+written under a temporary name in the same directory and renamed into place
+with ``os.replace``, so no reader ever sees half a file and a failed write
+leaves nothing behind; an existing output is refused unless the caller says
+``force``.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from diskfmt.layouts import (FormatError, decode_bi, decode_vd, encode_bi, encode_vd,
+                             read_file)
+
+
+class PreError(Exception):
+    """A clear, one-line problem with a file or a value (the CLI prints it and
+    exits non-zero; the menu prints it and goes on)."""
+
+
+def load_vd(path) -> np.ndarray:
+    """A .VD file as a 240x256 array of 4-bit pixels."""
+    try:
+        return decode_vd(read_file(path), str(path))
+    except FormatError as exc:
+        raise PreError(_vd_hint(str(exc), path)) from None
+
+
+def load_bi(path) -> np.ndarray:
+    """A .BI file as a 120x128 array of 4-bit pixels."""
+    try:
+        return decode_bi(read_file(path), str(path))
+    except FormatError as exc:
+        raise PreError(str(exc)) from None
+
+
+def _vd_hint(msg: str, path) -> str:
+    if msg.startswith(f"{path}: 30720 bytes"):
+        return msg + " (that is the size of a .BI file, not a .VD)"
+    return msg
+
+
+def load_picture_file(path) -> np.ndarray:
+    """A .VD or .BI file, told apart by its size (32768 or 30720 bytes)."""
+    data = _read(path)
+    if len(data) == 32768:
+        return decode_vd(data, str(path))
+    if len(data) == 30720:
+        try:
+            return decode_bi(data, str(path))
+        except FormatError as exc:
+            raise PreError(str(exc)) from None
+    raise PreError(f"{path}: {len(data)} bytes, neither a .VD (32768) nor a .BI (30720) picture")
+
+
+def _read(path) -> bytes:
+    try:
+        return read_file(path)
+    except FormatError as exc:
+        raise PreError(str(exc)) from None
+
+
+def check_output(path, force: bool = False) -> Path:
+    """Refuse an output that exists (unless ``force``) or whose directory does not."""
+    p = Path(path)
+    if p.is_dir():
+        raise PreError(f"{p}: is a directory, not a file name")
+    if p.exists() and not force:
+        raise PreError(f"{p}: already exists; not overwritten (use --force to replace it)")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise PreError(f"{p}: directory {parent} does not exist")
+    return p
+
+
+def publish(path, data: bytes, force: bool = False) -> Path:
+    """Write ``data`` to ``path`` through a temporary file in the same
+    directory and ``os.replace``; never leaves a partial file."""
+    p = check_output(path, force)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent or ".")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        if not force and p.exists():        # appeared while we wrote
+            raise PreError(f"{p}: already exists; not overwritten (use --force to replace it)")
+        os.replace(tmp, p)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return p
+
+
+def publish_many(items: list[tuple[object, bytes]], force: bool = False) -> list[Path]:
+    """Publish several outputs, checking all names before writing any."""
+    for path, _ in items:
+        check_output(path, force)
+    return [publish(path, data, force) for path, data in items]
+
+
+def save_vd(path, picture, force: bool = False) -> Path:
+    return publish(path, encode_vd(picture), force)
+
+
+def save_bi(path, picture, force: bool = False) -> Path:
+    return publish(path, encode_bi(picture), force)
