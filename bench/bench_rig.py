@@ -1,0 +1,120 @@
+"""Benchmark: the rig on the bundled laboratory pair.
+
+* one slice pair over the file link — ``nstar`` as a separate process, ESTAR in
+  this process speaking only through files in a fresh jhdata directory — the
+  time of one LCLN (both slices, every edge-map request, POSIT.DT), median over
+  the lines;
+* the same lines over the direct (in-process) link, as the reference in the
+  same run, and the ratio;
+* whole-picture scans (lines 8..112) per second, direct link.
+
+Run:  python bench/bench_rig.py [--lines 8 112] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+
+from diskfmt.dgreal import Real                      # noqa: E402
+from diskfmt.layouts import decode_bi                # noqa: E402
+from diskfmt.rdos import JHData                      # noqa: E402
+from estar.link import DirectLink, FileLink          # noqa: E402
+from estar.program import Eclipse                    # noqa: E402
+from nstar.program import Nova                       # noqa: E402
+from rig.scene import bundled_path                   # noqa: E402
+
+DS, DV = Real.const("0.75"), Real.const("180")
+
+
+def pair():
+    return (decode_bi(bundled_path("LAB-L.BI").read_bytes()),
+            decode_bi(bundled_path("LAB-R.BI").read_bytes()))
+
+
+def time_lines(ecl: Eclipse, lines) -> list[float]:
+    out = []
+    for y in lines:
+        t = time.perf_counter()
+        ecl.lcln(y)
+        out.append(time.perf_counter() - t)
+    return out
+
+
+def file_link_times(lines, parent=None) -> tuple[list[float], int]:
+    with tempfile.TemporaryDirectory(dir=parent) as tmp:
+        jh_dir = Path(tmp) / "jhdata"
+        jh_dir.mkdir()
+        env = dict(os.environ, PYTHONPATH=str(REPO))
+        nstar = subprocess.Popen(
+            [sys.executable, "-m", "nstar.main", "--jhdata", str(jh_dir), "--debug", "0",
+             "--quiet", "--left", str(bundled_path("LAB-L.BI")),
+             "--right", str(bundled_path("LAB-R.BI")), "--idle-timeout", "120"],
+            env=env, stdin=subprocess.DEVNULL)
+        jh = JHData(jh_dir, me="ESTAR", peer="NSTAR", timeout=60)
+        try:
+            ecl = Eclipse(FileLink(jh), DS, DV)
+            times = time_lines(ecl, lines)
+            ecl.terminate()
+            nstar.wait(timeout=60)
+            return times, ecl.requests
+        finally:
+            jh.close()
+            if nstar.poll() is None:
+                nstar.kill()
+
+
+def direct_times(lines) -> tuple[list[float], int]:
+    nova = Nova()
+    nova.load_pair(*pair())
+    ecl = Eclipse(DirectLink(nova), DS, DV)
+    return time_lines(ecl, lines), ecl.requests
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--lines", type=int, nargs=2, default=(8, 112), metavar=("FIRST", "LAST"))
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args(argv)
+    lines = list(range(args.lines[0], args.lines[1] + 1))
+    d_times, d_req = direct_times(lines)
+    where = {"disk (ext4, system temp dir)": None}
+    if Path("/dev/shm").is_dir():
+        where["tmpfs (/dev/shm)"] = "/dev/shm"
+    f_results = {name: file_link_times(lines, parent) for name, parent in where.items()}
+    scans = []
+    for _ in range(args.repeat):
+        nova = Nova()
+        nova.load_pair(*pair())
+        ecl = Eclipse(DirectLink(nova), DS, DV)
+        t = time.perf_counter()
+        for y in lines:
+            ecl.lcln(y)
+        scans.append(time.perf_counter() - t)
+    dm = statistics.median(d_times)
+    print(f"lines {lines[0]}..{lines[-1]} of the bundled pair ({len(lines)} lines)")
+    print(f"edge-map requests per line: {d_req / len(lines):.1f}")
+    print(f"one slice pair, direct link (reference): median {dm * 1000:.2f} ms")
+    for name, (f_times, f_req) in f_results.items():
+        assert f_req == d_req
+        fm = statistics.median(f_times)
+        print(f"one slice pair, file link, two processes, jhdata on {name}: median "
+              f"{fm * 1000:.2f} ms (p90 {sorted(f_times)[int(0.9 * len(f_times))] * 1000:.2f} ms)"
+              f" = {fm / dm:.2f}x direct")
+    best = min(scans)
+    print(f"whole-picture scan, direct link: {best * 1000:.1f} ms = {1 / best:.1f} frames/s "
+          f"(best of {args.repeat})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
