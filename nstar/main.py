@@ -152,6 +152,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="stop after this long without a command (default: wait forever, "
                         "as in 1985)")
     p.add_argument("--quiet", action="store_true", help="no console messages")
+    p.add_argument("--verbose", action="store_true",
+                   help="also the per-bit messages of the block map (17 lines per column)")
     p.add_argument("--no-wrap-percent", action="store_true",
                    help="FIX (not 1985): compute the block-map percentage without "
                         "16-bit overflow")
@@ -163,7 +165,7 @@ def main(argv=None) -> int:
     if (args.left is None) != (args.right is None):
         print("nstar: give both --left and --right, or neither", file=sys.stderr)
         return 2
-    console = Console(quiet=args.quiet)
+    console = Console(quiet=args.quiet, verbose=args.verbose)
     listing_stream = None
     try:
         if args.listing:

@@ -22,7 +22,7 @@ from octek_sim import Octek
 from .bitmaps import block_map, edge_map, scale_factors
 from .exqvfl import exqvfl
 from .printouts import prbm
-from .radial import direction_cosines, radsp
+from .radial import direction_cosines, ilcm, radsp
 
 IHMIN, IHMAX = 0, 127
 IVMIN, IVMAX = 0, 119
@@ -173,12 +173,12 @@ class Nova:
             self.octek.hctab(ixs, iys)
             self.sfx, self.sfy = scale_factors(ixl, iyl)
             if self.debug & 4:
-                from .radial import ilcm
                 self.listing.record("" + "".join(
                     " LCM( 16," + fi(a, 3) + ") = " + fi(b, 5) + "   "
                     for a, b in ((ixl, ilcm(ixl, 16)), (iyl, ilcm(iyl, 16)))))
             ibmap = block_map(self.octek, ixs, iys, ixl, iyl, icntr[4], icntr[5],
-                              wrap=not self.options.no_wrap_percent)
+                              wrap=not self.options.no_wrap_percent,
+                              chatter=self.console.type if self.console.verbose else None)
             if self.debug & 8:
                 self.listing.records(prbm(ibmap))
         else:
