@@ -22,7 +22,7 @@ import numpy as np
 
 from nstar.exqvfl import exqvfl, feature_list
 
-from .qv_production import edge_intervals, qv_line
+from .qv_production import RULES, edge_intervals, qv_line
 
 
 @dataclass
@@ -44,13 +44,14 @@ class Agreement:
         return 100.0 * n / d if d else 0.0
 
 
-def compare_line(pixels, t: int, agg: Agreement | None = None, row: int | None = None) -> Agreement:
+def compare_line(pixels, t: int, agg: Agreement | None = None, row: int | None = None,
+                 rules=RULES) -> Agreement:
     """Compare one line; accumulates into ``agg``."""
     agg = agg if agg is not None else Agreement()
     px = [int(v) for v in pixels]
     nfeat, ifeat = exqvfl(px, t)
     ex = feature_list(nfeat, ifeat)
-    qv = edge_intervals(qv_line(px, t))
+    qv = edge_intervals(qv_line(px, t, rules))
     agg.rows += 1
     agg.n_ex += len(ex)
     agg.n_qv += len(qv)
@@ -78,11 +79,11 @@ def compare_line(pixels, t: int, agg: Agreement | None = None, row: int | None =
     return agg
 
 
-def compare_picture(picture: np.ndarray, t: int) -> Agreement:
+def compare_picture(picture: np.ndarray, t: int, rules=RULES) -> Agreement:
     """Compare every row of a picture (NSTAR's slices are rows)."""
     agg = Agreement()
     for r, row in enumerate(np.asarray(picture)):
-        compare_line(row, t, agg, r)
+        compare_line(row, t, agg, r, rules)
     return agg
 
 

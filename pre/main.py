@@ -137,6 +137,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="the .BI file to write")
     p.add_argument("--threshold", type=_threshold, default=DEFAULT_T,
                    help=f"noise threshold T of Table I (default {DEFAULT_T})")
+    p.add_argument("--extended-rules", action="store_true",
+                   help="add the four X-rules (a flat pause inside an edge) to the 50 "
+                        "productions; off by default (docs/pre.md)")
     p.add_argument("--passes", choices=("hv", "h", "v"), default="hv",
                    help="horizontal then vertical (default), or one pass only")
     p.add_argument("--force", action="store_true", help="replace an existing output")
@@ -170,6 +173,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file", help="a .BI or .VD file")
     p.add_argument("--threshold", type=_threshold, default=DEFAULT_T,
                    help=f"T and ITHR (default {DEFAULT_T}, NSTAR's slice threshold)")
+    p.add_argument("--extended-rules", action="store_true",
+                   help="production QV with the four X-rules as well")
     return ap
 
 
@@ -203,7 +208,8 @@ def _load_bi_only(path) -> np.ndarray:
 def cmd_cartoon(args) -> int:
     check_output(args.output, args.force)
     pic = _load_bi_only(args.bi)
-    result = cartoon(pic, args.threshold, args.passes)
+    from .qv_production import rule_set
+    result = cartoon(pic, args.threshold, args.passes, rule_set(args.extended_rules))
     publish(args.output, encode_bi(result.picture), args.force)
     print(bits_report(result, str(args.bi)))
     return 0
@@ -256,7 +262,9 @@ def cmd_compare(args) -> int:
     pic = load_picture_file(args.file)
     if pic.shape == (240, 256):
         pic = condense(pic)
-    print(report(compare_picture(pic, args.threshold), str(args.file)))
+    from .qv_production import rule_set
+    print(report(compare_picture(pic, args.threshold, rule_set(args.extended_rules)),
+                 str(args.file)))
     return 0
 
 

@@ -164,7 +164,27 @@ RULES: tuple[Rule, ...] = (
 )
 
 RULE_BY_ID = {r.rid: r for r in RULES}
-_MAXLEN = max(len(r.lhs) for r in RULES)
+
+# A named option, not the default: four productions beyond the fifty that let
+# an edge pause for one flat step before a gentle step of its own sign (what
+# EXQVFL's label 120 allows).  On the bundled laboratory pair they remove
+# nearly all left-over initial symbols and most disagreements with EXQVFL
+# (docs/pre.md).
+EXTRA_RULES: tuple[Rule, ...] = (
+    _r("X1", "flat pause in an edge (option)", "(not in the text)", "G+ s g+", "G+:3"),
+    _r("X2", "flat pause in an edge (option)", "(not in the text)", "G- s g-", "G-:3"),
+    _r("X3", "flat pause in an edge (option)", "(not in the text)", "g+ s G+", "G+:3"),
+    _r("X4", "flat pause in an edge (option)", "(not in the text)", "g- s G-", "G-:3"),
+)
+EXTENDED_RULES = RULES + EXTRA_RULES
+
+
+def rule_set(extended: bool = False) -> tuple[Rule, ...]:
+    """The 50 productions (default) or the 50 plus the four X-rules."""
+    return EXTENDED_RULES if extended else RULES
+
+
+_MAXLEN = max(len(r.lhs) for r in EXTENDED_RULES)
 
 
 # --- Table I -------------------------------------------------------------------
