@@ -181,3 +181,11 @@ def test_only_terminals_remain_on_a_noisy_line():
     # the intervals tile the line, neighbours sharing their boundary pixel
     assert out[0].start == 1 and out[-1].stop == len(px)
     assert all(a.stop == b.start for a, b in zip(out, out[1:]))
+
+
+def test_every_rule_has_a_quirks_line():
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[1] / "QUIRKS.md").read_text()
+    pre_section = text.split("## PRE", 1)[1]
+    for r in RULES:
+        assert f"\n| {r.rid} | " in pre_section, r.rid
