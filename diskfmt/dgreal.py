@@ -42,13 +42,14 @@ class Real:
     """One Data General REAL.  Arithmetic with ``Real`` or ``int`` operands
     (INTEGER is converted exactly, as the FORTRAN compiler did) truncates."""
 
-    __slots__ = ("m", "q")
+    __slots__ = ("m", "q", "_bytes")
 
     def __init__(self, m: int = 0, q: int = 0, *, _raw: bool = False):
         if _raw:
             self.m, self.q = m, q
         else:
             self.m, self.q = _normalise(m, q)
+        self._bytes = None
 
     # --- construction -------------------------------------------------------
     @classmethod
@@ -181,6 +182,11 @@ class Real:
     # --- storage -------------------------------------------------------------
     def to_bytes(self) -> bytes:
         """Two big-endian 16-bit words: sign, excess-64 hex exponent, 24-bit fraction."""
+        if self._bytes is None:
+            self._bytes = self._encode()
+        return self._bytes
+
+    def _encode(self) -> bytes:
         if self.m == 0:
             return b"\x00\x00\x00\x00"
         exp = (self.q + 24) // 4 + 64

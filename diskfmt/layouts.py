@@ -142,13 +142,17 @@ class Command:
         return (self.code, self.image, self.x, self.y, self.radius, self.idn)
 
 
+_NCONT = struct.Struct(">6h")
+_WBMAP = struct.Struct(">17h")
+
+
 def encode_ncont(cmd: Command) -> bytes:
-    return bytes_from_words(cmd.words())
+    return _NCONT.pack(*(wrap16(w) for w in cmd.words()))
 
 
 def decode_ncont(data: bytes, name: str = "NCONT.DT") -> Command:
     _need_size(name, data, NCONT_BYTES)
-    return Command(*words_from_bytes(data))
+    return Command(*_NCONT.unpack(data))
 
 
 # --- SLICE.DT ----------------------------------------------------------------
@@ -212,14 +216,14 @@ def encode_wbmap(columns) -> bytes:
     cols = list(columns)
     if len(cols) != 16:
         raise ValueError("an edge bit map has 16 column words")
-    return bytes_from_words([1] + cols)
+    return _WBMAP.pack(1, *(wrap16(c) for c in cols))
 
 
 def decode_wbmap(data: bytes, name: str = "WBMAP.DT") -> list[int]:
     """17 words as NBLOB stores them into IBLB: 1 ("map present"), 16 columns
     (column 1 leftmost, bit 0 the top row)."""
     _need_size(name, data, WBMAP_BYTES)
-    words = words_from_bytes(data)
+    words = list(_WBMAP.unpack(data))
     if words[0] != 1:
         raise FormatError(name, f"first word is {words[0]}, expected the constant 1")
     return words

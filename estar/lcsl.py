@@ -12,39 +12,71 @@ from the location errors ELMAX = ERMAX = EDMAX = 0.5.  POS(1,k) = -1 marks
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from diskfmt.dgreal import Real
 
 MINUS_ONE = Real.from_int(-1)
 ONE = Real.const("1.0")
+ELMAX = ERMAX = EDMAX = Real.const("0.5")
+EDISP = ELMAX + ERMAX
+EDISP_WHOLE = int(EDISP)               # 0.5 + 0.5 is exactly 1.0 in DG REAL too
+assert EDISP == EDISP_WHOLE
+
+
+# Each POS value is a fixed expression of a few small integers (the disparity,
+# the offsets DL and DD) and the calibration, so the truncating arithmetic is
+# done once per distinct argument and remembered: exact, and it keeps a
+# whole-picture scan from redoing the same REAL operations thousands of times.
+
+@lru_cache(maxsize=None)
+def _constants(dsep: Real, dvirt: Real) -> tuple[Real, Real]:
+    """DCONS=DSEP*DVIRT, DVI=1.0/DVIRT."""
+    return dsep * dvirt, ONE / dvirt
+
+
+@lru_cache(maxsize=None)
+def _range_terms(disp: int, dsep: Real, dvirt: Real) -> tuple[Real, Real]:
+    """DP=DCONS/DISP; DENOM=DISP*DISP-DISP*EDISP; EPMAX=DCONS*EDISP/DENOM."""
+    dcons, _ = _constants(dsep, dvirt)
+    d = Real.from_int(disp)
+    denom = d * d - d * EDISP
+    return dcons / d, dcons * EDISP / denom
+
+
+@lru_cache(maxsize=None)
+def _offset_terms(offset: int, disp: int, emax: Real, dsep: Real, dvirt: Real) -> tuple[Real, Real]:
+    """DX=DL*DP*DVI and EXMAX=(ABS(DL)*EPMAX+DP*ELMAX+EPMAX*ELMAX)*DVI (or the
+    same for DY, EYMAX with DD and EDMAX), left to right as FORTRAN does."""
+    _, dvi = _constants(dsep, dvirt)
+    dp, epmax = _range_terms(disp, dsep, dvirt)
+    o = Real.from_int(offset)
+    return o * dp * dvi, (abs(o) * epmax + dp * emax + epmax * emax) * dvi
+
+
+def locate(loc1: int, loc2: int, iyloc: int, dsep: Real, dvirt: Real) -> tuple[Real, ...] | None:
+    """One match entry: (dp, dx, dy, ep, ex, ey), or None when the disparity is
+    not above EDISP (``IF (DISP1 .LT. 1) … IF (EDISP .GE. DISP1)``)."""
+    disp = loc1 - loc2
+    if disp <= EDISP_WHOLE:            # IF (DISP1 .LT. 1) / IF (EDISP .GE. DISP1)
+        return None
+    dp, ep = _range_terms(disp, dsep, dvirt)
+    dx, ex = _offset_terms(loc1 - 60, disp, ELMAX, dsep, dvirt)
+    dy, ey = _offset_terms(iyloc - 60, disp, EDMAX, dsep, dvirt)
+    return dp, dx, dy, ep, ex, ey
 
 
 def lcsl(iyloc: int, nfeat1: int, tables, pos: list[Real], dsep: Real, dvirt: Real) -> None:
     """LCSL(IYLOC, NFEAT1, NMATCH, IMATCH, POS) — fill POS(6,100) (a flat list
-    of 640 REALs, POS(i,k) at ``(k-1)*6 + i-1``) in place."""
-    dcons = dsep * dvirt
-    dvi = ONE / dvirt
-    dd = Real.from_int(iyloc - 60)
-    elmax = Real.const("0.5")
-    ermax = Real.const("0.5")
-    edisp = elmax + ermax
-    edmax = Real.const("0.5")
+    of 640 REALs, POS(i,k) at ``(k-1)*6 + i-1``) in place: for each edge the
+    first entry of its match list with a usable disparity."""
     for indx in range(1, nfeat1 + 1):
         for edge in (indx, indx + 50):
             base = (edge - 1) * 6
             pos[base] = MINUS_ONE
             for _, _, loc1, loc2 in tables.entries(edge):
-                dl = Real.from_int(loc1 - 60)
-                dr = Real.from_int(loc2 - 60)
-                disp = dl - dr
-                if disp >= ONE and not edisp >= disp:
-                    dp = dcons / disp
-                    pos[base] = dp
-                    pos[base + 1] = dl * dp * dvi
-                    pos[base + 2] = dd * dp * dvi
-                    denom = disp * disp - disp * edisp
-                    epmax = dcons * edisp / denom
-                    pos[base + 3] = epmax
-                    pos[base + 4] = (abs(dl) * epmax + dp * elmax + epmax * elmax) * dvi
-                    pos[base + 5] = (abs(dd) * epmax + dp * edmax + epmax * edmax) * dvi
+                located = locate(loc1, loc2, iyloc, dsep, dvirt)
+                if located is not None:
+                    pos[base:base + 6] = located
                 if pos[base] > ONE:
                     break

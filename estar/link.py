@@ -11,9 +11,13 @@ from __future__ import annotations
 
 from collections import defaultdict, deque
 
+import numpy as np
+
 from diskfmt.layouts import (Command, encode_ncont, decode_wbmap, decode_slice, Slice,
                              CODE_EDGE_MAP, FormatError)
 from diskfmt.rdos import JHData
+
+_READERS = {"SLICE.DT": decode_slice, "WBMAP.DT": decode_wbmap}
 
 ESTAR_STALE = ("NCONT.DT", "ECONT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT", "EDAT.DT")
 
@@ -38,6 +42,13 @@ class Link:
         IBM (word 1 = 1 marks "map present")."""
         self.cnova(Command(CODE_EDGE_MAP, image, x, y, 0, ies))
         ibm[:] = decode_wbmap(self.nwait("WBMAP.DT"))
+
+    def nblob_many(self, requests, iyloc: int, iblb1, iblb2) -> None:
+        """NBLOB for each (image, edge, X, IES) row, in order, storing each map
+        in its cache row (IBLB1 for image 1, IBLB2 for image 2)."""
+        for image, edge, x, ies in requests:
+            self.nblob(int(image), int(x), iyloc, int(ies),
+                       (iblb1 if image == 1 else iblb2)[edge - 1])
 
     def read_slice(self, image: int, iyloc: int, say) -> Slice:
         """Take the next SLICE.DT.  A slice for another line or image (left over
@@ -76,23 +87,35 @@ class FileLink(Link):
             # CFEAT renames SLICE.DT to SL.DT before reading, freeing the name so
             # NSTAR can publish the second slice while ESTAR reads the first.
             self.jh.rename("SLICE.DT", "SL.DT")
-            return self.jh.take("SL.DT")
-        return self.jh.take(name)
+            data = self.jh.take("SL.DT")
+        else:
+            data = self.jh.take(name)
+        reader = _READERS.get(name)
+        if reader is not None:
+            try:
+                reader(data, str(self.jh.path(name)))
+            except FormatError as exc:        # one clear error; the bytes are kept
+                kept = self._store(f"{name}.bad", data)
+                raise FormatError(exc.name, f"{exc.problem}; kept as {kept}") from None
+        return data
 
     def discard_stale(self, name: str, say) -> None:
         where = self.jh.set_aside(name, "stale")
         if where:
             say(f" Found {name} from an earlier run; moved it to {where}")
 
-    def keep_aside(self, name: str, data: bytes, say, why: str) -> None:
+    def _store(self, label: str, data: bytes):
         stale = self.jh.dir / "STALE"
         stale.mkdir(exist_ok=True)
         n = 0
-        while (stale / f"{name}.skipped.{n}").exists():
+        while (stale / f"{label}.{n}").exists():
             n += 1
-        (stale / f"{name}.skipped.{n}").write_bytes(data)
-        say(f" Skipped a {name} left from earlier work ({why}); kept as "
-            f"{stale / f'{name}.skipped.{n}'}")
+        (stale / f"{label}.{n}").write_bytes(data)
+        return stale / f"{label}.{n}"
+
+    def keep_aside(self, name: str, data: bytes, say, why: str) -> None:
+        kept = self._store(f"{name}.skipped", data)
+        say(f" Skipped a {name} left from earlier work ({why}); kept as {kept}")
 
 
 class DirectLink(Link):
@@ -106,6 +129,24 @@ class DirectLink(Link):
     def cnova(self, cmd: Command) -> None:
         for reply in self.nova.execute(encode_ncont(cmd)):
             self.pending[reply.name].append(reply.data)
+
+    def nblob_many(self, requests, iyloc: int, iblb1, iblb2) -> None:
+        """The same NCONT.DT bytes, handed to NSTAR in one block (compiled)."""
+        if len(requests) == 0:
+            return
+        req = np.asarray(requests, dtype=np.int64)
+        words = np.zeros((len(req), 6), dtype=np.int64)
+        words[:, 0] = CODE_EDGE_MAP
+        words[:, 1] = req[:, 0]
+        words[:, 2] = req[:, 2]
+        words[:, 3] = iyloc
+        words[:, 5] = req[:, 3]
+        replies = np.frombuffer(self.nova.execute_edge_maps(words.astype(">i2").tobytes()),
+                                dtype=">i2").reshape(-1, 17)
+        if len(replies) != len(req) or not (replies[:, 0] == 1).all():
+            raise FormatError("WBMAP.DT", "the in-process NSTAR returned no edge map")
+        for (image, edge, _, _), reply in zip(req, replies):
+            (iblb1 if image == 1 else iblb2)[edge - 1] = reply
 
     def nwait(self, name: str) -> bytes:
         queue = self.pending.get(name)

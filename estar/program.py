@@ -10,8 +10,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from diskfmt.dgreal import Real, ZERO
-from diskfmt.layouts import Command, Positions, encode_posit, CODE_SLICE, CODE_TERMINATE
+from diskfmt.layouts import (Command, Positions, encode_posit, CODE_SLICE, CODE_TERMINATE,
+                             POSIT_BYTES)
 from diskfmt.listing import Console, Listing, fi
 from nstar.printouts import prqvfl, prbm
 from .lcsl import lcsl
@@ -47,6 +50,7 @@ class Eclipse:
         self.pos: list[Real] = [ZERO] * 640
         self.tables = MatchTables()
         self.publish = publish            # PNPL's writer; None keeps POSIT.DT in memory
+        self._posit: bytearray | None = None
         self.requests = 0
 
     def cfeat(self, iyloc: int):
@@ -75,8 +79,8 @@ class Eclipse:
         if self.debug & 1:
             self.listing.records(prqvfl(nfeat1, f1))
             self.listing.records(prqvfl(nfeat2, f2))
-        iblb1 = [[0] * 17 for _ in range(100)]             # flag word 1 = 0: no map yet
-        iblb2 = [[0] * 17 for _ in range(100)]
+        iblb1 = np.zeros((100, 17), dtype=np.int64)        # flag word 1 = 0: no map yet
+        iblb2 = np.zeros((100, 17), dtype=np.int64)
         say("Matching feature lists. N1 = ", nfeat1, " N2 =", nfeat2)
         counting = _CountingLink(self.link, self.debug, self.listing)
         masl(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, self.tables, counting,
@@ -92,20 +96,32 @@ class Eclipse:
         if self.debug & 8:
             self.listing.records(prfpos(self.np_, self.pos, self.dsep, self.dvirt))
         say(" Storing positions.")
-        posit = self.pnpl()
+        edges = [e for k in range(1, nfeat1 + 1) for e in (k, k + 50)]
+        posit = self.pnpl(edges)
         self.requests += counting.count
         return LineResult(
             iyloc, f1, f2,
-            {e: self.tables.entries(e) for k in range(1, nfeat1 + 1) for e in (k, k + 50)},
+            {e: self.tables.entries(e) for e in edges},
             {e: (tuple(float(v) for v in self.pos[(e - 1) * 6:(e - 1) * 6 + 6])
-                 if self.pos[(e - 1) * 6] > 0 else None)
-             for k in range(1, nfeat1 + 1) for e in (k, k + 50)},
+                 if self.pos[(e - 1) * 6].m > 0 else None) for e in edges},
             posit, counting.count)
 
-    def pnpl(self) -> bytes:
+    def pnpl(self, changed=None) -> bytes:
         """PNPL — POSIT.DT: NP and COMMON /POSIT/ cut at 5 blocks, written as
-        EDAT.DT and renamed (atomically replacing the previous POSIT.DT)."""
-        data = encode_posit(Positions(self.np_, self.pos))
+        EDAT.DT and renamed (atomically replacing the previous POSIT.DT).
+
+        The image of COMMON /POSIT/ is kept encoded; only the entries LCSL may
+        have changed (``changed`` edges; all when None) are encoded again."""
+        if self._posit is None or changed is None:
+            self._posit = bytearray(encode_posit(Positions(self.np_, self.pos)))
+        else:
+            self._posit[0:2] = self.np_.to_bytes(2, "big", signed=True)
+            for e in changed:
+                start = 2 + (e - 1) * 24
+                self._posit[start:start + 24] = b"".join(
+                    r.to_bytes() for r in self.pos[(e - 1) * 6:(e - 1) * 6 + 6])
+            del self._posit[POSIT_BYTES:]
+        data = bytes(self._posit)
         if self.publish is not None:
             self.publish(data)
         return data
@@ -135,11 +151,12 @@ class _CountingLink:
         self.link, self.debug, self.listing = link, debug, listing
         self.count = 0
 
-    def nblob(self, image, x, y, ies, ibm):
-        self.count += 1
-        self.link.nblob(image, x, y, ies, ibm)
+    def nblob_many(self, requests, iyloc, iblb1, iblb2):
+        self.count += len(requests)
+        self.link.nblob_many(requests, iyloc, iblb1, iblb2)
         if self.debug & 16:
-            self.listing.records(prbm(ibm[1:]))
+            for image, edge, _, _ in requests:
+                self.listing.records(prbm((iblb1 if image == 1 else iblb2)[edge - 1][1:]))
 
 
 def _columns(sl) -> list[list[int]]:

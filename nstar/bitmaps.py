@@ -6,7 +6,10 @@ A map is 16 column words, column 1 leftmost, bit 0 the top row.
 
 from __future__ import annotations
 
+import numpy as np
+
 from diskfmt.dgreal import Real
+from diskfmt.jit import jit
 from diskfmt.layouts import wrap16
 from .radial import ilcm
 
@@ -79,6 +82,68 @@ def scale_factors(ixl: int, iyl: int) -> tuple[Real, Real]:
     return Real.from_int(ixl) / sixteen, Real.from_int(iyl) / sixteen
 
 
+@jit
+def edge_map_kernel(frame, ixc, iyc, idn, ixmin, ixmax, iymin, iymax, out):
+    """Label 500 on the frame-store array (the RVBLK reads of the listing are
+    slices of ``frame``; every pixel it samples lies inside the frame store).
+    Fills ``out`` with the 16 column words."""
+    ixlft = ixc - 7
+    iytop = iyc - 7
+    ixm = min(ixc, ixc + idn + idn)
+    igmn = 15
+    igmx = 0
+    for r in range(iyc, iyc + 3):                # RVBLK(ICT,IDAT,IXM,2,IYC,3)
+        for c in range(ixm, ixm + 2):
+            v = frame[r, c]
+            igmn = min(igmn, v)
+            igmx = max(igmx, v)
+    for col in range(16):
+        ixloc = ixlft + col
+        iword = 0
+        if ixmin <= ixloc <= ixmax:
+            for k in range(16):
+                iyloc = iytop + k
+                if iyloc < iymin or iymax < iyloc:
+                    continue
+                ipix = frame[iyloc, ixloc]
+                if igmn <= ipix <= igmx:
+                    iword |= 1 << k
+        out[col] = iword - 65536 if iword > 32767 else iword    # 16-bit word
+    return ixlft, iytop
+
+
+@jit
+def command_geometry(imf, ixctr, iyctr):
+    """NSTAR label 100 after reading NCONT.DT: the picture's frame-store offset
+    (26 for image 1, else 166), its bounds, and the centre clamped to the
+    picture and moved to frame-store coordinates.  Returns
+    (IXOFF, IXMIN, IXMAX, IYMIN, IYMAX, IXCTR, IYCTR, IXC, IYC)."""
+    ixoff = 26 if imf == 1 else 26 + 140
+    ixmin = 0 + ixoff
+    ixmax = 127 + ixoff
+    iyoff = 0
+    iymin = 0 + iyoff
+    iymax = 119 + iyoff
+    ixctr = min(max(ixctr, 0), 127)
+    iyctr = min(max(iyctr, 0), 119)
+    return ixoff, ixmin, ixmax, iymin, iymax, ixctr, iyctr, ixctr + ixoff, iyctr + iyoff
+
+
+@jit
+def edge_map_batch(frame, words, out, corners):
+    """Many code-4 commands (rows of NCONT.DT words) at once: row k of ``out``
+    receives WBMAP.DT's 17 words (1, then the map), ``corners[k]`` the window's
+    top-left corner."""
+    for k in range(words.shape[0]):
+        _, ixmin, ixmax, iymin, iymax, _, _, ixc, iyc = command_geometry(
+            words[k, 1], words[k, 2], words[k, 3])
+        out[k, 0] = 1
+        ixlft, iytop = edge_map_kernel(frame, ixc, iyc, words[k, 5], ixmin, ixmax,
+                                       iymin, iymax, out[k, 1:])
+        corners[k, 0] = ixlft
+        corners[k, 1] = iytop
+
+
 def edge_map(octek, ixc: int, iyc: int, idn: int, bounds) -> tuple[list[int], int, int]:
     """Label 500 — the 16x16 window centred at (IXC, IYC) (frame-store
     coordinates) as bits: a pixel is set when its grey level lies within the
@@ -90,24 +155,7 @@ def edge_map(octek, ixc: int, iyc: int, idn: int, bounds) -> tuple[list[int], in
     ``bounds`` = IXMIN, IXMAX, IYMIN, IYMAX of the current image.  Returns the
     16 column words and the window's top-left corner (for the box cursor)."""
     ixmin, ixmax, iymin, iymax = bounds
-    ixlft = ixc - 7
-    ixrgt = ixlft + 15
-    iytop = iyc - 7
-    iybot = iytop + 15
-    ixm = min(ixc, ixc + idn + idn)
-    grey = octek.rvblk(ixm, 2, iyc, 3)
-    igmn = min(15, *[int(v) for v in grey[1:7]])
-    igmx = max(0, *[int(v) for v in grey[1:7]])
-    ibmap = []
-    for ixloc in range(ixlft, ixrgt + 1):
-        iword = 0
-        if ixmin <= ixloc <= ixmax:
-            col = octek.rvblk(ixloc, 1, iytop, 16)
-            for k, iyloc in enumerate(range(iytop, iybot + 1)):
-                if iyloc < iymin or iymax < iyloc:
-                    continue
-                ipix = int(col[1 + k])
-                if igmn <= ipix <= igmx:
-                    iword |= 1 << k
-        ibmap.append(wrap16(iword))
-    return ibmap, ixlft, iytop
+    out = np.zeros(16, dtype=np.int64)
+    ixlft, iytop = edge_map_kernel(octek.frame, int(ixc), int(iyc), int(idn),
+                                   int(ixmin), int(ixmax), int(iymin), int(iymax), out)
+    return out.tolist(), int(ixlft), int(iytop)

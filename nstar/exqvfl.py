@@ -14,63 +14,63 @@ truncated); touching features both at most one pixel wide are merged.
 
 from __future__ import annotations
 
-from diskfmt.dgreal import Real, HALF
+import numpy as np
+
+from diskfmt.jit import jit
 
 NFMAX = 50
-THREE = Real.from_int(3)
+TOO_MANY = "-- EXIDEG -- TOO MANY FEATURES."
 
 
-def _isgn(i: int) -> int:
+@jit
+def _isgn(i):
     """ISGN (called, not listed): the sign of an INTEGER, -1, 0 or +1."""
     return (i > 0) - (i < 0)
 
 
-def _mean_plus_half(total: int, count) -> int:
-    """``IVAVE=(SUM/INUM)+.5`` with DG REAL arithmetic, truncated to INTEGER."""
-    return int(Real.from_int(total) / count + HALF)
+@jit
+def mean_plus_half(total, count):
+    """``IVAVE=(SUM/INUM)+.5`` truncated to INTEGER, for INUM = 1, 2 or 3.
+
+    On the NOVA this is DG REAL arithmetic: SUM/INUM truncated to six hex
+    digits, +.5 truncated, then truncated to INTEGER.  For these divisors the
+    fractional part of SUM/INUM is 0, 1/3, 1/2 or 2/3, so truncation never
+    carries the sum across an integer and the result is exactly
+    ``floor((2*SUM + INUM) / (2*INUM))`` — checked for every reachable SUM
+    against :class:`diskfmt.dgreal.Real` in tests/test_exqvfl_kernel.py.  Integer
+    arithmetic lets the kernel compile."""
+    return (2 * total + count) // (2 * count)
 
 
-def new_ifeat() -> list[list[int]]:
-    """IFEAT(50,4) as a Python list of four 50-word columns (all starts, all
-    stops, all left greys, all right greys), zero like an uninitialised COMMON."""
-    return [[0] * NFMAX for _ in range(4)]
+def new_ifeat() -> np.ndarray:
+    """IFEAT(50,4) as a (4, 50) array: row j-1 holds IFEAT(.,j) — all starts,
+    all stops, all left greys, all right greys (column-major, as on disk); zero
+    like an uninitialised COMMON."""
+    return np.zeros((4, NFMAX), dtype=np.int32)
 
 
-def exqvfl(ipix, ithr: int, ifeat: list[list[int]] | None = None,
-           ilast: int | None = None, warn=None) -> tuple[int, list[list[int]]]:
-    """EXQVFL(ILAST, IPIX, NFEAT, IFEAT, ITHR).
-
-    ``ipix``: the pixels, ``ipix[0]`` being IPIX(1).  ``ifeat``: the caller's
-    IFEAT table, updated in place (entries past NFEAT keep older values, as in
-    NSTAR's COMMON buffer); a fresh zero table when omitted.  Returns
-    ``(NFEAT, IFEAT)``.  ``warn`` receives the listing's TYPE message when more
-    than 50 features are found (the list is then returned unmerged, NFEAT = 50).
-    """
-    if ifeat is None:
-        ifeat = new_ifeat()
-    if ilast is None:
-        ilast = len(ipix)
-
-    def pix(k: int) -> int:              # IPIX(k), 1-based
-        return int(ipix[k - 1])
-
-    start, stop, grey_l, grey_r = ifeat   # IFEAT(.,1) .. IFEAT(.,4), 0-based rows
+@jit
+def exqvfl_kernel(ipix, ilast, ithr, ifeat):
+    """EXQVFL(ILAST, IPIX, NFEAT, IFEAT, ITHR) on arrays: ``ipix[k-1]`` is IPIX(k),
+    ``ifeat[j-1, k-1]`` is IFEAT(k, j), updated in place.  Returns
+    ``(NFEAT, too_many)``; ``too_many`` is the listing's label-500 exit."""
     jloc = 1
     ipre = 1
     nfeat = 0
     inum = 0
-    iloc = ivpre = inext = 0
+    iloc = 0
+    ivle = ivre = ivpre = inext = islp = ipass = ivave = iv1 = 0
 
     label = 100
     while True:
         if label == 100:                                 # start a new slope search
             iloc = ipre
-            ivle = pix(iloc)
+            ivle = ipix[iloc - 1]
             ipre = iloc + 1
             if ipre > ilast:
                 label = 300
                 continue
-            ivre = pix(ipre)
+            ivre = ipix[ipre - 1]
             ichg = ivre - ivle
             islp = _isgn(ichg)
             if islp == 0:
@@ -87,7 +87,7 @@ def exqvfl(ipix, ithr: int, ifeat: list[list[int]] | None = None,
             if inext > ilast:
                 label = 300
                 continue
-            ivre = pix(inext)
+            ivre = ipix[inext - 1]
             idiff = ivre - ivpre
             if _isgn(idiff) == islp:
                 label = 120
@@ -96,14 +96,13 @@ def exqvfl(ipix, ithr: int, ifeat: list[list[int]] | None = None,
             else:
                 ipass = 1                                # GOTO 110
         elif label == 120:                               # valid slope: how far?
-            ichg = ivre - ivle
             ivpre = ivre
             ipre = inext
             inext += 1
             if inext > ilast:
                 label = 200
                 continue
-            ivre = pix(inext)
+            ivre = ipix[inext - 1]
             idiff = ivre - ivpre
             if _isgn(idiff) == islp:
                 continue                                 # GOTO 120
@@ -114,40 +113,43 @@ def exqvfl(ipix, ithr: int, ifeat: list[list[int]] | None = None,
             if inext > ilast:
                 label = 200
                 continue
-            ivre = pix(inext)
+            ivre = ipix[inext - 1]
             idiff = ivre - ivpre
             label = 120 if _isgn(idiff) == islp else 200
         elif label == 200:                               # store the feature
             inum = iloc - jloc + 1
             if inum <= 3:
-                isum = sum(pix(k) for k in range(jloc, iloc + 1))
-                ivave = _mean_plus_half(isum, inum)
+                isum = 0
+                for k in range(jloc, iloc + 1):
+                    isum += ipix[k - 1]
+                ivave = mean_plus_half(isum, inum)
                 iv1 = ivave
             else:
-                is1 = sum(pix(jloc + k) for k in range(3))
-                is2 = sum(pix(iloc - k) for k in range(3))
-                ivave = _mean_plus_half(is1, THREE)
-                iv1 = _mean_plus_half(is2, THREE)
+                is1 = 0
+                is2 = 0
+                for k in range(3):
+                    is1 += ipix[jloc + k - 1]
+                    is2 += ipix[iloc - k - 1]
+                ivave = mean_plus_half(is1, 3)
+                iv1 = mean_plus_half(is2, 3)
             if nfeat >= NFMAX:                           # label 500
-                if warn is not None:
-                    warn("-- EXIDEG -- TOO MANY FEATURES.")
-                return nfeat, ifeat
+                return nfeat, True
             nfeat += 1
-            start[nfeat - 1] = iloc
-            stop[nfeat - 1] = ipre
-            grey_l[nfeat - 1] = iv1
-            grey_r[nfeat - 1] = ivpre
+            ifeat[0, nfeat - 1] = iloc
+            ifeat[1, nfeat - 1] = ipre
+            ifeat[2, nfeat - 1] = iv1
+            ifeat[3, nfeat - 1] = ivpre
             if nfeat > 1:
-                grey_r[nfeat - 2] = ivave
+                ifeat[3, nfeat - 2] = ivave
             if inext > ilast:
                 label = 300
                 continue
             inext = ipre
             jloc = ipre
             label = 100
-        elif label == 300:                               # end of the line
+        else:                                            # label 300: end of the line
             if nfeat <= 0:
-                return nfeat, ifeat
+                return nfeat, False
             if inum >= 1:
                 isum = 0
                 inum = 0
@@ -155,29 +157,53 @@ def exqvfl(ipix, ithr: int, ifeat: list[list[int]] | None = None,
                     if jloc + k > iloc:
                         continue
                     inum += 1
-                    isum += pix(jloc + k)
-                grey_r[nfeat - 1] = _mean_plus_half(isum, inum)
+                    isum += ipix[jloc + k - 1]
+                ifeat[3, nfeat - 1] = mean_plus_half(isum, inum)
             else:                                        # unreachable once a feature exists
-                grey_r[nfeat - 1] = pix(ilast)
+                ifeat[3, nfeat - 1] = ipix[ilast - 1]
             break
 
     # Label 410: suppress overlapping edge features (merge touching narrow ones).
     ifloc = 1
     for k in range(2, nfeat + 1):        # DO 490 ILOC=2,NFEAT (zero trips if NFEAT=1)
-        if stop[ifloc - 1] < start[k - 1]:
-            merge = False
-        else:
-            iwd1 = stop[k - 1] - start[k - 1]
-            iwd2 = stop[ifloc - 1] - start[ifloc - 1]
+        merge = False
+        if ifeat[1, ifloc - 1] >= ifeat[0, k - 1]:
+            iwd1 = ifeat[1, k - 1] - ifeat[0, k - 1]
+            iwd2 = ifeat[1, ifloc - 1] - ifeat[0, ifloc - 1]
             merge = not (iwd1 > 1 or iwd2 > 1)
         if merge:
-            stop[ifloc - 1] = stop[k - 1]
-            grey_r[ifloc - 1] = grey_r[k - 1]
+            ifeat[1, ifloc - 1] = ifeat[1, k - 1]
+            ifeat[3, ifloc - 1] = ifeat[3, k - 1]
         else:
             ifloc += 1
-            for col in ifeat:
-                col[ifloc - 1] = col[k - 1]
-    return ifloc, ifeat
+            for j in range(4):
+                ifeat[j, ifloc - 1] = ifeat[j, k - 1]
+    return ifloc, False
+
+
+def exqvfl(ipix, ithr: int, ifeat=None, ilast: int | None = None, warn=None):
+    """EXQVFL(ILAST, IPIX, NFEAT, IFEAT, ITHR).
+
+    ``ipix``: the pixels, ``ipix[0]`` being IPIX(1).  ``ifeat``: the caller's
+    IFEAT table — a (4, 50) array (or four 50-word lists), updated in place;
+    entries past NFEAT keep older values, as in NSTAR's COMMON buffer; a fresh
+    zero table when omitted.  Returns ``(NFEAT, IFEAT)``.  ``warn`` receives
+    the listing's TYPE message when more than 50 features are found (the list
+    is then returned unmerged, NFEAT = 50)."""
+    pix = np.ascontiguousarray(ipix, dtype=np.int64)
+    if ilast is None:
+        ilast = len(pix)
+    table = ifeat
+    if table is None:
+        table = new_ifeat()
+    arr = table if isinstance(table, np.ndarray) else np.array(table, dtype=np.int64)
+    nfeat, too_many = exqvfl_kernel(pix, int(ilast), int(ithr), arr)
+    if arr is not table:                      # write back into the caller's lists
+        for j in range(4):
+            table[j][:] = [int(v) for v in arr[j]]
+    if too_many and warn is not None:
+        warn(TOO_MANY)
+    return int(nfeat), table
 
 
 def feature_list(nfeat: int, ifeat: list[list[int]]) -> list[tuple[int, int, int, int]]:

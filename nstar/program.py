@@ -19,7 +19,7 @@ from diskfmt.layouts import (Command, BlockMap, Slice, decode_ncont, encode_slic
                              CODE_SLICE, CODE_NEW_PAIR, CODE_EDGE_MAP)
 from diskfmt.listing import Console, Listing, fi
 from octek_sim import Octek
-from .bitmaps import block_map, edge_map, scale_factors
+from .bitmaps import block_map, command_geometry, edge_map, edge_map_batch, scale_factors
 from .exqvfl import exqvfl
 from .printouts import prbm
 from .radial import direction_cosines, ilcm, radsp
@@ -86,14 +86,9 @@ class Nova:
         cmd = decode_ncont(ncont)
         code, imf, ixctr, iyctr, irad, idn = cmd.words()
         self.ifbuf[6] = imf                                  # IDIR(7)=IMF
-        ixoff = LEFT_X if imf == 1 else LEFT_X + 140
-        ixmin, ixmax = IHMIN + ixoff, IHMAX + ixoff
+        ixoff, ixmin, ixmax, iymin, iymax, ixctr, iyctr, ixc, iyc = (
+            int(v) for v in command_geometry(imf, ixctr, iyctr))
         iyoff = 0
-        iymin, iymax = IVMIN + iyoff, IVMAX + iyoff
-        ixctr = min(max(ixctr, IHMIN), IHMAX)
-        ixc = ixctr + ixoff
-        iyctr = min(max(iyctr, IVMIN), IVMAX)
-        iyc = iyctr + iyoff
         if code < -1 or code > 4 or code == 0:
             # IF ((ICODE .LT. -1) .OR. (ICODE .GT. 4)) GOTO 100; code 0 falls
             # through the computed GOTO to GOTO 100.
@@ -112,6 +107,30 @@ class Nova:
         if code == CODE_NEW_PAIR:
             return []
         return [self._edge(ixc, iyc, idn, (ixmin, ixmax, iymin, iymax))]
+
+    def execute_edge_maps(self, ncont_block: bytes) -> bytes:
+        """Many code-4 NCONT.DT messages, back to back (12 bytes each), carried
+        out in one compiled pass; returns their WBMAP.DT replies back to back
+        (34 bytes each).  Same bytes, same NSTAR state and printouts as calling
+        :meth:`execute` on each — the in-process link uses it for speed."""
+        words = np.frombuffer(ncont_block, dtype=">i2").reshape(-1, 6).astype(np.int64)
+        if len(words) == 0 or not (words[:, 0] == CODE_EDGE_MAP).all():
+            return b"".join(r.data for k in range(len(words))
+                            for r in self.execute(ncont_block[12 * k:12 * k + 12]))
+        out = np.zeros((len(words), 17), dtype=np.int64)
+        corners = np.zeros((len(words), 2), dtype=np.int64)
+        edge_map_batch(self.octek.frame, words, out, corners)
+        for k in range(len(words)) if (self.debug & 16 or not self.console.quiet) else ():
+            geometry = command_geometry(*words[k, 1:4])
+            self.console.type(" Bit map region edge. IYC=", int(geometry[8]),
+                              " IXC=", int(geometry[7]))
+            if self.debug & 16:
+                self.listing.records(prbm(out[k, 1:]))
+        self.ifbuf[6] = words[-1, 1]                         # IDIR(7) of the last one
+        ixlft, iytop = (int(v) for v in corners[-1])
+        self.octek.boxcur(18, 18)
+        self.octek.hctab(ixlft, 255)
+        return out.astype(">i2").tobytes()
 
     # --- label 600 -----------------------------------------------------------
     def _slice(self, imf, iyctr, iyoff, ixmin, ixmax) -> Reply:

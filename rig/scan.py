@@ -1,0 +1,158 @@
+"""Whole-picture scans: ESTAR's LCLN over a set of epipolar lines, every located
+edge as a 3-D point with its error bounds and the covariance of equation A-20.
+
+Axes are the left camera's (LCSL's): **X** to the right (dx), **Y** down (dy,
+rows below line 60 are positive), **Z** forward along the optical axis (dp,
+the range), all in the unit of the camera separation (feet for the bundled
+pair).  Offsets are measured from pixel 60 in both directions, as the 1985
+program does (QUIRKS E6).
+
+The covariance (Appendix A, A-19/A-20) takes the error bounds as two standard
+deviations of independent errors: ``C = diag((ep/2)^2, (ex/2)^2, (ey/2)^2)``
+in (range, horizontal, vertical) order.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from dataclasses import dataclass, asdict
+from pathlib import Path
+
+import numpy as np
+
+from diskfmt.dgreal import Real
+from estar.link import DirectLink
+from estar.masl import Options as MaslOptions
+from estar.program import Eclipse, LineResult
+from nstar.program import Nova
+
+DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
+
+
+@dataclass(frozen=True)
+class Point:
+    """One located edge."""
+    line: int            # IY, 0..119
+    edge: int            # 1..50 left end of feature k, 51..100 right end
+    loc1: int            # left-picture index (1-based) of the match LCSL used
+    loc2: int            # right-picture index
+    dp: float            # range (Z)
+    dx: float            # horizontal offset (X, right)
+    dy: float            # vertical offset (Y, down)
+    ep: float            # error bounds (two standard deviations)
+    ex: float
+    ey: float
+
+    @property
+    def disparity(self) -> int:
+        return self.loc1 - self.loc2
+
+    def covariance(self) -> np.ndarray:
+        """Equation A-20: diag((Ep/2)^2, (Ex/2)^2, (Ey/2)^2), (range, x, y) order."""
+        return np.diag([(self.ep / 2) ** 2, (self.ex / 2) ** 2, (self.ey / 2) ** 2])
+
+
+def points_of_line(result: LineResult) -> list[Point]:
+    """The located edges of one LCLN, each with the match entry LCSL used (the
+    first one whose disparity exceeds EDISP = 1)."""
+    out = []
+    for edge, pos in sorted(result.positions.items()):
+        if pos is None:
+            continue
+        used = next(e for e in result.matches[edge] if e[2] - e[3] > 1)
+        out.append(Point(result.iyloc, edge, used[2], used[3], *pos))
+    return out
+
+
+@dataclass
+class ScanResult:
+    lines: list[int]
+    results: list[LineResult]
+    points: list[Point]
+    requests: int
+
+    @property
+    def last_posit(self) -> bytes:
+        return self.results[-1].posit if self.results else b""
+
+
+def scan_pair(left: np.ndarray, right: np.ndarray, lines=DEFAULT_LINES,
+              ds: str = "0.75", dv: str = "180", options: MaslOptions | None = None,
+              progress: bool = False, eclipse: Eclipse | None = None) -> ScanResult:
+    """Scan the pair over the direct (in-process) link: NSTAR's command handler
+    is called with the same NCONT.DT bytes the file link would carry."""
+    if eclipse is None:
+        nova = Nova()
+        nova.load_pair(left, right)
+        eclipse = Eclipse(DirectLink(nova), Real.const(ds), Real.const(dv), options=options)
+    return run_lines(eclipse, lines, progress)
+
+
+def run_lines(eclipse: Eclipse, lines, progress: bool = False) -> ScanResult:
+    lines = list(lines)
+    iterator = lines
+    if progress:
+        from tqdm import tqdm
+        iterator = tqdm(lines, desc="scanning lines", unit="line")
+    results, points = [], []
+    for y in iterator:
+        r = eclipse.lcln(y)
+        results.append(r)
+        points.extend(points_of_line(r))
+    return ScanResult(lines, results, points, eclipse.requests)
+
+
+# --- output files -------------------------------------------------------------
+
+CSV_COLUMNS = ["line", "edge", "loc1", "loc2", "disparity", "dp", "dx", "dy", "ep", "ex", "ey",
+               "var_p", "var_x", "var_y"]
+
+
+def csv_text(points: list[Point]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(CSV_COLUMNS)
+    for p in points:
+        c = p.covariance()
+        w.writerow([p.line, p.edge, p.loc1, p.loc2, p.disparity,
+                    *(repr(v) for v in (p.dp, p.dx, p.dy, p.ep, p.ex, p.ey,
+                                        c[0, 0], c[1, 1], c[2, 2]))])
+    return buf.getvalue()
+
+
+def ply_text(points: list[Point]) -> str:
+    """ASCII PLY (MeshLab, Open3D): x = dx (right), y = dy (down), z = dp
+    (forward), plus the error bounds and the A-20 variances as extra vertex
+    properties."""
+    head = ["ply", "format ascii 1.0",
+            "comment Holten 1985 stereo rig: located edges, left-camera axes "
+            "x right, y down, z forward (range); unit of the camera separation",
+            f"element vertex {len(points)}",
+            "property float x", "property float y", "property float z",
+            "property float ep", "property float ex", "property float ey",
+            "property float var_p", "property float var_x", "property float var_y",
+            "property int line", "property int edge", "end_header"]
+    rows = []
+    for p in points:
+        c = p.covariance()
+        rows.append(" ".join(f"{v:.6g}" for v in (p.dx, p.dy, p.dp, p.ep, p.ex, p.ey,
+                                                  c[0, 0], c[1, 1], c[2, 2]))
+                    + f" {p.line} {p.edge}")
+    return "\n".join(head + rows) + "\n"
+
+
+def write_atomic(path, text: str) -> Path:
+    """Write via a temporary name in the same directory, then rename."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+    return path
+
+
+def read_ply_points(text: str) -> np.ndarray:
+    """The vertex rows of an ASCII PLY written by :func:`ply_text` (for checks)."""
+    body = text.split("end_header\n", 1)[1]
+    return np.loadtxt(io.StringIO(body), ndmin=2) if body.strip() else np.zeros((0, 11))
