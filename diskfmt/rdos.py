@@ -107,6 +107,7 @@ class JHData:
         self._observer = None
         self._inotify = None
         self._lock_fd = None
+        self._busy_fd = None
         if not self.dir.is_dir():
             raise FileNotFoundError(f"jhdata directory {self.dir} does not exist "
                                     f"(create it, or give --jhdata DIR)")
@@ -135,6 +136,9 @@ class JHData:
         if self._observer is not None:
             self._observer.stop()
             self._observer = None
+        if self._busy_fd is not None:
+            os.close(self._busy_fd)           # the file stays: a peer may hold it open
+            self._busy_fd = None
         if self._lock_fd is not None:
             try:
                 os.unlink(self._lock_path)    # still ours: we hold the lock
@@ -176,6 +180,56 @@ class JHData:
         os.write(fd, f"{os.getpid()}\n".encode())
         self._lock_fd = fd
         self._lock_path = self.dir / name
+
+    # --- the busy lock (QUIRKS M14) ---------------------------------------------
+    def open_busy(self, name: str) -> None:
+        """Create (or open) the busy-lock file ``name`` that :meth:`busy` locks
+        while a command is being carried out; done once, at start."""
+        self._busy_fd = os.open(self.dir / name, os.O_RDWR | os.O_CREAT, 0o644)
+
+    class _Busy:
+        def __init__(self, fd):
+            self.fd = fd
+
+        def __enter__(self):
+            fcntl.flock(self.fd, fcntl.LOCK_EX)    # a peer holds it only for a sweep
+            return self
+
+        def __exit__(self, *exc):
+            fcntl.flock(self.fd, fcntl.LOCK_UN)
+
+    def busy(self) -> "JHData._Busy":
+        """Hold the busy lock (see :meth:`open_busy`) for a ``with`` block: from
+        taking a command to publishing its last reply."""
+        return self._Busy(self._busy_fd)
+
+    def wait_idle(self, name: str, sweep, timeout: float | None = None) -> None:
+        """Call ``sweep()`` until the peer holds no busy lock ``name``, then once
+        more while holding it ourselves: afterwards no reply to a command sent
+        before we started can still appear (a reply the peer was computing, or
+        was waiting to publish, when the first sweep ran is swept too)."""
+        path = self.dir / name
+
+        def idle() -> bool:
+            sweep()
+            try:
+                fd = os.open(path, os.O_RDONLY)
+            except FileNotFoundError:         # the peer has never run here
+                return True
+            try:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+                except BlockingIOError:
+                    return False
+                sweep()
+                return True
+            finally:
+                os.close(fd)                  # and with it the lock
+
+        self._wait(idle,
+                   lambda t: (f"{self.peer} still busy with a command from an earlier run "
+                              f"after {t:g} s (it holds {name}) — is {self.peer.lower()} "
+                              f"stopped or waiting at its console ({self.dir})?"), timeout)
 
     # --- waiting ------------------------------------------------------------
     def _wait(self, done, describe, timeout) -> None:
@@ -257,20 +311,28 @@ class JHData:
     def rename(self, old: str, new: str) -> None:
         os.replace(self.dir / old, self.dir / new)
 
-    def set_aside(self, name: str, why: str) -> Path | None:
+    def set_aside(self, name: str, why: str, as_name: str | None = None) -> Path | None:
         """Move a stale ``name`` into ``STALE/`` instead of deleting it, so
-        nothing is lost; returns where it went."""
+        nothing is lost; returns where it went (named after ``as_name`` if given)."""
         src = self.dir / name
+        name = as_name or name
         if not src.exists():
             return None
         stale = self.dir / "STALE"
         stale.mkdir(exist_ok=True)
         stamp = time.strftime("%Y%m%d-%H%M%S")
         n = 0
-        while True:
+        while True:                   # link, never replace: both programs sweep into STALE/
             dest = stale / f"{name}.{stamp}.{n}"
-            if not dest.exists():
+            try:
+                os.link(src, dest)
                 break
-            n += 1
-        os.replace(src, dest)
+            except FileExistsError:
+                n += 1
+            except FileNotFoundError:     # taken or swept by the other program meanwhile
+                return None
+        try:
+            os.unlink(src)
+        except FileNotFoundError:         # deleted meanwhile (NSTAR's DELETE of NCONT.DT)
+            pass
         return dest

@@ -34,6 +34,7 @@ DEBUG_MENU = ["", "The debugger options are:",
               " Add together the options desired.",
               ""]
 LOCK_NAME = "ESTAR.LCK"
+NSTAR_BUSY = "NSTAR.BSY"       # nstar.main.BUSY_NAME
 
 
 def parse_real(text: str, what: str) -> Real:
@@ -119,10 +120,16 @@ def main(argv=None) -> int:
         jh = JHData(args.jhdata or default_jhdata(), me="ESTAR", peer="NSTAR",
                     timeout=args.timeout)
         jh.lock(LOCK_NAME)
-        for name in ESTAR_STALE:
-            where = jh.set_aside(name, "stale")
-            if where:
-                console.type(f" Found {name} from an earlier run; moved it to {where}")
+
+        def sweep() -> None:
+            for name in ESTAR_STALE:
+                where = jh.set_aside(name, "stale")
+                if where:
+                    console.type(f" Found {name} from an earlier run; moved it to {where}")
+
+        # Sweep until NSTAR is not in the middle of a command sent before we
+        # started: a reply it publishes later would be read as ours (QUIRKS M14).
+        jh.wait_idle(NSTAR_BUSY, sweep)
 
         def publish_posit(data: bytes) -> None:
             tmp = jh.path("EDAT.DT")

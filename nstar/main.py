@@ -31,6 +31,7 @@ BANNER = [
 ]
 
 STALE_AT_START = ("NDAT.DT", "TRM.DT", "TERM.DT")
+BUSY_NAME = "NSTAR.BSY"    # locked from taking a command to publishing its reply (QUIRKS M14)
 
 
 class Abort(Exception):
@@ -109,21 +110,28 @@ def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) ->
         nova.octek.hctab(128, 255)
         console.type(" Ready for the ECLIPSE command file.")
         jh.wait_for("NCONT.DT", timeout=idle_timeout or 0)
-        try:
-            data = jh.read("NCONT.DT")
-        except FileNotFoundError:          # set aside by a starting ESTAR: wait again
-            continue
-        console.type(" Command file found.")
-        try:
-            replies = nova.execute(data)
-        except FormatError:
-            raise Abort(f"{jh.path('NCONT.DT')}: {len(data)} bytes, expected 12 — not a "
-                        f"command file; left in place for inspection") from None
-        jh.delete("NCONT.DT")
-        if data[:2] == b"\x00\x03":
-            new_images_dialogue(nova, console)
-        for reply in replies:
-            jh.publish(reply.temp, reply.name, reply.data)
+        with jh.busy():                    # a starting ESTAR waits for this (QUIRKS M14)
+            try:
+                data = jh.read("NCONT.DT")
+            except FileNotFoundError:      # set aside by a starting ESTAR: wait again
+                continue
+            console.type(" Command file found.")
+            try:
+                replies = nova.execute(data)
+            except FormatError:
+                raise Abort(f"{jh.path('NCONT.DT')}: {len(data)} bytes, expected 12 — not "
+                            f"a command file; left in place for inspection") from None
+            jh.delete("NCONT.DT")
+            if data[:2] == b"\x00\x03":
+                new_images_dialogue(nova, console)
+            for reply in replies:
+                try:
+                    jh.publish(reply.temp, reply.name, reply.data)
+                except LinkTimeout as exc:     # nobody takes it: keep serving (QUIRKS M15)
+                    where = jh.set_aside(reply.temp, "unsent", as_name=reply.name)
+                    print(f"nstar: {exc} This {reply.name} reply was not published; kept as "
+                          f"{where}. Waiting for the next command.", file=sys.stderr,
+                          flush=True)
         if nova.terminated:
             return 0
 
@@ -183,6 +191,7 @@ def main(argv=None) -> int:
                     options=Options(no_wrap_percent=args.no_wrap_percent))
         jhdir = args.jhdata or default_jhdata()
         jh = JHData(jhdir, me="NSTAR", peer="ESTAR", timeout=args.timeout)
+        jh.open_busy(BUSY_NAME)
         for name in STALE_AT_START:
             where = jh.set_aside(name, "stale")
             if where:

@@ -1,0 +1,538 @@
+"""The file protocol under faults (issue 5), with real ``nstar``/``estar``
+processes: stale files at start, ``kill -9`` of either program mid-line,
+corrupt or truncated files, two ESTARs on one directory.
+
+Each test checks the result against the in-process reference (``DirectLink``):
+a run that survived a fault must write the POSIT.DT bytes a clean run writes.
+docs/robustness.md describes each case.
+"""
+
+from __future__ import annotations
+
+import os
+import select
+import signal
+import struct
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from diskfmt.dgreal import Real
+from diskfmt.layouts import (Command, FormatError, decode_bi, decode_block, decode_ncont,
+                             decode_posit, encode_ncont, encode_slice, encode_wbmap,
+                             encode_bi, Slice, CODE_EDGE_MAP, CODE_SLICE, BLOCK_DT_BYTES,
+                             POSIT_BYTES)
+from diskfmt.rdos import JHData, LinkTimeout
+from estar.link import DirectLink
+from estar.program import Eclipse
+from nstar.program import Nova
+
+from rigtools import make_pair, env
+
+PUBLIC = ("NCONT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT", "POSIT.DT", "TERM.DT")
+
+
+# --- helpers -------------------------------------------------------------------
+
+def wait_until(cond, timeout=15.0, what="condition"):
+    deadline = time.monotonic() + timeout
+    while not cond():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.002)
+
+
+def spawn(module: str, out: Path, *args) -> subprocess.Popen:
+    """A program as a real process; its console goes to ``out``.stdout/.stderr
+    files (a pipe nobody reads could block it)."""
+    return subprocess.Popen([sys.executable, "-m", module, *map(str, args)],
+                            stdout=open(f"{out}.stdout", "w"), stderr=open(f"{out}.stderr", "w"),
+                            stdin=subprocess.DEVNULL, env=env(), text=True)
+
+
+def nstar(tmp: Path, jh: Path, tag: str, *extra) -> subprocess.Popen:
+    return spawn("nstar.main", tmp / tag, "--jhdata", jh, "--debug", "0", "--left",
+                 tmp / "L.BI", "--right", tmp / "R.BI", "--idle-timeout", "60", *extra)
+
+
+def estar(tmp: Path, jh: Path, tag: str, *extra) -> subprocess.Popen:
+    return spawn("estar.main", tmp / tag, "--jhdata", jh, "--separation", "0.75",
+                 "--virtual-distance", "180", "--debug", "0", *extra)
+
+
+def output(tmp: Path, tag: str) -> tuple[str, str]:
+    return ((tmp / f"{tag}.stdout").read_text(), (tmp / f"{tag}.stderr").read_text())
+
+
+def finish(p: subprocess.Popen, timeout=20) -> int:
+    return p.wait(timeout=timeout)
+
+
+def cleanup(*procs) -> None:
+    for p in procs:
+        if p is not None and p.poll() is None:
+            p.kill()                      # SIGKILL also ends a stopped process
+            p.wait(timeout=10)
+
+
+def stopped(pid: int) -> bool:
+    with open(f"/proc/{pid}/stat") as fh:
+        return fh.read().rsplit(")", 1)[1].split()[0] in "tT"
+
+
+def freeze(p: subprocess.Popen) -> None:
+    os.kill(p.pid, signal.SIGSTOP)
+    wait_until(lambda: stopped(p.pid), 5, "SIGSTOP to take effect")
+
+
+def command_in(jh: Path) -> Command | None:
+    try:
+        return decode_ncont((jh / "NCONT.DT").read_bytes())
+    except (FileNotFoundError, FormatError):
+        return None
+
+
+def freeze_when(p: subprocess.Popen, cond, timeout=15.0, recheck=True) -> None:
+    """Stop ``p`` at a moment when ``cond()`` holds (with ``recheck``, checked
+    again while it is stopped, so the state cannot move on under us)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if cond():
+            freeze(p)
+            if not recheck or cond():
+                return
+            os.kill(p.pid, signal.SIGCONT)
+        time.sleep(0.0005)
+    raise AssertionError("the wanted moment never came")
+
+
+def reference(tmp: Path, lines) -> bytes:
+    """POSIT.DT of one clean ESTAR run over ``lines`` (direct link)."""
+    nova = Nova()
+    nova.load_pair(decode_bi((tmp / "L.BI").read_bytes()), decode_bi((tmp / "R.BI").read_bytes()))
+    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
+    return [ecl.lcln(y) for y in lines][-1].posit
+
+
+def send_raw(jh: Path, cmd: Command) -> None:
+    """Publish one NCONT.DT as ESTAR does: temp name, wait for the name, link."""
+    wait_until(lambda: not (jh / "NCONT.DT").exists(), 10, "NSTAR to take NCONT.DT")
+    tmp = jh / "XCONT.DT"
+    tmp.write_bytes(encode_ncont(cmd))
+    os.link(tmp, jh / "NCONT.DT")
+    tmp.unlink()
+
+
+def stale(jh: Path) -> list[str]:
+    d = jh / "STALE"
+    return sorted(p.name for p in d.iterdir()) if d.is_dir() else []
+
+
+class WriteWatch:
+    """Every inotify event on jhdata/ during a test, read in a thread: a file
+    published by rename is never *written* under its public name, so an
+    IN_MODIFY or IN_CLOSE_WRITE on NCONT.DT, SLICE.DT, ... would mean a reader
+    could have seen it half written."""
+
+    def __init__(self, directory: Path):
+        from watchdog.observers.inotify_c import (inotify_init, inotify_add_watch,
+                                                  InotifyConstants as C)
+        self.C = C
+        self.fd = inotify_init()
+        inotify_add_watch(self.fd, os.fsencode(directory),
+                          C.IN_MODIFY | C.IN_CLOSE_WRITE | C.IN_CREATE | C.IN_MOVED_TO)
+        self.events: list[tuple[int, str]] = []
+        self.running = True
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self):
+        poller = select.poll()
+        poller.register(self.fd, select.POLLIN)
+        while self.running:
+            if not poller.poll(50):
+                continue
+            buf = os.read(self.fd, 1 << 16)
+            off = 0
+            while off < len(buf):
+                _, mask, _, length = struct.unpack_from("iIII", buf, off)
+                name = buf[off + 16:off + 16 + length].rstrip(b"\0").decode()
+                self.events.append((mask, name))
+                off += 16 + length
+
+    def stop(self):
+        self.running = False
+        self.thread.join(5)
+        os.close(self.fd)
+
+    def written(self, name: str) -> int:
+        return sum(1 for m, n in self.events
+                   if n == name and m & (self.C.IN_MODIFY | self.C.IN_CLOSE_WRITE))
+
+    def appeared(self, name: str) -> int:
+        return sum(1 for m, n in self.events
+                   if n == name and m & (self.C.IN_CREATE | self.C.IN_MOVED_TO))
+
+
+@pytest.fixture
+def rig(tmp_path):
+    jh = tmp_path / "jhdata"
+    jh.mkdir()
+    make_pair(tmp_path)
+    return tmp_path, jh
+
+
+# --- stale files at start ----------------------------------------------------------
+
+def test_stale_files_from_an_earlier_run_are_set_aside_and_said(rig):
+    tmp, jh = rig
+    junk = {   # what an interrupted earlier session can leave; none of it must be read
+        "NCONT.DT": encode_ncont(Command(CODE_EDGE_MAP, 1, 40, 45, 0, 1)),
+        "ECONT.DT": encode_ncont(Command(CODE_SLICE, 2, 0, 45, 128, 0)),
+        "SLICE.DT": encode_slice(Slice([-1, 0, 45, 127, 45, 128, 1, 3] + [7] * 248)),
+        "SL.DT": b"\x00" * 1000,
+        "WBMAP.DT": encode_wbmap([0xFFFF] * 16),
+        "BLOCK.DT": b"\x01" * BLOCK_DT_BYTES,
+        "EDAT.DT": b"\x02" * POSIT_BYTES,
+        "NDAT.DT": encode_wbmap([0x5555] * 16),
+        "TRM.DT": b" NOVA proc",
+        "TERM.DT": b" NOVA processing terminated.\n",
+    }
+    for name, data in junk.items():
+        (jh / name).write_bytes(data)
+    e = n = None
+    try:
+        # ESTAR first: it sweeps its names, then its first command waits for NSTAR.
+        e = estar(tmp, jh, "estar", "--line", "45", "--timeout", "10", "--terminate")
+        wait_until(lambda: (c := command_in(jh)) is not None and c.code == CODE_SLICE,
+                   10, "ESTAR's first slice command")
+        n = nstar(tmp, jh, "nstar")
+        assert finish(e) == 0, output(tmp, "estar")
+        assert finish(n) == 0, output(tmp, "nstar")
+    finally:
+        cleanup(e, n)
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])
+    eout, nout = output(tmp, "estar")[0], output(tmp, "nstar")[0]
+    for name in ("NCONT.DT", "ECONT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT", "EDAT.DT"):
+        assert f"Found {name} from an earlier run; moved it to {jh / 'STALE' / name}." in eout
+    for name in ("NDAT.DT", "TRM.DT"):
+        assert f"Found {name} from an earlier run; moved it to {jh / 'STALE' / name}." in nout
+    # TERM.DT: NSTAR set the old one aside; the one in jhdata is this run's.
+    assert "Found TERM.DT from an earlier run" in nout
+    kept = {p.name.split(".2")[0]: p.read_bytes() for p in (jh / "STALE").iterdir()}
+    assert kept == junk                       # every stale file kept, byte for byte
+
+
+def test_reply_to_a_dead_estar_published_after_the_sweep_is_not_read(rig):
+    """The race of issue 5: NSTAR is still busy with a command of a dead ESTAR
+    (here: blocked publishing its WBMAP.DT because the dead ESTAR never took the
+    previous one, and slow — stopped — as a loaded machine can be) while a new
+    ESTAR starts.  Before QUIRKS M14 the new ESTAR swept the old WBMAP.DT, sent
+    its commands, and NSTAR then published the dead ESTAR's WBMAP.DT, which the
+    new ESTAR read as the answer to its first edge-map request: every map after
+    it shifted by one and POSIT.DT was wrong, silently."""
+    tmp, jh = rig
+    n = e = None
+    try:
+        n = nstar(tmp, jh, "nstar", "--timeout", "20")
+        first, second = Command(CODE_EDGE_MAP, 1, 30, 45, 0, 1), Command(CODE_EDGE_MAP, 2, 70, 45, 0, 2)
+        send_raw(jh, first)
+        wait_until(lambda: (jh / "WBMAP.DT").exists(), 10, "the first WBMAP.DT")
+        send_raw(jh, second)
+        wait_until(lambda: not (jh / "NCONT.DT").exists() and (jh / "NDAT.DT").exists(),
+                   10, "NSTAR to wait with its second WBMAP.DT")
+        freeze(n)
+        e = estar(tmp, jh, "estar", "--line", "45", "--timeout", "10")
+        wait_until(lambda: any(s.startswith("WBMAP.DT") for s in stale(jh)), 10,
+                   "ESTAR's sweep")
+        try:   # without the busy lock ESTAR sends its command at once
+            wait_until(lambda: command_in(jh) is not None, 1.5)
+        except AssertionError:
+            pass
+        os.kill(n.pid, signal.SIGCONT)
+        assert finish(e) == 0, output(tmp, "estar")
+        assert n.poll() is None                       # NSTAR keeps serving
+    finally:
+        cleanup(e, n)
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])
+    assert not (jh / "WBMAP.DT").exists()
+    nova = Nova()
+    nova.load_pair(decode_bi((tmp / "L.BI").read_bytes()), decode_bi((tmp / "R.BI").read_bytes()))
+    maps = sorted(p.read_bytes() for p in (jh / "STALE").iterdir())
+    assert maps == sorted(nova.execute(encode_ncont(c))[0].data for c in (first, second))
+    assert output(tmp, "estar")[0].count("Found WBMAP.DT from an earlier run") == 2
+
+
+# --- kill -9 of NSTAR -------------------------------------------------------------
+
+def _kill_nstar_while_estar_waits_for_wbmap(tmp, jh, n, e):
+    """Stop NSTAR while ESTAR's edge-map command is in NCONT.DT (ESTAR is then
+    in NWAIT for WBMAP.DT), and kill it."""
+    freeze_when(n, lambda: (c := command_in(jh)) is not None and c.code == CODE_EDGE_MAP)
+    n.kill()
+    n.wait(10)
+    assert (jh / "NCONT.DT").exists() and not (jh / "WBMAP.DT").exists()
+    assert e.poll() is None
+
+
+def test_kill_nstar_estar_reports_then_both_restarted_complete_the_line(rig):
+    tmp, jh = rig
+    n = e = n2 = e2 = None
+    try:
+        n = nstar(tmp, jh, "nstar")
+        e = estar(tmp, jh, "estar", "--line", "45", "--timeout", "2")
+        _kill_nstar_while_estar_waits_for_wbmap(tmp, jh, n, e)
+        t = time.monotonic()
+        assert finish(e) == 1
+        assert time.monotonic() - t < 10                 # within its 2 s, with room
+        err = output(tmp, "estar")[1]
+        assert err.strip() == (f"estar: no WBMAP.DT from NSTAR after 2 s — is nstar running "
+                               f"on this jhdata directory ({jh})?")
+        assert not (jh / "ESTAR.LCK").exists()
+        # Restart both at once, NSTAR first: it finds the dead ESTAR's command
+        # and answers it; the new ESTAR must read none of that.
+        n2 = nstar(tmp, jh, "nstar2")
+        e2 = estar(tmp, jh, "estar2", "--line", "45", "60", "--timeout", "10", "--terminate")
+        assert finish(e2) == 0, output(tmp, "estar2")
+        assert finish(n2) == 0, output(tmp, "nstar2")
+    finally:
+        cleanup(n, e, n2, e2)
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45, 60])
+    said = output(tmp, "estar2")[0]
+    assert "Found NCONT.DT from an earlier run" in said or "Found WBMAP.DT from an earlier run" in said
+
+
+def test_estar_still_waiting_completes_the_line_after_nstar_restart(rig):
+    tmp, jh = rig
+    n = e = n2 = None
+    try:
+        n = nstar(tmp, jh, "nstar")
+        e = estar(tmp, jh, "estar", "--line", "45", "60", "--timeout", "15", "--terminate")
+        _kill_nstar_while_estar_waits_for_wbmap(tmp, jh, n, e)
+        time.sleep(0.5)
+        assert e.poll() is None                           # still waiting for WBMAP.DT
+        n2 = nstar(tmp, jh, "nstar2")                     # takes the waiting NCONT.DT
+        assert finish(e) == 0, output(tmp, "estar")
+        assert finish(n2) == 0, output(tmp, "nstar2")
+    finally:
+        cleanup(n, e, n2)
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45, 60])
+
+
+# --- kill -9 of ESTAR -------------------------------------------------------------
+
+def test_kill_estar_during_edge_maps_nstar_serves_the_next_estar(rig):
+    tmp, jh = rig
+    watch = WriteWatch(jh)
+    n = e = e2 = None
+    try:
+        n = nstar(tmp, jh, "nstar", "--timeout", "2")
+        e = estar(tmp, jh, "estar", "--line", "60", "45", "--timeout", "10")
+        # kill while the WBMAP.DT for its request is being made or waits unread
+        freeze_when(e, lambda: (c := command_in(jh)) is not None and c.code == CODE_EDGE_MAP
+                    and c.y == 45, recheck=False)
+        e.kill()
+        e.wait(10)
+        e2 = estar(tmp, jh, "estar2", "--line", "60", "45", "--timeout", "10", "--terminate")
+        assert finish(e2) == 0, output(tmp, "estar2")
+        assert finish(n) == 0, output(tmp, "nstar")
+    finally:
+        cleanup(n, e, e2)
+        watch.stop()
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [60, 45])
+    assert output(tmp, "nstar")[1] == ""
+    assert watch.appeared("WBMAP.DT") > 20 and watch.appeared("SLICE.DT") >= 8
+    for name in PUBLIC:                       # published by link/rename only
+        assert watch.written(name) == 0, name
+
+
+def test_kill_estar_between_slices_nstar_reports_the_untaken_reply_and_keeps_serving(rig):
+    """ESTAR sends both slice commands before it reads the first SLICE.DT; killed
+    in between, NSTAR's second SLICE.DT waits for a name nobody frees.  NSTAR
+    says so after --timeout, keeps that reply in STALE/ and goes on serving
+    (QUIRKS M15).  The window between ESTAR's second command and its taking of
+    the first reply is too short to hit with a signal, so ESTAR is killed just
+    after its first command and this test sends the second one, the very bytes
+    ESTAR sends next — the state a kill inside the window leaves."""
+    tmp, jh = rig
+    watch = WriteWatch(jh)
+    n = e = e2 = None
+    try:
+        n = nstar(tmp, jh, "nstar", "--timeout", "2")
+        e = estar(tmp, jh, "estar", "--line", "45", "--timeout", "10")
+        freeze_when(e, lambda: command_in(jh) == Command(CODE_SLICE, 1, 0, 45, 128, 0))
+        e.kill()
+        e.wait(10)
+        send_raw(jh, Command(CODE_SLICE, 2, 0, 45, 128, 0))
+        wait_until(lambda: "Waiting for the next command" in output(tmp, "nstar")[1], 10,
+                   "NSTAR's report")
+        assert n.poll() is None
+        err = output(tmp, "nstar")[1]
+        assert err.startswith(f"nstar: SLICE.DT not taken by ESTAR after 2 s — is estar running "
+                              f"on this jhdata directory ({jh})? This SLICE.DT reply was not "
+                              f"published; kept as {jh / 'STALE' / 'SLICE.DT'}.")
+        e2 = estar(tmp, jh, "estar2", "--line", "45", "--timeout", "10", "--terminate")
+        assert finish(e2) == 0, output(tmp, "estar2")
+        assert finish(n) == 0, output(tmp, "nstar")
+    finally:
+        cleanup(n, e, e2)
+        watch.stop()
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])
+    assert "Found SLICE.DT from an earlier run" in output(tmp, "estar2")[0]
+    slices = [p for p in (jh / "STALE").iterdir() if p.name.startswith("SLICE.DT")]
+    assert len(slices) == 2 and all(p.stat().st_size == 1024 for p in slices)
+    for name in PUBLIC:
+        assert watch.written(name) == 0, name
+
+
+# --- corrupt or truncated files -------------------------------------------------------
+
+class FakeNova(threading.Thread):
+    """NSTAR's loop in this process (the real program's replies from
+    nstar.program.Nova), with one reply replaced by damaged bytes."""
+
+    def __init__(self, tmp: Path, jh: Path, name: str, damage):
+        super().__init__(daemon=True)
+        self.nova = Nova()
+        self.nova.load_pair(decode_bi((tmp / "L.BI").read_bytes()),
+                            decode_bi((tmp / "R.BI").read_bytes()))
+        self.jh = JHData(jh, me="NSTAR", peer="ESTAR", timeout=5)
+        self.name, self.damage, self.sent = name, damage, None
+        self.running = True
+
+    def run(self):
+        while self.running:
+            try:
+                self.jh.wait_for("NCONT.DT", timeout=0.2)
+            except LinkTimeout:
+                continue
+            for reply in self.nova.execute(self.jh.take("NCONT.DT")):
+                data = reply.data
+                if reply.name == self.name and self.sent is None:
+                    data = self.sent = self.damage(data)
+                try:
+                    self.jh.publish(reply.temp, reply.name, data)
+                except LinkTimeout:
+                    return
+
+    def stop(self):
+        self.running = False
+        self.join(5)
+        self.jh.close()
+
+
+@pytest.mark.parametrize("name,damage,problem", [
+    ("SLICE.DT", lambda d: d[:1000], "1000 bytes, expected 1024 or 512"),
+    ("SLICE.DT", lambda d: d[:526] + b"\x00\x63" + d[528:], "NFEAT (word 8) is 99, not 0..50"),
+    ("WBMAP.DT", lambda d: d[:33], "33 bytes, expected 34"),
+    ("WBMAP.DT", lambda d: b"\x00\x00" + d[2:], "first word is 0, expected the constant 1"),
+])
+def test_damaged_reply_is_one_clear_error_and_nothing_is_overwritten(rig, name, damage, problem):
+    tmp, jh = rig
+    (jh / "POSIT.DT").write_bytes(b"an earlier POSIT.DT")
+    fake = FakeNova(tmp, jh, name, damage)
+    fake.start()
+    try:
+        e = estar(tmp, jh, "estar", "--line", "45", "--timeout", "3")
+        rc = finish(e)
+    finally:
+        cleanup(e)
+        fake.stop()
+    err = output(tmp, "estar")[1]
+    kept = jh / "STALE" / f"{name}.bad.0"
+    assert rc == 1
+    assert err == f"estar: {jh / name}: {problem}; kept as {kept}\n"
+    assert kept.read_bytes() == fake.sent                  # the bad bytes, for inspection
+    assert (jh / "POSIT.DT").read_bytes() == b"an earlier POSIT.DT"
+
+
+@pytest.mark.parametrize("size", [0, 13])
+def test_damaged_ncont_stops_nstar_and_is_left_in_place(rig, size):
+    tmp, jh = rig
+    bad = (encode_ncont(Command(CODE_SLICE, 1, 0, 45, 128, 0)) * 2)[:size]
+    (jh / "NCONT.DT").write_bytes(bad)
+    n = nstar(tmp, jh, "nstar")
+    try:
+        assert finish(n) == 1
+    finally:
+        cleanup(n)
+    assert output(tmp, "nstar")[1] == (f"nstar: {jh / 'NCONT.DT'}: {size} bytes, expected 12 — "
+                                       f"not a command file; left in place for inspection\n")
+    assert (jh / "NCONT.DT").read_bytes() == bad
+
+
+@pytest.mark.parametrize("damage,problem", [
+    (lambda d: b"", "0 bytes, expected 30720"),
+    (lambda d: d[:200] + b"\x00\x10" + d[202:], "pixel at row 0, column 100 is 16, not a 4-bit "
+                                                "grey level 0..15 (1 such words)"),
+])
+def test_damaged_bi_stops_nstar_before_it_serves(rig, damage, problem):
+    tmp, jh = rig
+    right = tmp / "R.BI"
+    right.write_bytes(damage(right.read_bytes()))
+    before = right.read_bytes()
+    n = nstar(tmp, jh, "nstar")
+    try:
+        assert finish(n) == 1
+    finally:
+        cleanup(n)
+    assert output(tmp, "nstar")[1] == f"nstar: {right}: {problem}\n"
+    assert right.read_bytes() == before
+    assert sorted(p.name for p in jh.iterdir()) == ["NSTAR.BSY"]
+
+
+def test_truncated_vd_is_one_clear_error_from_pre(tmp_path):
+    vd = tmp_path / "SCENE.VD"
+    vd.write_bytes(bytes(32767))
+    out = tmp_path / "SCENE.BI"
+    done = subprocess.run([sys.executable, "-m", "pre", "shrink", str(vd), "-o", str(out)],
+                          capture_output=True, text=True, env=env(), timeout=60)
+    assert done.returncode == 1
+    assert f"{vd}: 32767 bytes, expected 32768" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and "Traceback" not in done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["SCENE.VD"]
+
+
+@pytest.mark.parametrize("reader,name,data,problem", [
+    (decode_block, "BLOCK.DT", bytes(53), "53 bytes, expected 54"),
+    (decode_posit, "POSIT.DT", bytes(2559), "2559 bytes, expected 2560"),
+])
+def test_block_and_posit_readers_name_the_file(reader, name, data, problem):
+    """No rig program reads BLOCK.DT or POSIT.DT back (ESTAR only writes
+    POSIT.DT); their readers give the one documented error."""
+    with pytest.raises(FormatError) as exc:
+        reader(data)
+    assert str(exc.value) == f"{name}: {problem}"
+
+
+# --- two ESTARs ---------------------------------------------------------------------
+
+def test_second_estar_is_refused_while_the_first_works_and_the_first_is_unharmed(rig):
+    tmp, jh = rig
+    n = e = None
+    lines = ["45", "60", "45", "50"]
+    try:
+        n = nstar(tmp, jh, "nstar")
+        e = estar(tmp, jh, "estar", "--line", *lines, "--timeout", "10", "--terminate")
+        # hold the first one still mid-line (stopped, as a busy machine can leave it)
+        freeze_when(e, lambda: (c := command_in(jh)) is not None and c.code == CODE_EDGE_MAP,
+                    recheck=False)
+        second = subprocess.run(
+            [sys.executable, "-m", "estar.main", "--jhdata", str(jh), "--separation", "0.75",
+             "--virtual-distance", "180", "--debug", "0", "--line", "45", "--timeout", "2"],
+            capture_output=True, text=True, env=env(), timeout=60)
+        os.kill(e.pid, signal.SIGCONT)
+        assert finish(e) == 0, output(tmp, "estar")
+        assert finish(n) == 0
+    finally:
+        cleanup(n, e)
+    assert second.returncode == 1
+    assert second.stderr == (f"estar: another ESTAR is already running on {jh} (it holds "
+                             f"ESTAR.LCK); stop it first\n")
+    assert "Found" not in second.stdout                  # it touched nothing
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [int(y) for y in lines])
+    assert not (jh / "STALE").exists()
