@@ -117,7 +117,7 @@ def csv_text(points: list[Point]) -> str:
     for p in points:
         c = p.covariance()
         w.writerow([p.line, p.edge, p.loc1, p.loc2, p.disparity,
-                    *(repr(v) for v in (p.dp, p.dx, p.dy, p.ep, p.ex, p.ey,
+                    *(repr(float(v)) for v in (p.dp, p.dx, p.dy, p.ep, p.ex, p.ey,
                                         c[0, 0], c[1, 1], c[2, 2]))])
     return buf.getvalue()
 
