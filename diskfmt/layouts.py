@@ -187,7 +187,9 @@ class Slice:
         return tuple(self.ifbuf[10 + (j * 50) + (k - 1)] for j in range(4))
 
     def features(self) -> list[tuple[int, int, int, int]]:
-        return [self.feature(k) for k in range(1, self.nfeat + 1)]
+        n = self.nfeat
+        cols = [self.ifbuf[10 + 50 * j:10 + 50 * j + n] for j in range(4)]
+        return list(zip(*cols))
 
 
 def ifeat_word(k: int, j: int) -> int:

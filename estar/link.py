@@ -145,8 +145,9 @@ class DirectLink(Link):
                                 dtype=">i2").reshape(-1, 17)
         if len(replies) != len(req) or not (replies[:, 0] == 1).all():
             raise FormatError("WBMAP.DT", "the in-process NSTAR returned no edge map")
-        for (image, edge, _, _), reply in zip(req, replies):
-            (iblb1 if image == 1 else iblb2)[edge - 1] = reply
+        for image, iblb in ((1, iblb1), (2, iblb2)):
+            rows = req[:, 0] == image
+            iblb[req[rows, 1] - 1] = replies[rows]
 
     def nwait(self, name: str) -> bytes:
         queue = self.pending.get(name)

@@ -145,7 +145,8 @@ class Nova:
         self.ifbuf[9] = idat[ixl]                  # ILAST=IDAT(IXL1)
         nfeat, _ = exqvfl(idat[1:1 + ixl], 2, self.ifeat, ilast=ixl, warn=self.console.type)
         self.ifbuf[7] = nfeat
-        return Reply("SLICE.DT", encode_slice(Slice([int(v) for v in self.ifbuf])))
+        # encode_slice(Slice(IFBUF)), straight from the array: block 0 zero, block 1 IFBUF
+        return Reply("SLICE.DT", bytes(512) + self.ifbuf.astype(">i2").tobytes())
 
     # --- label 500 -----------------------------------------------------------
     def _edge(self, ixc, iyc, idn, bounds) -> Reply:
