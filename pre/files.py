@@ -90,6 +90,9 @@ def publish(path, data: bytes, force: bool = False) -> Path:
             f.write(data)
             f.flush()
             os.fsync(f.fileno())
+        umask = os.umask(0)                  # mkstemp makes 0600; give the usual 0666 & ~umask
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         if not force and p.exists():        # appeared while we wrote
             raise PreError(f"{p}: already exists; not overwritten (use --force to replace it)")
         os.replace(tmp, p)
