@@ -1,7 +1,6 @@
 """Helpers for tests that run the rig: a small synthetic stereo pair with known
 disparities, and the nstar/estar programs as real processes."""
 
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -9,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from diskfmt.layouts import encode_bi
+from rig.session import child_env
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -32,8 +32,9 @@ def make_pair(directory: Path) -> tuple[Path, Path]:
 
 
 def env() -> dict:
-    e = dict(os.environ)
-    e["PYTHONPATH"] = str(REPO) + os.pathsep + e.get("PYTHONPATH", "")
+    """The child environment of rig.session, without a JHDATA that could
+    point the programs away from the test's directory."""
+    e = child_env()
     e.pop("JHDATA", None)
     return e
 
