@@ -13,7 +13,7 @@ from pathlib import Path
 
 from diskfmt.layouts import FormatError, decode_bi, read_file, encode_bi
 from diskfmt.listing import Console, Listing
-from diskfmt.rdos import JHData, LinkTimeout, default_jhdata
+from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
 from .program import Nova, Options
 
 BANNER = [
@@ -31,6 +31,7 @@ BANNER = [
 ]
 
 STALE_AT_START = ("NDAT.DT", "TRM.DT", "TERM.DT")
+LOCK_NAME = "NSTAR.LCK"
 BUSY_NAME = "NSTAR.BSY"    # locked from taking a command to publishing its reply (QUIRKS M14)
 
 
@@ -175,6 +176,7 @@ def main(argv=None) -> int:
         return 2
     console = Console(quiet=args.quiet, verbose=args.verbose)
     listing_stream = None
+    jh = None
     try:
         if args.listing:
             listing_stream = open(args.listing, "a", encoding="ascii")
@@ -191,6 +193,7 @@ def main(argv=None) -> int:
                     options=Options(no_wrap_percent=args.no_wrap_percent))
         jhdir = args.jhdata or default_jhdata()
         jh = JHData(jhdir, me="NSTAR", peer="ESTAR", timeout=args.timeout)
+        jh.lock(LOCK_NAME)                 # two NSTARs would take each other's commands
         jh.open_busy(BUSY_NAME)
         for name in STALE_AT_START:
             where = jh.set_aside(name, "stale")
@@ -198,7 +201,7 @@ def main(argv=None) -> int:
                 console.type(f" Found {name} from an earlier run; moved it to {where}")
         new_images_dialogue(nova, console, args.left, args.right)
         return run(nova, jh, console, args.idle_timeout)
-    except (FormatError, FileNotFoundError, LinkTimeout, Abort) as exc:
+    except (FormatError, FileNotFoundError, LinkTimeout, LockedError, Abort) as exc:
         print(f"nstar: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
@@ -207,6 +210,8 @@ def main(argv=None) -> int:
     finally:
         if listing_stream:
             listing_stream.close()
+        if jh is not None:
+            jh.close()
 
 
 if __name__ == "__main__":

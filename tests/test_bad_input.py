@@ -124,3 +124,22 @@ def test_bad_separation_flag_is_one_clear_error(tmp_path):
         capture_output=True, text=True, env=env(), timeout=60)
     assert done.returncode == 1
     assert done.stderr.strip() == "estar: --separation 'abc' is not a number"
+
+
+def test_second_nstar_on_one_directory_is_refused(tmp_path):
+    jh = tmp_path / "jh"
+    jh.mkdir()
+    left, right = make_pair(tmp_path)
+    first = start_nstar(jh, left, right)
+    try:
+        deadline = time.monotonic() + 30
+        while not (jh / "NSTAR.LCK").exists() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        second = start_nstar(jh, left, right)
+        out, err = second.communicate(timeout=60)
+        assert second.returncode == 1
+        assert "another NSTAR is already running" in err
+        assert first.poll() is None                      # the first keeps serving
+    finally:
+        first.kill()
+        first.wait()
