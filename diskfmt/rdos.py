@@ -38,6 +38,48 @@ except (ImportError, OSError):           # pragma: no cover - not Linux
 __all__ = ["JHData", "LinkTimeout", "LockedError", "default_jhdata"]
 
 
+def _load_renameat2():
+    """renameat2(…, RENAME_NOREPLACE): an atomic rename that refuses an existing
+    target, as RDOS RENAM did — one file-system operation where link + unlink
+    take two (it matters on a disk with slow deletes)."""
+    try:
+        import ctypes
+        libc = ctypes.CDLL(None, use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return None
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+_RENAMEAT2 = _load_renameat2()
+_AT_FDCWD = -100
+_RENAME_NOREPLACE = 1
+
+
+def _rename_noreplace(src: Path, dst: Path) -> None:
+    """Rename ``src`` to ``dst`` unless ``dst`` exists (FileExistsError)."""
+    global _RENAMEAT2
+    if _RENAMEAT2 is not None:
+        if _RENAMEAT2(_AT_FDCWD, os.fsencode(src), _AT_FDCWD, os.fsencode(dst),
+                      _RENAME_NOREPLACE) == 0:
+            return
+        err = ctypes_errno()
+        if err == errno.EEXIST:
+            raise FileExistsError(errno.EEXIST, "exists", str(dst))
+        if err not in (errno.ENOSYS, errno.EINVAL):   # no renameat2 on this file system
+            raise OSError(err, os.strerror(err), str(src))
+        _RENAMEAT2 = None
+    os.link(src, dst)                                  # the portable way: two steps
+    os.unlink(src)
+
+
+def ctypes_errno() -> int:
+    import ctypes
+    return ctypes.get_errno()
+
+
 class LinkTimeout(TimeoutError):
     """The other program did not write (or take) a file in time."""
 
@@ -284,11 +326,10 @@ class JHData:
         while True:
             self.wait_gone(name, timeout)
             try:
-                os.link(tmp, target)          # fails if the name reappeared: wait again
+                _rename_noreplace(tmp, target)  # fails if the name reappeared: wait again
                 break
             except FileExistsError:
                 continue
-        os.unlink(tmp)
 
     def take(self, name: str) -> bytes:
         """Read ``name`` and delete it (OPEN, READ, CLOSE, DELETE)."""
