@@ -15,7 +15,6 @@ from fractions import Fraction
 from pathlib import Path
 
 from diskfmt.dgreal import Real
-from diskfmt.layouts import FormatError
 from diskfmt.listing import Console, Listing
 from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
 from .link import ESTAR_STALE, FileLink

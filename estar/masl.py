@@ -251,9 +251,9 @@ def masl_kernel(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, nmatch, ima
     for indx in range(1, nfeat1 + 1):
         kndx = indx + 50
         inum_side = np.zeros(2, dtype=np.int64)
-        irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, 128)    # NPIX1 (QUIRKS E4)
+        irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
         for jndx in range(1, nfeat2 + 1):
-            jrgd = _search_bounds_kernel(ifeat2, nfeat2, jndx, 128)  # NPIX2
+            jrgd = _search_bounds_kernel(ifeat2, nfeat2, jndx, NPIX2)
             for side in range(2):
                 if abs(ifeat1[2 + side][indx - 1] - ifeat2[2 + side][jndx - 1]) > 1:
                     continue

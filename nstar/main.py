@@ -50,7 +50,8 @@ def _ask_int(console: Console, prompt: str) -> int:
             console.type(f" '{answer}' is not a whole number; answer again.")
 
 
-def load_picture(path: str) -> "np.ndarray":
+def load_picture(path: str):
+    """A .BI picture (120x128), or FormatError naming the file."""
     return decode_bi(read_file(path), str(path))
 
 

@@ -8,14 +8,13 @@ same bytes, so they cannot drift apart.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from diskfmt import layouts
 from diskfmt.dgreal import Real, ZERO
-from diskfmt.layouts import (Command, BlockMap, Slice, decode_ncont, encode_slice,
-                             encode_wbmap, encode_block, CODE_TERMINATE, CODE_STAR,
+from diskfmt.layouts import (BlockMap, decode_ncont, encode_wbmap, encode_block, CODE_TERMINATE, CODE_STAR,
                              CODE_SLICE, CODE_NEW_PAIR, CODE_EDGE_MAP)
 from diskfmt.listing import Console, Listing, fi
 from octek_sim import Octek

@@ -28,7 +28,7 @@ from diskfmt.layouts import encode_bi, encode_vd
 
 from .cartoon import DEFAULT_T, bits_report, cartoon
 from .condense import condense
-from .files import (PreError, check_output, load_bi, load_picture_file, load_vd, publish,
+from .files import (PreError, check_output, load_picture_file, load_vd, publish,
                     publish_many)
 
 EXIT_ERROR = 1

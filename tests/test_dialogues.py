@@ -4,11 +4,10 @@ each flag turns on (FORTRAN unit 12)."""
 import io
 import subprocess
 import sys
-import time
 
 from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi, decode_posit, Command, encode_ncont
-from diskfmt.listing import Console, Listing
+from diskfmt.listing import Listing
 from estar.link import DirectLink
 from estar.program import Eclipse
 from nstar.program import Nova

@@ -50,7 +50,6 @@ Feature tuples are (start, stop, left grey, right grey) = IFEAT(k,1..4).
 NSTAR calls EXQVFL with ITHR=2 for slices, RADSP with ITHR=1 for rays.
 """
 
-import pytest
 
 from nstar.exqvfl import exqvfl, feature_list
 

@@ -24,7 +24,7 @@ import pytest
 from diskfmt.dgreal import Real
 from diskfmt.layouts import (Command, FormatError, decode_bi, decode_block, decode_ncont,
                              decode_posit, encode_ncont, encode_slice, encode_wbmap,
-                             encode_bi, Slice, CODE_EDGE_MAP, CODE_SLICE, BLOCK_DT_BYTES,
+                             Slice, CODE_EDGE_MAP, CODE_SLICE, BLOCK_DT_BYTES,
                              POSIT_BYTES)
 from diskfmt.rdos import JHData, LinkTimeout
 from estar.link import DirectLink

@@ -5,12 +5,10 @@ import csv
 import io
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi
 from rig import scan as scanmod
 from rig.scene import bundled_path, bundled_range
