@@ -116,9 +116,10 @@ def _topdown(points, truth, topdown_map, title):
 def cmd_scan(args) -> int:
     lp, rp, left, right = _load_pair(args.left, args.right)
     bundled = args.left is None
-    lines = range(args.lines[0], args.lines[1] + 1)
-    if not (0 <= args.lines[0] <= args.lines[1] <= 119):
-        raise SystemExit(f"rig: lines {args.lines[0]}..{args.lines[1]} must lie within 0..119")
+    lines = list(args.line) if args.line else list(range(args.lines[0], args.lines[1] + 1))
+    bad = [y for y in lines if not 0 <= y <= 119]
+    if not lines or bad:
+        raise SystemExit(f"rig: lines must lie within 0..119 (got {bad or 'none'})")
     options = MaslOptions(marf_sign_fix=args.marf_sign_fix)
     t0 = time.perf_counter()
     if args.link == "file":
@@ -146,7 +147,7 @@ def cmd_scan(args) -> int:
     if args.picture:
         from .pictures import save_png, topdown_map
         save_png(args.picture, _topdown(pts, truth, topdown_map,
-                                        f"lines {args.lines[0]}..{args.lines[1]}"))
+                                        f"lines {lines[0]}..{lines[-1]} ({len(lines)})"))
         print(f"picture: {args.picture}")
     return 0
 
@@ -170,7 +171,10 @@ def build_parser() -> argparse.ArgumentParser:
                                    "(range), in the unit of the camera separation.")
     s.add_argument("--left", help="left picture (.BI)")
     s.add_argument("--right", help="right picture (.BI)")
-    s.add_argument("--lines", type=int, nargs=2, default=(8, 112), metavar=("FIRST", "LAST"))
+    s.add_argument("--lines", type=int, nargs=2, default=(8, 112), metavar=("FIRST", "LAST"),
+                   help="a range of lines (default 8 112, Appendix C's range)")
+    s.add_argument("--line", type=int, nargs="+", metavar="Y",
+                   help="any set of lines instead, processed in the order given")
     s.add_argument("--link", choices=("direct", "file"), default="direct",
                    help="direct: NSTAR's handlers in this process (default); file: an nstar "
                         "process over --jhdata, as in 1985")

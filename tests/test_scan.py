@@ -117,3 +117,14 @@ def test_rig_demo_runs_two_processes_and_makes_pictures(tmp_path):
     for name in ("monitor.png", "line-60.png", "topdown.png"):
         assert (tmp_path / "out" / name).stat().st_size > 1000
     assert (tmp_path / "jh" / "POSIT.DT").stat().st_size == 2560
+
+
+def test_rig_scan_takes_any_set_of_lines_and_refuses_lines_outside_the_picture():
+    done = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--line", "60", "40",
+                           "--quiet"], capture_output=True, text=True, env=child_env(),
+                          timeout=300)
+    assert done.returncode == 0 and "on 2 lines" in done.stdout
+    bad = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--line", "130"],
+                         capture_output=True, text=True, env=child_env(), timeout=300)
+    assert bad.returncode == 1
+    assert bad.stderr.strip() == "rig: lines must lie within 0..119 (got [130])"
