@@ -102,7 +102,7 @@ def marf_shift(ibm1, ibm2, iwst: int) -> tuple[int, int, list[tuple[int, int]]]:
     near).  ``ibm1``/``ibm2`` are the 17-word maps (word 1 the flag).
     Returns (MLOC, MNVAL, [(shift, value), ...])."""
     values = np.zeros(2 * max(iwst, 0) + 1, dtype=np.int64)
-    mloc, mnval = marf_kernel(_map_array(ibm1), _map_array(ibm2), int(iwst), values)
+    mloc, mnval = marf_kernel(_as_words(ibm1), _as_words(ibm2), int(iwst), values)
     return int(mloc), int(mnval), [(p, int(values[p + iwst])) for p in range(-iwst, iwst + 1)]
 
 
@@ -110,12 +110,20 @@ def _as_words(ibm) -> np.ndarray:
     return ibm if isinstance(ibm, np.ndarray) else np.asarray(ibm, dtype=np.int64)
 
 
-def _map_array(ibm) -> np.ndarray:
-    """A 17-word map, padded so shifted slices past word 17 read as empty
-    (BMCP is only called with them when INUM <= 0, which reads nothing)."""
-    a = np.zeros(40, dtype=np.int64)
-    a[:17] = np.asarray(ibm, dtype=np.int64)[:17]
-    return a
+@jit
+def marf_refine(lmatch, ibm1, ibm2, sign_fix, values):
+    """MARF after its NBLOB calls: the best shift within min(LMATCH(5),
+    LMATCH(6)); LMATCH(2) = its quality, LMATCH(4) moved by it — with the 1985
+    sign (QUIRKS E7) unless ``sign_fix``.  Returns (MLOC, MNVAL)."""
+    iwst = min(lmatch[4], lmatch[5])
+    mloc, mnval = marf_kernel(ibm1, ibm2, iwst, values)
+    lmatch[3] += -mloc if sign_fix else mloc
+    lmatch[1] = mnval
+    return mloc, mnval
+
+
+# Room for every shift MARF can try: a bound is at most half a 128-pixel feature.
+MAX_SHIFTS = 2 * 128 + 1
 
 
 @dataclass
@@ -247,7 +255,7 @@ def masl_kernel(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, nmatch, ima
     MNVAL) for the debug printouts; returns the number of comparisons."""
     nlog = 0
     lmatch = np.zeros(8, dtype=np.int64)
-    values = np.zeros(64, dtype=np.int64)
+    values = np.zeros(MAX_SHIFTS, dtype=np.int64)
     for indx in range(1, nfeat1 + 1):
         kndx = indx + 50
         inum_side = np.zeros(2, dtype=np.int64)
@@ -267,11 +275,7 @@ def masl_kernel(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, nmatch, ima
                 lmatch[5] = jrgd[side]
                 lmatch[6] = -1 if side == 0 else 1
                 lmatch[7] = iyloc
-                # MARF: the best shift within min(LMATCH(5), LMATCH(6)).
-                iwst = min(lmatch[4], lmatch[5])
-                mloc, mnval = marf_kernel(iblb1[e1 - 1], iblb2[e2 - 1], iwst, values)
-                lmatch[3] += -mloc if sign_fix else mloc   # 1985 sign kept (QUIRKS E7)
-                lmatch[1] = mnval
+                mloc, mnval = marf_refine(lmatch, iblb1[e1 - 1], iblb2[e2 - 1], sign_fix, values)
                 log[nlog, 0] = side
                 log[nlog, 1] = e1
                 log[nlog, 2] = e2
@@ -360,16 +364,13 @@ def marf(lmatch: list[int], ibm1, ibm2, link, debug: int = 0,
         link.nblob(2, lmatch[3], iyloc, ies, ibm2)
     if debug & 32 and listing is not None:
         listing.records(compared_maps(ibm1, ibm2))
-    iwst = min(lmatch[4], lmatch[5])
-    mloc, mnval = marf_kernel(_as_words(ibm1), _as_words(ibm2), iwst,
-                              np.zeros(2 * max(iwst, 0) + 1, dtype=np.int64))
+    words = np.asarray(lmatch, dtype=np.int64)
+    mloc, mnval = marf_refine(words, _as_words(ibm1), _as_words(ibm2),
+                              options is not None and options.marf_sign_fix,
+                              np.zeros(MAX_SHIFTS, dtype=np.int64))
+    lmatch[1], lmatch[3] = int(words[1]), int(words[3])
     if debug & 32 and listing is not None:
         listing.records(["", f" Best match is at shift = {mloc:2d} Quality ={mnval:4d}", "", ""])
-    if options is not None and options.marf_sign_fix:
-        lmatch[3] -= mloc
-    else:
-        lmatch[3] += mloc
-    lmatch[1] = mnval
 
 
 def compared_maps(ibm1, ibm2) -> list[str]:

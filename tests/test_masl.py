@@ -11,6 +11,8 @@ nearer zero (IABS(MLOC) .LE. IABS(IPOS) keeps the old one).
 
 import pytest
 
+import numpy as np
+
 from estar.masl import (MatchTables, Options, _insert, _search_bounds, bmcp, icbit,
                         marf, marf_shift, masl)
 
@@ -288,3 +290,27 @@ def test_masl_grey_rule_limits_comparisons():
     assert tables.entries(2) == [(2, 0, 80, 74)]
     assert tables.entries(51) == [(51, 0, 41, 35)]
     assert tables.entries(52) == [(52, 0, 81, 75)]
+
+
+def test_wide_features_give_shift_bounds_past_31_without_overrunning():
+    # Two features 70 pixels wide starting at 40 and 36: left-edge bounds
+    # min(40, 70/2) = 35 and min(36, 35) = 35, so IWST = 35 and MARF tries 71
+    # shifts.  (A 64-entry work array overran
+    # here; the compiled kernel does not check bounds, so run it as Python too.)
+    from estar.masl import masl_kernel
+    ifeat1 = np.zeros((4, 50), dtype=np.int64)
+    ifeat2 = np.zeros((4, 50), dtype=np.int64)
+    ifeat1[:, 0] = (40, 110, 8, 8)
+    ifeat2[:, 0] = (36, 106, 8, 8)
+    maps = np.zeros((100, 17), dtype=np.int64)
+    maps[:, 0] = 1
+    maps[:, 1:] = 0x00FF
+    for kernel in (masl_kernel, getattr(masl_kernel, "py_func", masl_kernel)):
+        tables = MatchTables()
+        log = np.zeros((10, 5), dtype=np.int64)
+        n = kernel(60, 1, ifeat1, 1, ifeat2, maps.copy(), maps.copy(), tables.nmatch,
+                   tables.imatch, False, log)
+        assert n == 2
+        # identical maps: quality 0 at shift 0, LOC2 unchanged, LOC1 > LOC2 kept
+        assert tables.entries(1) == [(1, 0, 40, 36)]
+        assert tables.entries(51) == [(51, 0, 110, 106)]
