@@ -1,8 +1,10 @@
 """LCSL.FR — locate matched edges in 3-D relative to the left camera, with error
 bounds (Appendix A), in Data General REAL arithmetic.
 
-For each edge the first entry of its match list with a disparity greater than
-EDISP = 1 pixel is used: range ``dp = ds*dv/disp``; offsets ``dx = DL*dp/dv``,
+For each edge the match list is walked in order; every entry with a disparity
+greater than EDISP = 1 pixel overwrites the edge's POS column, and the walk
+stops at the first whose range exceeds 1.0 (so at a small separation an entry
+giving a range of 1.0 or less is passed over for a later one).  Range ``dp = ds*dv/disp``; offsets ``dx = DL*dp/dv``,
 ``dy = DD*dp/dv`` with DL, DD measured from pixel 60 (not 64: kept, RIG-NOTES
 §5); range error ``ep = ds*dv*EDISP / (disp^2 - disp*EDISP)``; offset errors
 from the location errors ELMAX = ERMAX = EDMAX = 0.5.  POS(1,k) = -1 marks
@@ -66,17 +68,24 @@ def locate(loc1: int, loc2: int, iyloc: int, dsep: Real, dvirt: Real) -> tuple[R
     return dp, dx, dy, ep, ex, ey
 
 
-def lcsl(iyloc: int, nfeat1: int, tables, pos: list[Real], dsep: Real, dvirt: Real) -> None:
+def lcsl(iyloc: int, nfeat1: int, tables, pos: list[Real], dsep: Real, dvirt: Real
+         ) -> dict[int, tuple[int, int, int, int]]:
     """LCSL(IYLOC, NFEAT1, NMATCH, IMATCH, POS) — fill POS(6,100) (a flat list
-    of 640 REALs, POS(i,k) at ``(k-1)*6 + i-1``) in place: for each edge the
-    first entry of its match list with a usable disparity."""
+    of 640 REALs, POS(i,k) at ``(k-1)*6 + i-1``) in place.
+
+    Returns, for every located edge, the match entry (INDX, QUAL, LOC1, LOC2)
+    whose values ended in POS: the last usable entry before the walk stopped
+    (not part of 1985's output; CSV, PLY and pictures read it)."""
+    used = {}
     for indx in range(1, nfeat1 + 1):
         for edge in (indx, indx + 50):
             base = (edge - 1) * 6
             pos[base] = MINUS_ONE
-            for _, _, loc1, loc2 in tables.entries(edge):
-                located = locate(loc1, loc2, iyloc, dsep, dvirt)
+            for entry in tables.entries(edge):
+                located = locate(entry[2], entry[3], iyloc, dsep, dvirt)
                 if located is not None:
                     pos[base:base + 6] = located
-                if pos[base] > ONE:
+                    used[edge] = entry
+                if pos[base] > ONE:          # IF (POS(1,INDX) .GT. 1.0) GOTO 15
                     break
+    return used

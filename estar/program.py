@@ -8,7 +8,7 @@ at the start of every line).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -32,6 +32,8 @@ class LineResult:
     positions: dict[int, tuple[float, ...] | None]
     posit: bytes
     requests: int = 0
+    used: dict[int, tuple[int, int, int, int]] = field(default_factory=dict)
+    """For each located edge, the match entry (INDX, QUAL, LOC1, LOC2) LCSL took."""
 
 
 class Eclipse:
@@ -91,7 +93,7 @@ class Eclipse:
         if self.debug & 4:
             self.listing.records(pmal(nfeat1, self.tables))
         say(" Computing locations.")
-        lcsl(iyloc, nfeat1, self.tables, self.pos, self.dsep, self.dvirt)
+        used = lcsl(iyloc, nfeat1, self.tables, self.pos, self.dsep, self.dvirt)
         self.np_ = nfeat1
         if self.debug & 8:
             self.listing.records(prfpos(self.np_, self.pos, self.dsep, self.dvirt))
@@ -104,7 +106,7 @@ class Eclipse:
             {e: self.tables.entries(e) for e in edges},
             {e: (tuple(float(v) for v in self.pos[(e - 1) * 6:(e - 1) * 6 + 6])
                  if self.pos[(e - 1) * 6].m > 0 else None) for e in edges},
-            posit, counting.count)
+            posit, counting.count, used)
 
     def pnpl(self, changed=None) -> bytes:
         """PNPL — POSIT.DT: NP and COMMON /POSIT/ cut at 5 blocks, written as

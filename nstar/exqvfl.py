@@ -25,7 +25,7 @@ TOO_MANY = "-- EXIDEG -- TOO MANY FEATURES."
 @jit
 def _isgn(i):
     """ISGN (called, not listed): the sign of an INTEGER, -1, 0 or +1."""
-    return (i > 0) - (i < 0)
+    return 1 if i > 0 else (-1 if i < 0 else 0)
 
 
 @jit

@@ -175,17 +175,10 @@ def line_layout(scale: int = 4) -> LineLayout:
 
 def used_matches(result) -> list[tuple[int, int, int]]:
     """(edge, LOC1, LOC2) for every located edge of a line: the match entry LCSL
-    used, i.e. the first of the edge's list with disparity LOC1-LOC2 > 1 (LCSL
-    stops there whenever the range it gives exceeds 1 unit, as it does for any
-    disparity below DSEP*DVIRT).  Sorted by LOC1, then edge."""
-    out = []
-    for edge, pos in result.positions.items():
-        if pos is None:
-            continue
-        for _indx, _qual, loc1, loc2 in result.matches.get(edge, ()):
-            if loc1 - loc2 > 1:
-                out.append((int(edge), int(loc1), int(loc2)))
-                break
+    recorded as the one its position came from (``result.used``).  Sorted by
+    LOC1, then edge."""
+    out = [(int(edge), int(result.used[edge][2]), int(result.used[edge][3]))
+           for edge, pos in result.positions.items() if pos is not None]
     return sorted(out, key=lambda t: (t[1], t[0]))
 
 
@@ -587,7 +580,7 @@ def make_doc_pictures(outdir, iy: int = 60, star=(85, 36, 30)) -> list[Path]:
         if pos is None:
             continue
         points.append(pos)
-        loc1 = next(m[2] for m in res.matches[edge] if m[2] - m[3] > 1)
+        loc1 = res.used[edge][2]
         tz.append(true_range_at(truth, iy, loc1))
     written.append(save_png(outdir / "topdown.png", topdown_map(
         points, tz, title=f"Top-down map of the edges located on line IY = {iy}")))

@@ -55,14 +55,14 @@ class Point:
 
 
 def points_of_line(result: LineResult) -> list[Point]:
-    """The located edges of one LCLN, each with the match entry LCSL used (the
-    first one whose disparity exceeds EDISP = 1)."""
+    """The located edges of one LCLN, each with the match entry LCSL recorded
+    as the one its position came from (``LineResult.used``)."""
     out = []
     for edge, pos in sorted(result.positions.items()):
         if pos is None:
             continue
-        used = next(e for e in result.matches[edge] if e[2] - e[3] > 1)
-        out.append(Point(result.iyloc, edge, used[2], used[3], *pos))
+        _indx, _qual, loc1, loc2 = result.used[edge]
+        out.append(Point(result.iyloc, edge, loc1, loc2, *pos))
     return out
 
 

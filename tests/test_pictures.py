@@ -187,15 +187,35 @@ class _Line:
     features2: list
     matches: dict
     positions: dict = field(default_factory=dict)
+    used: dict = field(default_factory=dict)
 
 
-def test_used_matches_takes_first_disparity_above_one():
+def test_used_matches_reads_the_entry_lcsl_recorded():
+    # Edge 1's first entry with disparity > 1 is (40, 30), but LCSL recorded
+    # (40, 20) (as it does when the first gives a range of 1.0 or less).
     line = _Line(30, [(40, 42, 3, 12), (50, 52, 12, 3)], [(30, 32, 3, 12)],
                  {1: [(1, 5, 40, 40), (1, 9, 40, 39), (1, 20, 40, 30), (2, 3, 40, 20)],
                   51: [(51, 0, 42, 32)], 2: [(1, 0, 50, 31)], 52: []},
                  {1: (13.5, -2.0, 0.0, 1.5, 0.4, 0.04), 51: (13.5, -1.7, 0.0, 1.5, 0.4, 0.04),
-                  2: None, 52: None})
-    assert used_matches(line) == [(1, 40, 30), (51, 42, 32)]
+                  2: None, 52: None},
+                 {1: (2, 3, 40, 20), 51: (51, 0, 42, 32)})
+    assert used_matches(line) == [(1, 40, 20), (51, 42, 32)]
+
+
+def test_line_picture_joins_the_recorded_entry_at_separation_025(lab):
+    # Line 20 at ds 0.25: edge 58's range came from entry (128, 110), not from
+    # the first entry with disparity > 1, (128, 30).
+    left, right = lab[0], lab[1]
+    nova = Nova()
+    nova.load_pair(left, right)
+    res = Eclipse(DirectLink(nova), Real.const("0.25"), Real.const("180")).lcln(20)
+    assert res.matches[58][0][2:] == (128, 30)
+    assert (58, 128, 110) in used_matches(res)
+    s = 4
+    img = line_picture(left, right, res, scale=s)
+    band1 = 64 + 120 * s + 10 + 22 + 26 + 128 + 4 + 6 * s + 40 * s - 1
+    palette = {tuple(c) for c in MATCH_PALETTE}
+    assert _colour(img, band1, 48 + 5 * s + 2 * s * (110 - 1) + s) in palette
 
 
 def test_line_picture_single_match_exact_positions():
@@ -206,7 +226,8 @@ def test_line_picture_single_match_exact_positions():
     right[:, 30:] = 2
     line = _Line(30, [(40, 41, 8, 2)], [(30, 31, 8, 2)],
                  {1: [(1, 0, 40, 30)], 51: []},
-                 {1: (13.5, -2.7, 0.0, 1.5, 0.4, 0.04), 51: None})
+                 {1: (13.5, -2.7, 0.0, 1.5, 0.4, 0.04), 51: None},
+                 {1: (1, 0, 40, 30)})
     s = 2
     img = line_picture(left, right, line, scale=s)
     assert img.shape == (518 + 172 * s, 64 + 266 * s, 3)

@@ -48,6 +48,31 @@ def test_points_use_the_first_entry_with_disparity_above_one():
         assert p.dx == pytest.approx((p.loc1 - 60) * p.dp / 180, rel=1e-5, abs=1e-6)
 
 
+def test_points_carry_the_entry_their_range_came_from_at_separation_025():
+    # At ds = 0.25 (DS*DV = 45) LCSL passes over any entry giving a range of
+    # 1.0 or less, so "the first entry with disparity > 1" is often not the one
+    # used.  Each point's disparity must give its own range: dp = 45 / disparity.
+    left, right = bundled_pair()
+    res = scanmod.scan_pair(left, right, ds="0.25")
+    assert len(res.points) > 2000
+    for p in res.points:
+        assert p.dp == pytest.approx(45 / p.disparity, rel=1e-5), (p.line, p.edge)
+        assert p.dx == pytest.approx((p.loc1 - 60) * p.dp / 180, rel=1e-5, abs=1e-6)
+    p = next(p for p in res.points if p.line == 20 and p.edge == 58)
+    assert (p.loc1, p.loc2, p.disparity, p.dp) == (128, 110, 18, 2.5)
+    rows = list(csv.DictReader(io.StringIO(scanmod.csv_text(res.points))))
+    row = next(r for r in rows if r["line"] == "20" and r["edge"] == "58")
+    assert (row["loc1"], row["loc2"], row["disparity"], float(row["dp"])) == ("128", "110",
+                                                                               "18", 2.5)
+    passed_over = 0
+    for r in res.results:
+        for edge, pos in r.positions.items():
+            if pos is not None:
+                first = next(e for e in r.matches[edge] if e[2] - e[3] > 1)
+                passed_over += first != r.used[edge]
+    assert passed_over > 100            # the case matters on this pair (162 of 2278)
+
+
 def test_covariance_is_equation_a20():
     p = scanmod.Point(60, 3, 14, 6, 16.875, -4.3125, 0.0, 2.411, 0.670, 0.054)
     c = p.covariance()
