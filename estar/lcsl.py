@@ -14,7 +14,10 @@ from the location errors ELMAX = ERMAX = EDMAX = 0.5.  POS(1,k) = -1 marks
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import lru_cache
+
+import numpy as np
 
 from diskfmt.dgreal import Real
 
@@ -89,3 +92,33 @@ def lcsl(iyloc: int, nfeat1: int, tables, pos: list[Real], dsep: Real, dvirt: Re
                 if pos[base] > ONE:          # IF (POS(1,INDX) .GT. 1.0) GOTO 15
                     break
     return used
+
+
+@dataclass(frozen=True)
+class Point:
+    """One located edge: where LCSL put it, in the left camera's axes (X right,
+    Y down, Z forward along the optical axis, in the unit of the camera
+    separation), with its error bounds and the match entry it came from.
+
+    The covariance (Appendix A, A-19/A-20) takes the error bounds as two
+    standard deviations of independent errors:
+    ``C = diag((ep/2)^2, (ex/2)^2, (ey/2)^2)`` in (range, horizontal,
+    vertical) order."""
+    line: int            # IY, 0..119
+    edge: int            # 1..50 left end of feature k, 51..100 right end
+    loc1: int            # left-picture index (1-based) of the match LCSL used
+    loc2: int            # right-picture index
+    dp: float            # range (Z)
+    dx: float            # horizontal offset (X, right)
+    dy: float            # vertical offset (Y, down)
+    ep: float            # error bounds (two standard deviations)
+    ex: float
+    ey: float
+
+    @property
+    def disparity(self) -> int:
+        return self.loc1 - self.loc2
+
+    def covariance(self) -> np.ndarray:
+        """Equation A-20: diag((Ep/2)^2, (Ex/2)^2, (Ey/2)^2), (range, x, y) order."""
+        return np.diag([(self.ep / 2) ** 2, (self.ex / 2) ** 2, (self.ey / 2) ** 2])

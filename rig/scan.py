@@ -7,9 +7,7 @@ the range), all in the unit of the camera separation (feet for the bundled
 pair).  Offsets are measured from pixel 60 in both directions, as the 1985
 program does (QUIRKS E6).
 
-The covariance (Appendix A, A-19/A-20) takes the error bounds as two standard
-deviations of independent errors: ``C = diag((ep/2)^2, (ex/2)^2, (ey/2)^2)``
-in (range, horizontal, vertical) order.
+Each point is an :class:`estar.lcsl.Point`, with the covariance of A-20.
 """
 
 from __future__ import annotations
@@ -23,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from diskfmt.dgreal import Real
+from estar.lcsl import Point
 from estar.link import DirectLink
 from estar.masl import Options as MaslOptions
 from estar.program import Eclipse, LineResult
@@ -30,28 +29,8 @@ from nstar.program import Nova
 
 DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
 
-
-@dataclass(frozen=True)
-class Point:
-    """One located edge."""
-    line: int            # IY, 0..119
-    edge: int            # 1..50 left end of feature k, 51..100 right end
-    loc1: int            # left-picture index (1-based) of the match LCSL used
-    loc2: int            # right-picture index
-    dp: float            # range (Z)
-    dx: float            # horizontal offset (X, right)
-    dy: float            # vertical offset (Y, down)
-    ep: float            # error bounds (two standard deviations)
-    ex: float
-    ey: float
-
-    @property
-    def disparity(self) -> int:
-        return self.loc1 - self.loc2
-
-    def covariance(self) -> np.ndarray:
-        """Equation A-20: diag((Ep/2)^2, (Ex/2)^2, (Ey/2)^2), (range, x, y) order."""
-        return np.diag([(self.ep / 2) ** 2, (self.ex / 2) ** 2, (self.ey / 2) ** 2])
+__all__ = ["Point", "points_of_line", "scan_pair", "run_lines", "ScanResult", "csv_text",
+           "ply_text", "write_atomic", "read_ply_points", "DEFAULT_LINES"]
 
 
 def points_of_line(result: LineResult) -> list[Point]:

@@ -10,10 +10,11 @@ import pytest
 from diskfmt.dgreal import Real, ZERO, fortran_f
 from diskfmt.listing import Listing
 from estar.lcsl import lcsl
-from estar.masl import MatchTables, masl, _search_bounds
+from estar.masl import MatchTables, masl
 from estar.printouts import prfpos
 from nstar.printouts import prqvfl
 
+from masl_wrappers import OneByOneLink, bounds as _search_bounds
 from appendix_d import (IYLOC, DSEP, DVIRT, LEFT_FEATURES, RIGHT_FEATURES, MATCHES,
                         POSITION_TABLE, TITLE)
 
@@ -68,7 +69,7 @@ def _columns(features):
     return cols
 
 
-class SameMapsLink:
+class SameMapsLink(OneByOneLink):
     """Every edge gets the same bit map, so MARF's best shift is 0 and every
     grey-level candidate with LOC1 > LOC2 enters the list."""
 
