@@ -32,6 +32,8 @@ DEBUG_MENU = ["", "The debugger options are:",
               "",
               " Add together the options desired.",
               ""]
+BLANK_WARNING = ("estar: warning: NSTAR's slices have no edges at all: its pictures look blank "
+                 "(was nstar given --left and --right, or new images at its prompt?)")
 LOCK_NAME = "ESTAR.LCK"
 NSTAR_BUSY = "NSTAR.BSY"       # nstar.main.BUSY_NAME
 
@@ -139,6 +141,7 @@ def main(argv=None) -> int:
                           console, Options(marf_sign_fix=args.marf_sign_fix),
                           publish=publish_posit)
         lines = list(args.line) if args.line is not None else None
+        featureless = 0                   # lines so far, while no slice had any feature
         while True:
             console.type("")
             if lines is not None:
@@ -149,7 +152,13 @@ def main(argv=None) -> int:
                 iyloc = _ask(console, " Which horizontal line? (0 to 119) IY=", int)
             if iyloc < 0 or 119 < iyloc:
                 break
-            eclipse.lcln(iyloc)
+            result = eclipse.lcln(iyloc)
+            if featureless >= 0:
+                featureless = -1 if (result.features1 or result.features2) else featureless + 1
+                if featureless == 2:
+                    print(BLANK_WARNING, file=sys.stderr)
+        if featureless == 1:
+            print(BLANK_WARNING, file=sys.stderr)
         if args.terminate:
             eclipse.terminate()
         return 0

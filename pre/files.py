@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from diskfmt.layouts import (FormatError, decode_bi, decode_vd, encode_bi, encode_vd,
-                             read_file)
+from diskfmt.layouts import (BI_BYTES, POSIT_BYTES, VD_BYTES, FormatError, decode_bi,
+                             decode_vd, encode_bi, encode_vd, read_file)
 
 
 class PreError(Exception):
@@ -34,11 +34,42 @@ def load_vd(path) -> np.ndarray:
 
 
 def load_bi(path) -> np.ndarray:
-    """A .BI file as a 120x128 array of 4-bit pixels."""
+    """A .BI file as a 120x128 array of 4-bit pixels; a file of another kind is
+    named for what it is, with the command that makes a .BI of it."""
+    data = _read(path)
+    if len(data) != BI_BYTES:
+        raise PreError(f"{path}: not a .BI picture: {what_file_is(data)}; {how_to_make_bi(data)}")
     try:
-        return decode_bi(read_file(path), str(path))
+        return decode_bi(data, str(path))
     except FormatError as exc:
         raise PreError(str(exc)) from None
+
+
+_MAGIC = ((b"\xff\xd8\xff", "a JPEG picture"), (b"\x89PNG\r\n\x1a\n", "a PNG picture"),
+          (b"GIF8", "a GIF picture"), (b"BM", "a BMP picture"), (b"II*\x00", "a TIFF picture"),
+          (b"MM\x00*", "a TIFF picture"), (b"P5", "a PGM picture"), (b"P6", "a PPM picture"),
+          (b"RIFF", "a RIFF file (WebP picture or AVI video)"), (b"\x93NUMPY", "a NumPy array"))
+
+
+def what_file_is(data: bytes) -> str:
+    """A few words on what a file is, from its size and first bytes."""
+    size = f"{len(data):,} bytes"
+    if len(data) == VD_BYTES:
+        return f"{size}, the size of a 256x240 .VD picture"
+    if len(data) == POSIT_BYTES:
+        return f"{size}, the size of ESTAR's POSIT.DT"
+    for magic, kind in _MAGIC:
+        if data.startswith(magic):
+            return f"{size}, {kind}"
+    if len(data) > 8 and data[4:8] == b"ftyp":
+        return f"{size}, an MP4/MOV video or HEIC picture"
+    return size if data else "an empty file"
+
+
+def how_to_make_bi(data: bytes) -> str:
+    if len(data) == VD_BYTES:
+        return "make the .BI with `pre shrink X.VD -o X.BI`"
+    return "make a pair with `pre pair LEFT.jpg RIGHT.jpg -o NAME` (NAME-L.BI, NAME-R.BI)"
 
 
 def _vd_hint(msg: str, path) -> str:

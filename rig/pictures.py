@@ -8,7 +8,10 @@ the pictures and the :class:`estar.program.LineResult` of a line.
   and the matched edges joined left to right, labelled with their disparity.
 * :func:`topdown_map` — the located edges seen from above: horizontal offset
   dx across, range dp up, with the error bounds ex and ep as bars.
-* :func:`save_png` — write a PNG atomically (temporary name, then rename).
+* :func:`monitor_picture` — the OCTEK monitor with LEFT/RIGHT and the rows
+  worked on labelled.
+* :func:`save_png` — write a PNG atomically (temporary name, then rename);
+  :func:`save_picture` the same, JPEG for a .jpg name.
 
 Index conventions (as ESTAR's): a feature or match location is a 1-based index
 i into the 128-pixel row, naming image column i-1.  Grey level k is drawn as
@@ -32,8 +35,8 @@ Layout of :func:`line_picture` for ``scale`` s (all numbers in output pixels)
   the ``s`` rows just above row IY's bracket: at column LOC1-1 in the left
   picture, LOC2-1 in the right.
 
-Layout of :func:`topdown_map` (``max_range`` R ft)
---------------------------------------------------
+Layout of :func:`topdown_map` (``max_range`` R, in the unit of the separation)
+-----------------------------------------------------------------------------
 The plot area is ``MAP_W`` x ``MAP_H`` = 640 x 800 pixels with its top-left
 corner at ``(MAP_LEFT, MAP_TOP)`` = (70, 60); the image is
 ``(MAP_TOP + MAP_H + MAP_BOTTOM, MAP_LEFT + MAP_W + MAP_RIGHT)`` =
@@ -53,7 +56,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-__all__ = ["line_picture", "topdown_map", "save_png", "used_matches", "line_layout",
+__all__ = ["line_picture", "topdown_map", "fitted_range", "monitor_picture", "save_png",
+           "save_picture", "used_matches", "line_layout",
            "LineLayout", "MATCH_PALETTE", "ROW_COLOUR", "POINT_COLOUR",
            "TRUTH_IN_COLOUR", "TRUTH_OUT_COLOUR"]
 
@@ -358,15 +362,35 @@ def _nice_step(span: float, target: int) -> float:
     return float(10 * mag)
 
 
-def topdown_map(points, truth=None, max_range: float = 25, title: str | None = None
-                ) -> np.ndarray:
+def fitted_range(dps, floor: float = 1.0) -> float:
+    """A range axis fitted to the data: the next "nice" value (1, 1.5, 2, 2.5,
+    3, 4, 5, 6, 8 times a power of ten) above 1.1 times the 95th percentile
+    of the ranges ``dps``; points beyond it are drawn as arrows."""
+    d = np.asarray([float(v) for v in dps if np.isfinite(v) and v > 0], dtype=np.float64)
+    top = 1.1 * float(np.percentile(d, 95)) if d.size else floor
+    top = max(top, 1e-9)
+    mag = 10 ** np.floor(np.log10(top))
+    for m in (1, 1.5, 2, 2.5, 3, 4, 5, 6, 8, 10):
+        if m * mag >= top - 1e-12:
+            return float(m * mag)
+    return float(10 * mag)
+
+
+def topdown_map(points, truth=None, max_range: float = 25, title: str | None = None,
+                unit: str = "ft", error_bars: bool = True, bar_cap: float = 0.2,
+                separation: float = 0.75, virtual_distance: float = 180) -> np.ndarray:
     """The robot's view of the room from above.  ``points``: located edges as
     (dp, dx, ep, ex) tuples, 6-tuples as in LineResult.positions, or dicts with
-    those keys; ``truth``: None or one true range (ft, or None) per point.
+    those keys; ``truth``: None or one true range (or None) per point.
     Each point is drawn at (dx, dp) with a bar +-ex across and +-ep along the
-    range; a true range is marked at (dx, true range), green when inside
-    dp +- ep, red when not.  Points beyond ``max_range`` are shown as arrows on
-    the top edge.  Returns a BGR uint8 array of 1010 x 740 (module docstring)."""
+    range (``error_bars``); a bar half longer than ``bar_cap * max_range`` is
+    cut there and drawn without its end tick.  A true range is marked at
+    (dx, true range), green when inside dp +- ep, red when not.  Points beyond
+    ``max_range`` are shown as arrows on the top edge.  ``unit`` names the unit
+    of the camera separation (all distances are in it); the cameras are drawn
+    at dx = 0 (left, the origin of LCSL's axes) and dx = ``separation``, the
+    field of view from ``virtual_distance`` (pixels).  The legend lists only
+    what is drawn.  Returns a BGR uint8 array of 1010 x 740 (module docstring)."""
     R = float(max_range)
     if not R > 0:
         raise ValueError("max_range must be > 0")
@@ -375,6 +399,7 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
         raise ValueError(f"truth has {len(truth)} entries for {len(pts)} points")
     k = MAP_H / R
     hw = 0.4 * R
+    cap = float(bar_cap) * R
     H = MAP_TOP + MAP_H + MAP_BOTTOM
     W = MAP_LEFT + MAP_W + MAP_RIGHT
     img = np.full((H, W, 3), 255, np.uint8)
@@ -401,8 +426,8 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
     while r <= R + 1e-9:
         cv2.line(plot, (0, px(0, r)[1]), (MAP_W - 1, px(0, r)[1]), GRID, 1)
         r += step
-    # field of view: ESTAR's dx = (LOC1-60)*dp/180 for LOC1 = 1..128
-    for slope in ((1 - 60) / 180, (128 - 60) / 180):
+    # field of view: ESTAR's dx = (LOC1-60)*dp/DV for LOC1 = 1..128
+    for slope in ((1 - 60) / virtual_distance, (128 - 60) / virtual_distance):
         far = R * 1.05
         a, bpt = px(0, 0), px(slope * far, far)
         n = 40
@@ -429,18 +454,23 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
                 cv2.line(plot, px(dx, min(dp, R)), px(dx, float(tz)), (150, 150, 235), 1,
                          cv2.LINE_AA)
             marks.append((px(dx, float(tz)), colour))
-    for dp, dx, ep, ex in pts:
-        if dp > R:
-            continue
+    capped = 0
+    shown = [p for p in pts if p[0] <= R]
+    for dp, dx, ep, ex in (shown if error_bars else ()):
         x, y = px(dx, dp)
-        y0, y1 = px(dx, dp + ep)[1], px(dx, max(dp - ep, 0))[1]
-        x0, x1 = px(dx - ex, dp)[0], px(dx + ex, dp)[0]
+        cut_p, cut_x = ep > cap, ex > cap
+        capped += cut_p or cut_x
+        ep_, ex_ = min(ep, cap), min(ex, cap)
+        y0, y1 = px(dx, dp + ep_)[1], px(dx, max(dp - ep_, 0))[1]
+        x0, x1 = px(dx - ex_, dp)[0], px(dx + ex_, dp)[0]
         cv2.line(plot, (x, y0), (x, y1), BAR_COLOUR, 1, cv2.LINE_8)
-        cv2.line(plot, (x - 3, y0), (x + 3, y0), BAR_COLOUR, 1, cv2.LINE_8)
-        cv2.line(plot, (x - 3, y1), (x + 3, y1), BAR_COLOUR, 1, cv2.LINE_8)
         cv2.line(plot, (x0, y), (x1, y), BAR_COLOUR, 1, cv2.LINE_8)
-        cv2.line(plot, (x0, y - 3), (x0, y + 3), BAR_COLOUR, 1, cv2.LINE_8)
-        cv2.line(plot, (x1, y - 3), (x1, y + 3), BAR_COLOUR, 1, cv2.LINE_8)
+        if not cut_p:
+            cv2.line(plot, (x - 3, y0), (x + 3, y0), BAR_COLOUR, 1, cv2.LINE_8)
+            cv2.line(plot, (x - 3, y1), (x + 3, y1), BAR_COLOUR, 1, cv2.LINE_8)
+        if not cut_x:
+            cv2.line(plot, (x0, y - 3), (x0, y + 3), BAR_COLOUR, 1, cv2.LINE_8)
+            cv2.line(plot, (x1, y - 3), (x1, y + 3), BAR_COLOUR, 1, cv2.LINE_8)
     for dp, dx, ep, ex in pts:
         if dp > R:
             beyond += 1
@@ -451,8 +481,8 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
         cv2.circle(plot, px(dx, dp), 4, POINT_COLOUR, -1, cv2.LINE_8)
     for at, colour in marks:
         cv2.drawMarker(plot, at, colour, cv2.MARKER_TILTED_CROSS, 9, 2, cv2.LINE_AA)
-    # cameras at the bottom (left at dx = -0.375, right at +0.375)
-    for cx in (-0.375, 0.375):
+    # the cameras: the left one at LCSL's origin, the right one a separation away
+    for cx in (0.0, float(separation)):
         x, y = px(cx, 0)
         cv2.rectangle(plot, (x - 5, y - 8), (x + 5, y - 1), BLACK, -1)
     img[MAP_TOP:MAP_TOP + MAP_H, MAP_LEFT:MAP_LEFT + MAP_W] = plot
@@ -462,7 +492,7 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
     r = step
     while r <= R + 1e-9:
         y = MAP_TOP + px(0, r)[1]
-        s = f"{r:g} ft"
+        s = f"{r:g} {unit}"
         (w, h), _ = cv2.getTextSize(s, FONT, 0.45, 1)
         _text(img, s, (MAP_LEFT - 8 - w, y + h // 2), 0.45, DARK)
         r += step
@@ -473,11 +503,13 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
         (w, _h), _ = cv2.getTextSize(s, FONT, 0.45, 1)
         _text(img, s, (MAP_LEFT + px(xv, 0)[0] - w // 2, MAP_TOP + MAP_H + 20), 0.45, DARK)
         xv += xstep
-    _text(img, "horizontal offset dx (ft, + = right)", (MAP_LEFT + MAP_W // 2 - 140,
-                                                        MAP_TOP + MAP_H + 42), 0.5, BLACK)
-    _text(img, "cameras", (MAP_LEFT + MAP_W // 2 + 22, MAP_TOP + MAP_H - 4), 0.4, BLACK)
+    xlabel = f"horizontal offset dx ({unit}, + = right)"
+    (w, _h), _ = cv2.getTextSize(xlabel, FONT, 0.5, 1)
+    _text(img, xlabel, (MAP_LEFT + MAP_W // 2 - w // 2, MAP_TOP + MAP_H + 42), 0.5, BLACK)
+    cam_x = MAP_LEFT + max(px(0.0, 0)[0], px(float(separation), 0)[0]) + 12
+    _text(img, "cameras", (cam_x, MAP_TOP + MAP_H - 4), 0.4, BLACK)
     rl = np.full((24, 200, 3), 255, np.uint8)
-    _text(rl, "range dp (ft)", (4, 18), 0.5, BLACK)
+    _text(rl, f"range dp ({unit})", (4, 18), 0.5, BLACK)
     rl = cv2.rotate(rl, cv2.ROTATE_90_COUNTERCLOCKWISE)
     ry = MAP_TOP + MAP_H // 2 - 100
     img[ry:ry + 200, 2:26] = rl
@@ -486,29 +518,83 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
     _text(img, head, (MAP_LEFT, 26), 0.65, BLACK, 2)
     sub = f"{len(pts)} points"
     if beyond:
-        sub += f", {beyond} beyond {R:g} ft (arrows on the top edge)"
+        sub += f", {beyond} beyond {R:g} {unit} (arrows on the top edge)"
     if truth is not None:
         sub += f"; true range inside dp +- ep for {n_in} of {n_truth}"
     _text(img, sub, (MAP_LEFT, 48), 0.45, DARK)
 
-    # legend
-    y = MAP_TOP + MAP_H + 72
+    # legend: only what is drawn
+    y = MAP_TOP + MAP_H + 70
     x = MAP_LEFT
-    cv2.circle(img, (x + 6, y - 5), 4, POINT_COLOUR, -1)
-    cv2.line(img, (x + 6, y - 16), (x + 6, y + 6), BAR_COLOUR, 1)
-    cv2.line(img, (x - 4, y - 5), (x + 16, y - 5), BAR_COLOUR, 1)
-    _text(img, "located edge at (dx, dp); bars: +-ex across, +-ep along the range", (x + 26, y),
-          0.45)
-    y += 26
-    cv2.drawMarker(img, (x + 6, y - 5), TRUTH_IN_COLOUR, cv2.MARKER_TILTED_CROSS, 9, 2)
-    cv2.drawMarker(img, (x + 20, y - 5), TRUTH_OUT_COLOUR, cv2.MARKER_TILTED_CROSS, 9, 2)
-    _text(img, "true range at the same dx (green: within dp +- ep; red: outside, "
-               "joined to its point)", (x + 34, y), 0.45)
-    y += 26
+    row = 23
+    if pts:
+        cv2.circle(img, (x + 6, y - 5), 4, POINT_COLOUR, -1)
+        what = "located edge at (dx, dp)"
+        if error_bars and shown:
+            cv2.line(img, (x + 6, y - 16), (x + 6, y + 6), BAR_COLOUR, 1)
+            cv2.line(img, (x - 4, y - 5), (x + 16, y - 5), BAR_COLOUR, 1)
+            what += "; bars: +-ex across, +-ep along the range"
+        _text(img, what, (x + 26, y), 0.45)
+        y += row
+        notes = []
+        if capped:
+            notes.append(f"{capped} bars cut at {cap:g} {unit} (no end tick)")
+        if beyond:
+            notes.append(f"arrow: a point beyond {R:g} {unit}")
+        if notes:
+            if beyond:
+                tri = np.array([[x + 6, y - 12], [x + 1, y - 3], [x + 11, y - 3]], np.int32)
+                cv2.fillPoly(img, [tri], POINT_COLOUR)
+            _text(img, "; ".join(notes), (x + 26, y), 0.45)
+            y += row
+    if n_truth:
+        cv2.drawMarker(img, (x + 6, y - 5), TRUTH_IN_COLOUR, cv2.MARKER_TILTED_CROSS, 9, 2)
+        cv2.drawMarker(img, (x + 20, y - 5), TRUTH_OUT_COLOUR, cv2.MARKER_TILTED_CROSS, 9, 2)
+        _text(img, "true range at the same dx (green: within dp +- ep; red: outside, "
+                   "joined to its point)", (x + 34, y), 0.45)
+        y += row
     for j in range(0, 24, 6):
         cv2.line(img, (x + j, y - 5), (x + j + 3, y - 5), (150, 150, 150), 1)
     _text(img, "field of view (LOC1 = 1..128); shaded bands every "
-               f"{step:g} ft", (x + 34, y), 0.45)
+               f"{step:g} {unit}", (x + 34, y), 0.45)
+    return img
+
+
+# =============================================================================
+# monitor_picture
+# =============================================================================
+
+MON_HEAD = 34          # strip above the monitor for the LEFT / RIGHT labels
+MON_SIDE = 58          # margin left of the monitor for the row labels
+
+
+def monitor_picture(octek, lines=(), scale: int = 3) -> np.ndarray:
+    """:func:`octek_sim.monitor.render_monitor` with what a reader needs to
+    read it: LEFT and RIGHT over the two pictures (where NSTAR loads them in
+    the frame store, x 26 and x 166) and each row ESTAR worked on marked and
+    labelled ``IY=y`` beside the screen.  The monitor itself sits unchanged at
+    (MON_SIDE, MON_HEAD)."""
+    from nstar.program import LEFT_X, RIGHT_X
+    from octek_sim.monitor import BEZEL, render_monitor
+    mon = render_monitor(octek, scale)
+    h, w = mon.shape[:2]
+    img = np.full((h + MON_HEAD, w + MON_SIDE, 3), 255, np.uint8)
+    img[MON_HEAD:, MON_SIDE:] = mon
+    for x0, name in ((LEFT_X, "LEFT picture"), (RIGHT_X, "RIGHT picture")):
+        a = MON_SIDE + BEZEL + x0 * scale
+        b = a + 128 * scale - 1
+        cv2.line(img, (a, MON_HEAD - 6), (b, MON_HEAD - 6), DARK, 2)
+        label = f"{name} (x {x0}..{x0 + 127})"
+        (tw, _), _ = cv2.getTextSize(label, FONT, 0.55, 1)
+        _text(img, label, ((a + b) // 2 - tw // 2, MON_HEAD - 12), 0.55, BLACK, 1)
+    for y in sorted(set(int(v) for v in lines)):
+        if not 0 <= y < 120:
+            continue
+        yc = MON_HEAD + BEZEL + y * scale + scale // 2
+        x1 = MON_SIDE - 2
+        tri = np.array([[x1, yc], [x1 - 9, yc - 5], [x1 - 9, yc + 5]], np.int32)
+        cv2.fillPoly(img, [tri], ROW_COLOUR)
+        _text(img, f"IY={y}", (2, yc + 5), 0.42, DARK)
     return img
 
 
@@ -516,19 +602,35 @@ def topdown_map(points, truth=None, max_range: float = 25, title: str | None = N
 # save_png
 # =============================================================================
 
-def save_png(path, image) -> Path:
-    """Write ``image`` (BGR or grey uint8) to ``path`` as PNG: encoded in
-    memory, written to a temporary file in the same directory, flushed, then
-    renamed over ``path`` (os.replace) — readers never see a partial file, and
-    on any failure the temporary file is removed and an existing ``path`` is
-    left as it was.  Returns the path."""
+PICTURE_FORMATS = {".png": (".png", []), ".jpg": (".jpg", [cv2.IMWRITE_JPEG_QUALITY, 95]),
+                   ".jpeg": (".jpg", [cv2.IMWRITE_JPEG_QUALITY, 95])}
+
+
+def save_picture(path, image) -> Path:
+    """:func:`save_png`, or JPEG when the name ends in .jpg/.jpeg; any other
+    suffix is refused (ValueError) before anything is written."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in PICTURE_FORMATS:
+        raise ValueError(f"{path}: can write .png or .jpg pictures, not "
+                         f"{suffix or 'a name without a suffix'}")
+    return save_png(path, image, fmt=suffix)
+
+
+def save_png(path, image, fmt: str = ".png") -> Path:
+    """Write ``image`` (BGR or grey uint8) to ``path`` as PNG (or the format
+    ``fmt`` of :data:`PICTURE_FORMATS`): encoded in memory, written to a
+    temporary file in the same directory, flushed, then renamed over ``path``
+    (os.replace) — readers never see a partial file, and on any failure the
+    temporary file is removed and an existing ``path`` is left as it was.
+    Returns the path."""
     path = Path(path)
     img = np.asarray(image)
     if img.dtype != np.uint8 or img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] not in (1, 3, 4)):
         raise ValueError(f"not an 8-bit image: dtype {img.dtype}, shape {img.shape}")
-    ok, buf = cv2.imencode(".png", img)
+    ext, params = PICTURE_FORMATS[fmt]
+    ok, buf = cv2.imencode(ext, img, params)
     if not ok:
-        raise ValueError("PNG encoding failed")
+        raise ValueError(f"{ext} encoding failed")
     fd, tmp = tempfile.mkstemp(prefix="." + path.name + ".", suffix=".tmp",
                                dir=str(path.parent) if str(path.parent) else ".")
     try:
@@ -560,7 +662,6 @@ def make_doc_pictures(outdir, iy: int = 60, star=(85, 36, 30)) -> list[Path]:
     from estar.link import DirectLink
     from estar.program import Eclipse
     from nstar.program import Nova
-    from octek_sim.monitor import render_monitor
     from rig.scene import bundled_path, bundled_range
     from rig.truth import true_range_at
 
@@ -572,7 +673,7 @@ def make_doc_pictures(outdir, iy: int = 60, star=(85, 36, 30)) -> list[Path]:
     nova.load_pair(left, right)
     ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
     res = ecl.lcln(iy)
-    written = [save_png(outdir / "monitor-parked.png", render_monitor(nova.octek))]
+    written = [save_png(outdir / "monitor-parked.png", monitor_picture(nova.octek, [iy]))]
     written.append(save_png(outdir / f"line-{iy}.png", line_picture(left, right, res)))
     truth = bundled_range()
     points, tz = [], []
@@ -586,7 +687,7 @@ def make_doc_pictures(outdir, iy: int = 60, star=(85, 36, 30)) -> list[Path]:
         points, tz, title=f"Top-down map of the edges located on line IY = {iy}")))
     x, y, rad = star
     nova.execute(encode_ncont(Command(CODE_STAR, 1, x, y, rad, 0)))
-    written.insert(0, save_png(outdir / "monitor.png", render_monitor(nova.octek)))
+    written.insert(0, save_png(outdir / "monitor.png", monitor_picture(nova.octek, [iy])))
     return written
 
 

@@ -30,7 +30,7 @@ from nstar.program import Nova
 DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
 
 __all__ = ["Point", "points_of_line", "scan_pair", "run_lines", "ScanResult", "csv_text",
-           "ply_text", "write_atomic", "read_ply_points", "DEFAULT_LINES"]
+           "ply_text", "write_atomic", "read_ply_points", "summary", "DEFAULT_LINES"]
 
 
 def points_of_line(result: LineResult) -> list[Point]:
@@ -81,6 +81,27 @@ def run_lines(eclipse: Eclipse, lines, progress: bool = False) -> ScanResult:
         results.append(r)
         points.extend(points_of_line(r))
     return ScanResult(lines, results, points, eclipse.requests)
+
+
+def summary(result: ScanResult, unit: str, impossible: tuple[float, int] | None = None) -> str:
+    """A few lines on a scan: edges per line, the located ranges (min, median,
+    max) and, when given, the share of lines whose pictures are shifted the
+    impossible way (``rig.checks.impossible_share``)."""
+    pts = result.points
+    with_edges = sum(1 for r in result.results if r.features1)
+    out = [f"lines: {len(result.lines)} scanned, {with_edges} with edges in the left slice; "
+           f"{sum(2 * len(r.features1) for r in result.results)} left edges, "
+           f"{len(pts)} located"]
+    if pts:
+        dp = np.array([p.dp for p in pts])
+        disp = np.array([p.disparity for p in pts])
+        out.append(f"range ({unit}): min {dp.min():.3g}, median {np.median(dp):.3g}, "
+                   f"max {dp.max():.3g}; disparity {disp.min()}..{disp.max()} px")
+    if impossible is not None:
+        share, judged = impossible
+        out.append(f"impossible disparities: {share:.0%} of {judged} lines (right picture "
+                   f"shifted right of the left: large for a swapped or unrectified pair)")
+    return "\n".join(out)
 
 
 # --- output files -------------------------------------------------------------

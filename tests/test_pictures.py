@@ -328,3 +328,81 @@ def test_save_png_rejects_non_images(tmp_path):
     with pytest.raises(ValueError):
         save_png(tmp_path / "f.png", np.zeros((4, 4), np.float64))
     assert os.listdir(tmp_path) == []
+
+
+# --- topdown_map: units, fitted axes, bars, legend ------------------------------
+
+def _has(img, colour, rows=slice(None), cols=slice(None)):
+    return bool(np.all(img[rows, cols] == np.array(colour, np.uint8), axis=-1).any())
+
+
+def test_topdown_error_bars_are_optional_and_long_ones_are_cut():
+    pt = [(10.0, 1.0, 0.0, 2.0, 0.5, 0.05)]
+    assert _has(topdown_map(pt), BAR_COLOUR)
+    bare = topdown_map(pt, error_bars=False)
+    assert not _has(bare, BAR_COLOUR)
+    assert _colour(bare, *_map_xy(1, 10)[::-1]) == POINT_COLOUR
+    # ep = 9 ft at R = 25: the bar is cut at 0.2 R = 5 ft each way
+    long_bar = topdown_map([(10.0, 1.0, 9.0, 0.5)])
+    x = _map_xy(1, 10)[0]
+    assert _colour(long_bar, _map_xy(1, 14.8)[1], x) == BAR_COLOUR
+    assert _colour(long_bar, _map_xy(1, 15.5)[1], x) != BAR_COLOUR
+    assert _colour(long_bar, _map_xy(1, 5.2)[1], x) == BAR_COLOUR
+    assert _colour(long_bar, _map_xy(1, 4.5)[1], x) != BAR_COLOUR
+
+
+def test_topdown_legend_lists_only_what_is_drawn():
+    from rig.pictures import TRUTH_IN_COLOUR, TRUTH_OUT_COLOUR
+    legend = slice(60 + 800 + 40, None)
+    plain = topdown_map([(10.0, 1.0, 2.0, 0.5)], error_bars=False)
+    assert not _has(plain, TRUTH_IN_COLOUR, legend) and not _has(plain, TRUTH_OUT_COLOUR, legend)
+    assert not _has(plain, BAR_COLOUR, legend)
+    assert _has(plain, POINT_COLOUR, legend)
+    with_truth = topdown_map([(10.0, 1.0, 2.0, 0.5)], truth=[11.0])
+    assert _has(with_truth, TRUTH_IN_COLOUR, legend) and _has(with_truth, BAR_COLOUR, legend)
+    assert not _has(topdown_map([]), POINT_COLOUR, legend)
+
+
+def test_topdown_unit_is_the_separations():
+    pt = [(10.0, 1.0, 2.0, 0.5)]
+    ft, m = topdown_map(pt, unit="ft"), topdown_map(pt, unit="m")
+    plot = (slice(60, 860), slice(70, 710))
+    assert np.array_equal(ft[plot], m[plot])          # the same map ...
+    assert not np.array_equal(ft, m)                  # ... labelled in another unit
+
+
+def test_topdown_cameras_are_at_the_origin_and_one_separation_right():
+    img = topdown_map([], max_range=5, separation=1.0)          # 160 px per unit
+    y = 60 + 800 - 4
+    assert _colour(img, y, 70 + 320) == (0, 0, 0)
+    assert _colour(img, y, 70 + 320 + 160) == (0, 0, 0)
+    assert _colour(img, y, 70 + 320 + 80) != (0, 0, 0)
+
+
+def test_fitted_range_is_a_nice_value_above_the_bulk_of_the_ranges():
+    from rig.pictures import fitted_range
+    assert fitted_range([1.0, 2.0, 3.0]) == 4           # 1.1 * 2.9 = 3.19 -> 4
+    assert fitted_range([0.2] * 99 + [50.0]) == 0.25    # one far point is an arrow
+    assert fitted_range([]) == 1
+    left, right = _pair()
+    nova = Nova()
+    nova.load_pair(left, right)
+    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
+    dps = [p[0] for y in range(8, 113) for p in ecl.lcln(y).positions.values() if p]
+    assert fitted_range(dps) == 25
+
+
+def test_monitor_picture_labels_left_right_and_the_rows_worked_on(lab):
+    from rig.pictures import monitor_picture, MON_HEAD, MON_SIDE
+    _, _, nova, _ = lab
+    s = 3
+    img = monitor_picture(nova.octek, [40, 60], scale=s)
+    mon = render_monitor(nova.octek, s)
+    assert np.array_equal(img[MON_HEAD:, MON_SIDE:], mon)          # the monitor unchanged
+    for x0 in (26, 166):                                            # a label over each picture
+        span = slice(MON_SIDE + BEZEL + x0 * s, MON_SIDE + BEZEL + (x0 + 128) * s)
+        assert (img[:MON_HEAD, span] < 100).all(axis=-1).sum() > 200
+    for y in (40, 60, 59 + 2):
+        yc = MON_HEAD + BEZEL + y * s + s // 2
+        marked = _colour(img, yc, MON_SIDE - 4) == ROW_COLOUR
+        assert marked == (y in (40, 60)), y
