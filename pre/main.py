@@ -5,10 +5,11 @@ The subcommands share the menu's code (:mod:`pre.framestore`,
 :mod:`pre.condense`, :mod:`pre.cartoon`, :mod:`pre.digitize`):
 
     pre import PICTURE -o X.VD      a picture, video frame or webcam frame -> .VD
+                                    (-o X.BI: the same, condensed to a .BI)
     pre shrink X.VD -o X.BI         menu command 2's 2x2 average -> .BI for NSTAR
     pre cartoon X.BI -o Y.BI        menu command 3: QV cartoon, bits/pixel report
     pre show X.VD|X.BI -o X.PNG     look at a picture file
-    pre pair LEFT RIGHT -o NAME     NAMEL.VD NAMER.VD NAMEL.BI NAMER.BI in one go
+    pre pair LEFT RIGHT -o NAME     NAME-L.VD NAME-R.VD NAME-L.BI NAME-R.BI in one go
     pre compare X.BI                production-system QV against EXQVFL, row by row
 
 Every problem is one line on standard error naming the file or value, and a
@@ -94,11 +95,24 @@ def _levels(args):
     return Levels(args.brightness, args.contrast, args.auto_levels)
 
 
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+        return version("holten-rig")
+    except Exception:                      # running from a checkout that is not installed
+        return "unknown (not installed)"
+
+
 def build_parser() -> argparse.ArgumentParser:
+    raw = argparse.RawDescriptionHelpFormatter
     ap = argparse.ArgumentParser(
         prog="pre",
         description="PRE, the robot vision image preprocessor (Holten 1985). "
-                    "Without a subcommand: the 1985 menu, reading standard input.")
+                    "Without a subcommand: the 1985 menu, reading standard input.",
+        epilog="examples:\n  pre pair left.jpg right.jpg -o DESK   DESK-L.BI, DESK-R.BI "
+               "(and .VD) for nstar and rig scan\n  pre                                   "
+               "the 1985 menu", formatter_class=raw)
+    ap.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     ap.add_argument("--force", action="store_true",
                     help="menu commands 4 and 11 may replace an existing file")
     ap.add_argument("--threshold", type=_threshold, default=DEFAULT_T,
@@ -110,13 +124,16 @@ def build_parser() -> argparse.ArgumentParser:
                          "never locks, as on a board with no camera")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
 
-    p = sub.add_parser("import", help="a picture, video frame or webcam frame -> .VD",
+    p = sub.add_parser("import", help="a picture, video frame or webcam frame -> .VD (or .BI)",
                        description="Digitize a picture OpenCV reads (PNG, JPEG, PGM, TIFF, "
                                    "BMP, ...), a frame of a video file, or a webcam frame "
                                    "(cam:N) to a 256x240 16-level .VD file, as the Dage camera "
-                                   "and the OCTEK did (docs/pre.md, 'Digitizer model').")
+                                   "and the OCTEK did (docs/pre.md, 'Digitizer model').  An "
+                                   "output named .BI gets the picture condensed to 128x120.",
+                       epilog="example: pre import desk.jpg -o DESK.VD", formatter_class=raw)
     p.add_argument("picture", help="picture or video file, or cam:N for webcam N")
-    p.add_argument("-o", "--output", required=True, help="the .VD file to write")
+    p.add_argument("-o", "--output", required=True, metavar="FILE.VD",
+                   help="the .VD file to write (or a .BI: condensed to 128x120)")
     _add_digitizer_options(p)
     p.add_argument("--force", action="store_true", help="replace an existing output")
 
@@ -153,16 +170,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--zoom", type=_positive, default=1, help="enlarge by a whole factor")
     p.add_argument("--force", action="store_true", help="replace an existing output")
 
-    p = sub.add_parser("pair", help="a stereo pair -> NAMEL/NAMER .VD and .BI",
-                       description="Import a stereo pair and write NAMEL.VD, NAMER.VD, "
-                                   "NAMEL.BI and NAMER.BI (the files NSTAR asks for, left "
+    p = sub.add_parser("pair", help="a stereo pair -> NAME-L/NAME-R .VD and .BI",
+                       description="Import a stereo pair and write NAME-L.VD, NAME-R.VD, "
+                                   "NAME-L.BI and NAME-R.BI (the files NSTAR asks for, left "
                                    "then right).  LEFT and RIGHT may be pictures, video "
                                    "files, cam:N, or .VD files.  All four names are checked "
-                                   "before anything is written.")
-    p.add_argument("left")
-    p.add_argument("right")
+                                   "before anything is written.  The pair must be rectified "
+                                   "(a point on the same row in both pictures): cameras side "
+                                   "by side, axes parallel, or rectified with OpenCV first.",
+                       epilog="example: pre pair left.jpg right.jpg -o DESK\n"
+                              "         rig scan --left DESK-L.BI --right DESK-R.BI "
+                              "--separation 0.12 --unit m",
+                       formatter_class=raw)
+    p.add_argument("left", help="left picture (video file, cam:N or .VD)")
+    p.add_argument("right", help="right picture, from the camera to the left one's right")
     p.add_argument("-o", "--output", required=True, metavar="NAME",
-                   help="name stem, e.g. data/DESK gives data/DESKL.VD ...")
+                   help="name stem, e.g. data/DESK gives data/DESK-L.VD ...")
     _add_digitizer_options(p)
     p.add_argument("--force", action="store_true", help="replace existing outputs")
 
@@ -182,10 +205,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 def cmd_import(args) -> int:
     from .digitize import import_picture
+    kind = Path(args.output).suffix.upper()
+    if kind not in (".VD", ".BI"):
+        raise PreError(f"{args.output}: name it .VD (the 256x240 picture) or .BI (condensed "
+                       f"to 128x120 for NSTAR)")
     check_output(args.output, args.force)
     pic = import_picture(args.picture, args.fit, _levels(args), args.frame)
-    publish(args.output, encode_vd(pic), args.force)
-    print(f"{args.output}: 256x240, 16 grey levels, from {args.picture} (fit {args.fit})")
+    if kind == ".BI":
+        publish(args.output, encode_bi(condense(pic)), args.force)
+        print(f"{args.output}: 128x120, 16 grey levels, condensed from {args.picture} "
+              f"(fit {args.fit})")
+    else:
+        publish(args.output, encode_vd(pic), args.force)
+        print(f"{args.output}: 256x240, 16 grey levels, from {args.picture} (fit {args.fit})")
     return 0
 
 
@@ -243,9 +275,14 @@ def _pair_side(source: str, args) -> np.ndarray:
     return import_picture(source, args.fit, _levels(args), args.frame)
 
 
+def pair_names(stem: str) -> list[str]:
+    """The four files of ``pre pair``: NAME-L.VD, NAME-R.VD, NAME-L.BI, NAME-R.BI
+    (the convention of the bundled LAB-L.BI, LAB-R.BI)."""
+    return [f"{stem}-{side}.{kind}" for kind in ("VD", "BI") for side in ("L", "R")]
+
+
 def cmd_pair(args) -> int:
-    stem = args.output
-    names = [stem + "L.VD", stem + "R.VD", stem + "L.BI", stem + "R.BI"]
+    names = pair_names(args.output)
     for n in names:
         check_output(n, args.force)
     left = _pair_side(args.left, args)

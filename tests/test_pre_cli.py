@@ -68,20 +68,20 @@ def test_pair_writes_four_files(tmp_path):
     cv2.imwrite(str(tmp_path / "r.png"), right)
     stem = str(tmp_path / "DESK")
     assert main(["pair", str(tmp_path / "l.png"), str(tmp_path / "r.png"), "-o", stem]) == 0
-    assert (tmp_path / "DESKL.VD").read_bytes() == bytes([0x66]) * 30720 + bytes(2048)
-    assert (tmp_path / "DESKR.VD").read_bytes() == bytes([0xCC]) * 30720 + bytes(2048)
-    assert (tmp_path / "DESKL.BI").read_bytes() == bytes([0, 6]) * 15360
-    assert (tmp_path / "DESKR.BI").read_bytes() == bytes([0, 12]) * 15360
+    assert (tmp_path / "DESK-L.VD").read_bytes() == bytes([0x66]) * 30720 + bytes(2048)
+    assert (tmp_path / "DESK-R.VD").read_bytes() == bytes([0xCC]) * 30720 + bytes(2048)
+    assert (tmp_path / "DESK-L.BI").read_bytes() == bytes([0, 6]) * 15360
+    assert (tmp_path / "DESK-R.BI").read_bytes() == bytes([0, 12]) * 15360
 
 
 def test_pair_refuses_before_writing_anything(tmp_path, capsys):
     cv2.imwrite(str(tmp_path / "l.png"), np.zeros((240, 256), np.uint8))
-    (tmp_path / "DESKR.BI").write_bytes(b"keep")
+    (tmp_path / "DESK-R.BI").write_bytes(b"keep")
     rc = main(["pair", str(tmp_path / "l.png"), str(tmp_path / "l.png"), "-o",
                str(tmp_path / "DESK")])
     assert rc == 1
-    assert "DESKR.BI: already exists" in capsys.readouterr().err
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["DESKR.BI", "l.png"]
+    assert "DESK-R.BI: already exists" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["DESK-R.BI", "l.png"]
 
 
 def test_missing_file(tmp_path, capsys):
@@ -143,3 +143,19 @@ def test_menu_as_a_process(tmp_path):
     assert "** 'four' is not a number" in proc.stdout
     assert main(["shrink", str(vd), "-o", str(tmp_path / "C.BI")]) == 0
     assert bi.read_bytes() == (tmp_path / "C.BI").read_bytes()
+
+
+def test_import_to_a_bi_name_writes_a_bi_not_a_vd(tmp_path, capsys):
+    cv2.imwrite(str(tmp_path / "p.png"), np.full((240, 256), 200, np.uint8))
+    assert main(["import", str(tmp_path / "p.png"), "-o", str(tmp_path / "P.BI")]) == 0
+    data = (tmp_path / "P.BI").read_bytes()
+    assert len(data) == 30720 and decode_bi(data).max() == 12       # floor(200/16)
+    assert main(["import", str(tmp_path / "p.png"), "-o", str(tmp_path / "P.png")]) == 1
+    assert "name it .VD" in capsys.readouterr().err
+    assert not (tmp_path / "P.png").exists()
+
+
+def test_version():
+    done = subprocess.run([sys.executable, "-m", "pre", "--version"], capture_output=True,
+                          text=True, timeout=60, cwd=Path(__file__).parent.parent)
+    assert done.returncode == 0 and done.stdout.startswith("pre ")
