@@ -1,4 +1,4 @@
-"""Accuracy on real pictures, side by side (issue 5).
+"""Accuracy on real pictures, side by side (docs/accuracy.md).
 
 The Middlebury 2014 "motorcycle" pair with its ground-truth disparity, as
 scikit-image ships it (``skimage.data.stereo_motorcycle()``, 741x500, no

@@ -1,4 +1,4 @@
-"""Soak benchmark of the file link (issue 5): request/response round trips
+"""Soak benchmark of the file link (docs/robustness.md): request/response round trips
 between a real ``nstar`` process and an ESTAR, counting lost and duplicated
 messages, with the throughput and the resident memory (VmRSS) of both
 processes at start and end.

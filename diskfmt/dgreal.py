@@ -3,7 +3,7 @@
 The Eclipse and the NOVA stored REAL in the IBM S/360 layout: a sign bit, a 7-bit
 exponent (power of 16, excess 64) and a 24-bit fraction (six hex digits),
 sign-magnitude.  Their floating-point units *truncated* every result toward zero
-to six hex digits.  RIG-NOTES §1 settles the model: each operation is computed
+to six hex digits.  QUIRKS M1 settles the model: each operation is computed
 exactly, then truncated.  That model reproduces every row of the Appendix D
 position table; IEEE arithmetic misses nine of them by one in the last digit.
 

@@ -1,5 +1,5 @@
 """Byte layouts of the files on the shared JHDATA disk (Appendix E, made exact by
-the listings; RIG-NOTES §3).
+the listings; docs/formats.md).
 
 Every word is a 16-bit two's-complement INTEGER stored big-endian; a REAL is two
 words in Data General format (:mod:`diskfmt.dgreal`).  Readers take ``bytes`` and

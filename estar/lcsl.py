@@ -5,11 +5,11 @@ For each edge the match list is walked in order; every entry with a disparity
 greater than EDISP = 1 pixel overwrites the edge's POS column, and the walk
 stops at the first whose range exceeds 1.0 (so at a small separation an entry
 giving a range of 1.0 or less is passed over for a later one).  Range ``dp = ds*dv/disp``; offsets ``dx = DL*dp/dv``,
-``dy = DD*dp/dv`` with DL, DD measured from pixel 60 (not 64: kept, RIG-NOTES
-§5); range error ``ep = ds*dv*EDISP / (disp^2 - disp*EDISP)``; offset errors
+``dy = DD*dp/dv`` with DL, DD measured from pixel 60 (not 64: kept,
+QUIRKS E6); range error ``ep = ds*dv*EDISP / (disp^2 - disp*EDISP)``; offset errors
 from the location errors ELMAX = ERMAX = EDMAX = 0.5.  POS(1,k) = -1 marks
 "no data point"; the other five values of such an edge are left as they were
-(COMMON /POSIT/ persists across lines, RIG-NOTES §4).
+(COMMON /POSIT/ persists across lines, QUIRKS E8).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 slices), PNPL (write POSIT.DT), around MASL and LCSL.
 
 :class:`Eclipse` holds ESTAR's COMMON blocks: /CALIB/ DSEP, DVIRT; /POSIT/ NP,
-POS(640) (never cleared between lines, RIG-NOTES §4); /MATCH/; /BLOBS/ (reset
+POS(640) (never cleared between lines, QUIRKS E8); /MATCH/; /BLOBS/ (reset
 at the start of every line).
 """
 

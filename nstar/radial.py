@@ -55,13 +55,13 @@ def radln(octek, idir: list[int], np_: int, cax: Real, cay: Real, bounds) -> tup
     ``idir`` is IDIR(1..7) as a 0-based list, updated in place (end point and
     count, image-relative).  ``bounds`` is COMMON /IMAGE/ as RADLN names it —
     IXMIN, IXMAX, IYMIN, IYMAX — which positionally is NSTAR's IXOFF, IXMAX,
-    IYOFF, IYMAX (RIG-NOTES §1).  Returns the pixels and the clamped NP."""
+    IYOFF, IYMAX (COMMON is positional, QUIRKS N1).  Returns the pixels and the clamped NP."""
     ixmin, ixmax, iymin, iymax = bounds
     ixctr = idir[1] + ixmin
     iyctr = idir[2] + iymin
     ndp = 0
     ix, iy = ixctr, iyctr
-    np_ = min(max(np_, 1), 60)                   # actions cut off in the OCR (RIG-NOTES §5)
+    np_ = min(max(np_, 1), 60)                   # actions cut off in the OCR (QUIRKS N11)
     irad: list[int] = []
     for i in range(1, np_ + 1):
         hyp = Real.from_int(i - 1) * SQRT2

@@ -5,7 +5,7 @@ Buffers follow the library's convention, which the listings rely on: a buffer
 read by RVBLK carries a header word first and the pixels from word 2 on (PRE and
 NSTAR pass ``IDAT(2)`` to RDBLK/WRBLK and ``IDAT`` to WVBLK).  Here a buffer is a
 numpy int array whose element 0 is that header; FORTRAN ``IDAT(k)`` is
-``buf[k-1]``.  The header holds the pixel count (RIG-NOTES §5).
+``buf[k-1]``.  The header holds the pixel count (QUIRKS M7).
 
 Display-only calls (cursor, grey-scale tables, camera sync) keep their state so
 that a picture of the monitor can show it later.

@@ -1,6 +1,6 @@
 """Reading and publishing PRE's picture files (.VD, .BI) safely.
 
-The byte layouts are :mod:`diskfmt.layouts` (Appendix E, RIG-NOTES §3).  This
+The byte layouts are :mod:`diskfmt.layouts` (Appendix E; docs/formats.md).  This
 module adds what the 1985 OPEN/WRBLK calls did not promise: an output is
 written under a temporary name in the same directory and renamed into place
 with ``os.replace``, so no reader ever sees half a file and a failed write

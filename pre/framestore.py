@@ -4,9 +4,9 @@ Each function is one menu command's board and disk traffic, written with the
 listing's own calls (RVBLK, WVBLK, PXFILL, GVECT) on an :class:`octek_sim.board.Octek`
 and the listing's block loops, so that the frame store ends up exactly as the
 1985 program left it.  Buffers follow the library convention: FORTRAN
-``IBUF(k)`` is ``buf[k-1]``, element 0 the header word (RIG-NOTES §5).
+``IBUF(k)`` is ``buf[k-1]``, element 0 the header word (QUIRKS M7).
 
-Geometry (RIG-NOTES §5): the 256x240 picture sits at x 32..287, rows 0..239;
+Geometry (docs/pre.md): the 256x240 picture sits at x 32..287, rows 0..239;
 the condensed 128x120 picture at x 96..223, rows 60..179, with a black box
 one pixel outside it.
 """
@@ -36,7 +36,7 @@ def condense_frame(ict: Octek) -> None:
     121+2*INY into IBUF1 and 118-2*INY, 119-2*INY into IBUF2, blanks both
     bands white over the full width, averages each 2x2 block as
     ``(a+b+c+d+2)/4`` in place (IBUF1(IIN), IIN=ILOC+2, OCR repairs of
-    RIG-NOTES §6) and writes the results to rows 120+INY and 119-INY at x 96.
+    QUIRKS P1) and writes the results to rows 120+INY and 119-INY at x 96.
     Then a black box is drawn around the 128x120 picture."""
     inx, inxl, inyl = 96, 128, 120
     inyl1 = (inyl // 2) - 1

@@ -110,7 +110,8 @@ def cmd_demo(args) -> int:
     points = [p for r in results for p in scanmod.points_of_line(r)]
     truth = _truth_for(args, True)
     pictures.append(save_png(out / "topdown.png", _topdown(
-        points, truth, topdown_map, "lines " + ", ".join(lines), BUNDLED_UNIT, 0.75, 180)))
+        points, truth, topdown_map, "Top-down map of the edges located on lines "
+        + ", ".join(lines), BUNDLED_UNIT, 0.75, 180)))
     print("== pictures: " + ", ".join(str(p) for p in pictures))
     return 0 if same else 1
 

@@ -1,11 +1,11 @@
 """Acceptance tests for the Data General REAL model (diskfmt/dgreal.py).
 
-External truth used here (copied, the tests do not read /work/shared):
+External truth used here (copied; the tests read nothing outside the repository):
 
-* RIG-NOTES §1: REAL is the IBM S/360 layout -- sign bit, 7-bit exponent
+* QUIRKS M1: REAL is the IBM S/360 layout -- sign bit, 7-bit exponent
   (power of 16, excess 64), 24-bit fraction (6 hex digits), sign-magnitude.
   1.0 = 41100000, -1.0 = C1100000, 0.5 = 40800000, 0 = 00000000.
-* RIG-NOTES §1: every operation is computed exactly, then truncated toward zero
+* QUIRKS M1: every operation is computed exactly, then truncated toward zero
   to a normalised 6-hex-digit fraction; REAL -> INTEGER truncates toward zero
   (``IVAVE=(SUM/INUM)+.5``); ``Fw.d`` rounds the *stored* value half away
   from zero; a field too narrow prints asterisks.
@@ -55,8 +55,8 @@ def _from_hex(h: str) -> Real:
     return Real.from_bytes(bytes.fromhex(h))
 
 
-def test_independent_model_agrees_with_rig_notes():
-    # Guard on the helper itself: the four patterns RIG-NOTES §1 gives.
+def test_independent_model_agrees_with_the_documented_patterns():
+    # Guard on the helper itself: the four patterns of docs/formats.md (REAL).
     assert _dg_hex(1) == "41100000"
     assert _dg_hex(-1) == "C1100000"
     assert _dg_hex(Fraction(1, 2)) == "40800000"

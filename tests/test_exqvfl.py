@@ -1,7 +1,7 @@
 """Acceptance tests for EXQVFL, the Queen Victoria edge extractor (nstar/exqvfl.py).
 
 Every expected feature list below was worked out by hand from the EXQVFL.FR
-listing (Appendix F), with the OCR repairs of RIG-NOTES §6 (JLCC/ILCC -> JLOC/
+listing (Appendix F), with the OCR repairs of QUIRKS Q1-Q3 (JLCC/ILCC -> JLOC/
 ILOC, LABS -> IABS, Sl -> S1, 1PIX -> IPIX, label 200 block =
 ``INUM=ILOC-JLOC+1; IF (INUM .GT. 3) GOTO 220``).  The listing, repaired, is
 copied here so the traces can be checked against it:

@@ -1,4 +1,4 @@
-"""The file protocol under faults (issue 5), with real ``nstar``/``estar``
+"""The file protocol under faults, with real ``nstar``/``estar``
 processes: stale files at start, ``kill -9`` of either program mid-line,
 corrupt or truncated files, two ESTARs on one directory.
 
@@ -231,7 +231,7 @@ def test_stale_files_from_an_earlier_run_are_set_aside_and_said(rig):
 
 
 def test_reply_to_a_dead_estar_published_after_the_sweep_is_not_read(rig):
-    """The race of issue 5: NSTAR is still busy with a command of a dead ESTAR
+    """The race of QUIRKS M14: NSTAR is still busy with a command of a dead ESTAR
     (here: blocked publishing its WBMAP.DT because the dead ESTAR never took the
     previous one, and slow — stopped — as a loaded machine can be) while a new
     ESTAR starts.  Before QUIRKS M14 the new ESTAR swept the old WBMAP.DT, sent

@@ -1,8 +1,8 @@
 """Acceptance tests for the JHDATA disk formats (diskfmt/layouts.py).
 
-External truth (copied here; the tests do not read /work/shared):
+External truth (copied here; the tests read nothing outside the repository):
 
-Appendix E and RIG-NOTES §2/§3 --
+Appendix E and docs/formats.md --
   * every word is a 16-bit two's-complement INTEGER, big-endian; a REAL is two
     words in DG format (1.0 = 41100000, 0.5 = 40800000, -1.0 = C1100000).
   * .VD      32768 bytes: 256x240 pixels, 4 bits, four to a word, first pixel in

@@ -46,7 +46,7 @@ def test_bmcp_counts_bits_and_differences():
 
 @pytest.mark.parametrize("inum", [0, -1, -16])
 def test_bmcp_zero_trip(inum):
-    # DO 100 ILOC=1,INUM with INUM <= 0 runs no times (RIG-NOTES §1)
+    # DO 100 ILOC=1,INUM with INUM <= 0 runs no times (QUIRKS M18)
     assert bmcp(inum, [-1] * 16, [0] * 16) == (0, 0, 0)
 
 

@@ -199,7 +199,7 @@ def test_edge_map_top_rows_outside_give_zero_bits():
 
 def test_edge_map_bottom_grey_sample_reads_rows_below_the_picture():
     nova = pair(step_picture())
-    # Y=119: the grey sample reads rows IYC..IYC+2 = 119, 120, 121 (RIG-NOTES §5):
+    # Y=119: the grey sample reads rows IYC..IYC+2 = 119, 120, 121 (QUIRKS N8):
     # row 119 cols 62,63 = 4, rows 120,121 are PXFILL white 15 -> range 4..15, so
     # both sides of the step (4 and 10) are in range.  Window rows 112..127:
     # rows 112..119 -> bits 0..7, rows 120..127 > IYMAX skipped -> 0x00FF = 255.
@@ -217,7 +217,7 @@ def test_edge_map_one_column_shift_of_feature_index():
     # EXQVFL: ILOC=60 (col 59), IPRE=61 (col 60): feature (60, 61, 4, 10).
     assert sl.features() == [(60, 61, 4, 10)]
     # ESTAR sends IFEAT(1,1)=60 as the X-centre; NSTAR takes it as column 60, the first
-    # pixel right of the edge (RIG-NOTES §5).  IDN=-1: sample cols 58,59 = 4; window
+    # pixel right of the edge (QUIRKS E20).  IDN=-1: sample cols 58,59 = 4; window
     # cols 53..68: 53..59 full (7 words) and the centre word (8th, col 60) empty.
     # (Read as column 59 there would be 8 full words.)
     assert edge(nova, 1, 60, 60, -1) == [FULL] * 7 + [0] * 9

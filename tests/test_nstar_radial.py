@@ -1,6 +1,6 @@
 """IGCD/ILCM, NSTAR's direction cosines, RADLN and RADSP, hand-derived.
 
-REAL arithmetic is the DG hex float (RIG-NOTES §1): every operation exact, then
+REAL arithmetic is the DG hex float (QUIRKS M1): every operation exact, then
 truncated to 6 hex digits; REAL -> INTEGER truncates toward zero.  The values
 used below, worked out by hand:
 

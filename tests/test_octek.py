@@ -1,6 +1,6 @@
 """OCTEK 2000 frame-store model: hand-checked RVBLK/WVBLK/PXFILL/IRDPIX/GVECT.
 
-Conventions checked (from the listings and RIG-NOTES §5 / QUIRKS M7, M8):
+Conventions checked (from the listings and QUIRKS M7, M8):
 - the frame store is 320 x 240, addressed frame[y, x];
 - RVBLK(ICT, IDAT, X, W, Y, H) fills IDAT(1) with a header (our model: the pixel
   count W*H) and IDAT(2..) with the block row by row (NSTAR label 600 takes

@@ -1,5 +1,5 @@
 """PRE command 2: the 2x2 average with its rounding, the centre-out order of
-the listing, and the frame store it leaves (RIG-NOTES §5, §6)."""
+the listing, and the frame store it leaves (docs/pre.md; QUIRKS P1)."""
 
 import numpy as np
 import pytest
