@@ -19,6 +19,8 @@ import numpy as np
 from .dgreal import Real, DGRealError
 
 BLOCK_BYTES = 512
+VD_ROWS, VD_COLS = 240, 256      # a .VD picture: PRE's 256x240 frame
+BI_ROWS, BI_COLS = 120, 128      # a .BI picture: the 128x120 NSTAR works on
 VD_BYTES = 32768
 BI_BYTES = 30720
 NCONT_BYTES = 12

@@ -56,6 +56,36 @@ class Listing:
         self.stream.flush()
 
 
+def accept_integer(text: str) -> int:
+    """An ACCEPTed INTEGER: a whole number that fits 16 bits, else ValueError
+    with the problem in words."""
+    t = text.strip()
+    try:
+        value = int(t)
+    except ValueError:
+        shown = repr(t) if t else "an empty line"
+        raise ValueError(f"{shown} is not a number (a whole number is wanted)") from None
+    if not -32768 <= value <= 32767:
+        raise ValueError(f"{value} does not fit a 16-bit INTEGER (-32768..32767)")
+    return value
+
+
+def accept(ask, say, prompt: str, convert=accept_integer):
+    """ACCEPT "prompt", V — the one ACCEPT of the three dialogues (PRE, NSTAR,
+    ESTAR).  ``ask(prompt)`` shows the prompt and returns one line (None at the
+    end of input: EOFError); ``convert`` turns it into the value or raises
+    ValueError naming the problem, which ``say`` shows before asking again
+    (DG FORTRAN would have stopped the program)."""
+    while True:
+        answer = ask(prompt)
+        if answer is None:
+            raise EOFError
+        try:
+            return convert(answer)
+        except ValueError as exc:
+            say(f"** {exc}; answer again.")
+
+
 class Console:
     """The operator's terminal: TYPE lines and ACCEPT prompts."""
 
@@ -70,8 +100,12 @@ class Console:
             self.out.write(type_text(*parts) + "\n")
             self.out.flush()
 
+    def accept(self, prompt: str, convert=accept_integer):
+        """:func:`accept` on this terminal."""
+        return accept(self.prompt, self.type, prompt, convert)
+
     def prompt(self, text: str) -> str | None:
-        """ACCEPT: show the prompt, read one line; None at end of input."""
+        """Show the prompt, read one line; None at end of input."""
         self.out.write(text)
         self.out.flush()
         line = self.inp.readline()

@@ -20,6 +20,7 @@ from functools import lru_cache
 import numpy as np
 
 from diskfmt.dgreal import Real
+from .printouts import RIGHT_EDGE
 
 MINUS_ONE = Real.from_int(-1)
 ONE = Real.const("1.0")
@@ -81,7 +82,7 @@ def lcsl(iyloc: int, nfeat1: int, tables, pos: list[Real], dsep: Real, dvirt: Re
     (not part of 1985's output; CSV, PLY and pictures read it)."""
     used = {}
     for indx in range(1, nfeat1 + 1):
-        for edge in (indx, indx + 50):
+        for edge in (indx, indx + RIGHT_EDGE):
             base = (edge - 1) * 6
             pos[base] = MINUS_ONE
             for entry in tables.entries(edge):

@@ -50,14 +50,7 @@ def parse_real(text: str, what: str) -> Real:
 
 def _ask(console: Console, prompt: str, convert):
     """ACCEPT with a second chance on a bad answer; EOF ends the program."""
-    while True:
-        answer = console.prompt(prompt)
-        if answer is None:
-            raise EOFError
-        try:
-            return convert(answer)
-        except ValueError as exc:
-            console.type(f" {exc}; answer again.")
+    return console.accept(prompt, convert)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -15,11 +15,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from diskfmt.jit import jit
+from diskfmt.layouts import BI_COLS
 from .marf import MAX_SHIFTS, compared_maps, marf_refine
+from .printouts import RIGHT_EDGE, Debug
 
 # MASL reads NPIX1/NPIX2, which nothing sets; Appendix D (edge 62 matched at 71,
 # a shift of +1 past the last feature) shows they acted as the slice length.
-NPIX1 = NPIX2 = 128
+NPIX1 = NPIX2 = BI_COLS
 
 
 @dataclass
@@ -112,8 +114,8 @@ def masl_requests(nfeat1, ifeat1, nfeat2, ifeat2, have1, have2, out):
                 g2 = ifeat2[2 + side][jndx - 1]
                 if abs(g1 - g2) > 1:
                     continue
-                e1 = indx + 50 * side
-                e2 = jndx + 50 * side
+                e1 = indx + RIGHT_EDGE * side
+                e2 = jndx + RIGHT_EDGE * side
                 ies = -1 if side == 0 else 1
                 if not have1[e1 - 1]:
                     have1[e1 - 1] = True
@@ -142,7 +144,7 @@ def masl_kernel(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, nmatch, ima
     lmatch = np.zeros(8, dtype=np.int64)
     values = np.zeros(MAX_SHIFTS, dtype=np.int64)
     for indx in range(1, nfeat1 + 1):
-        kndx = indx + 50
+        kndx = indx + RIGHT_EDGE
         inum_side = np.zeros(2, dtype=np.int64)
         irgd = search_bounds(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
         for jndx in range(1, nfeat2 + 1):
@@ -150,8 +152,8 @@ def masl_kernel(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, nmatch, ima
             for side in range(2):
                 if abs(ifeat1[2 + side][indx - 1] - ifeat2[2 + side][jndx - 1]) > 1:
                     continue
-                e1 = indx + 50 * side
-                e2 = jndx + 50 * side
+                e1 = indx + RIGHT_EDGE * side
+                e2 = jndx + RIGHT_EDGE * side
                 lmatch[0] = e2
                 lmatch[1] = 9999
                 lmatch[2] = ifeat1[side][indx - 1]
@@ -200,19 +202,19 @@ def masl(iyloc: int, nfeat1: int, ifeat1, nfeat2: int, ifeat2, iblb1, iblb2,
     link.nblob_many(requests[:count], iyloc, iblb1, iblb2)
     b1 = iblb1 if isinstance(iblb1, np.ndarray) else np.asarray(iblb1, dtype=np.int64)
     b2 = iblb2 if isinstance(iblb2, np.ndarray) else np.asarray(iblb2, dtype=np.int64)
-    log = np.zeros((2 * 50 * 50, 5), dtype=np.int64)
+    log = np.zeros((2 * RIGHT_EDGE * RIGHT_EDGE, 5), dtype=np.int64)   # every pair, both sides
     nlog = masl_kernel(iyloc, nfeat1, f1, nfeat2, f2, b1, b2, tables.nmatch,
                        tables.imatch, options.marf_sign_fix, log)
-    if console is not None or (debug & 32 and listing is not None):
+    if console is not None or (debug & Debug.COMPARED_MAPS and listing is not None):
         _print_comparisons(log[:nlog], b1, b2, tables, nfeat1, debug, listing, console)
 
 
 def _print_comparisons(log, b1, b2, tables, nfeat1, debug, listing, console) -> None:
     """MASL's TYPE lines and the flag-32 printout of MASL/MARF, in loop order."""
-    printing = debug & 32 and listing is not None
+    printing = debug & Debug.COMPARED_MAPS and listing is not None
     k = 0
     for indx in range(1, nfeat1 + 1):
-        while k < len(log) and (log[k, 1] - 1) % 50 + 1 == indx:
+        while k < len(log) and (log[k, 1] - 1) % RIGHT_EDGE + 1 == indx:
             side, e1, e2, mloc, mnval = (int(v) for v in log[k])
             if console is not None:
                 console.type(" Comparing ", e1, " and ", e2)
@@ -226,5 +228,5 @@ def _print_comparisons(log, b1, b2, tables, nfeat1, debug, listing, console) -> 
         if printing:
             listing.records([" Match lists generated.",
                              f" INDX={indx:4d}  INUML={int(tables.nmatch[indx - 1]):4d}",
-                             f" KNDX={indx + 50:4d}  INUMR={int(tables.nmatch[indx + 49]):4d}",
+                             f" KNDX={indx + RIGHT_EDGE:4d}  INUMR={int(tables.nmatch[indx + RIGHT_EDGE - 1]):4d}",
                              ""])

@@ -7,7 +7,24 @@ Header lines the OCR cut off are reconstructed from Appendix D's printout
 
 from __future__ import annotations
 
+from enum import IntFlag
+
 from diskfmt.listing import fi, ff
+
+
+class Debug(IntFlag):
+    """ESTAR's debug flags (its DEBUG_MENU): which listings LCLN prints."""
+    FEATURE_LISTS = 1      # PRQVFL of both slices
+    BLOB_MAPS = 2          # the stored edge bit maps (PRBM)
+    MATCH_LISTS = 4        # PMAL
+    POSITIONS = 8          # PRFPOS, the 3-D position table
+    BIT_MAPS = 16          # each map as NBLOB receives it (QUIRKS E11)
+    COMPARED_MAPS = 32     # MARF's compared maps and best shifts
+
+
+RIGHT_EDGE = 50
+"""Edge k is the left end of feature k, edge k + RIGHT_EDGE its right end
+(IMATCH(100,10,4): two edges for each of at most 50 features)."""
 
 
 def pmal(nfeat: int, tables) -> list[str]:
@@ -22,7 +39,7 @@ def pmal(nfeat: int, tables) -> list[str]:
         return "".join(" " + fi(v, 3) + " " for v in values)
 
     for indx in range(1, nfeat + 1):
-        for edge in (indx, indx + 50):
+        for edge in (indx, indx + RIGHT_EDGE):
             out.append("")                                  # FORMAT 1020 / 1021
             rows = tables.entries(edge)
             n = len(rows)

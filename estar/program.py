@@ -13,13 +13,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from diskfmt.dgreal import Real, ZERO
-from diskfmt.layouts import (Command, Positions, encode_posit, CODE_SLICE, CODE_TERMINATE,
-                             POSIT_BYTES)
+from diskfmt.layouts import (BI_COLS, Command, Positions, encode_posit, CODE_SLICE,
+                             CODE_TERMINATE, POSIT_BYTES)
 from diskfmt.listing import Console, Listing, fi
 from nstar.printouts import prqvfl, prbm
 from .lcsl import lcsl
 from .masl import MatchTables, masl, Options as MaslOptions
-from .printouts import pmal, prfpos
+from .printouts import RIGHT_EDGE, Debug, pmal, prfpos
 
 
 @dataclass
@@ -60,9 +60,8 @@ class Eclipse:
         read them back (the first is renamed to SL.DT so the second can come)."""
         say = self.console.type
         self.link.discard_stale("SLICE.DT", say)
-        cmd = Command(CODE_SLICE, 1, 0, iyloc, 128, 0)
-        self.link.cnova(cmd)
-        self.link.cnova(Command(CODE_SLICE, 2, 0, iyloc, 128, 0))
+        self.link.cnova(Command(CODE_SLICE, 1, 0, iyloc, BI_COLS, 0))     # the whole row
+        self.link.cnova(Command(CODE_SLICE, 2, 0, iyloc, BI_COLS, 0))
         sl1 = self.link.read_slice(1, iyloc, say)
         sl2 = self.link.read_slice(2, iyloc, say)
         return sl1, sl2
@@ -78,7 +77,7 @@ class Eclipse:
         ifeat1 = _columns(sl1)
         ifeat2 = _columns(sl2)
         f1, f2 = sl1.features(), sl2.features()
-        if self.debug & 1:
+        if self.debug & Debug.FEATURE_LISTS:
             self.listing.records(prqvfl(nfeat1, f1))
             self.listing.records(prqvfl(nfeat2, f2))
         iblb1 = np.zeros((100, 17), dtype=np.int64)        # flag word 1 = 0: no map yet
@@ -88,17 +87,17 @@ class Eclipse:
         masl(iyloc, nfeat1, ifeat1, nfeat2, ifeat2, iblb1, iblb2, self.tables, counting,
              self.debug, self.listing, self.console if self.console.verbose else None,
              self.options)
-        if self.debug & 2:
+        if self.debug & Debug.BLOB_MAPS:
             self._print_maps(nfeat1, iblb1, nfeat2, iblb2)
-        if self.debug & 4:
+        if self.debug & Debug.MATCH_LISTS:
             self.listing.records(pmal(nfeat1, self.tables))
         say(" Computing locations.")
         used = lcsl(iyloc, nfeat1, self.tables, self.pos, self.dsep, self.dvirt)
         self.np_ = nfeat1
-        if self.debug & 8:
+        if self.debug & Debug.POSITIONS:
             self.listing.records(prfpos(self.np_, self.pos, self.dsep, self.dvirt))
         say(" Storing positions.")
-        edges = [e for k in range(1, nfeat1 + 1) for e in (k, k + 50)]
+        edges = [e for k in range(1, nfeat1 + 1) for e in (k, k + RIGHT_EDGE)]
         posit = self.pnpl(edges)
         self.requests += counting.count
         return LineResult(
@@ -136,7 +135,7 @@ class Eclipse:
         for nfeat, iblb in ((nfeat1, iblb1), (nfeat2, iblb2)):
             for iloc in range(1, nfeat + 1):
                 self.listing.record(" MAP #" + fi(iloc, 3))
-                for k in (iloc, iloc + 50):
+                for k in (iloc, iloc + RIGHT_EDGE):
                     if iblb[k - 1][0] == 1:
                         self.listing.records(prbm(iblb[k - 1][1:]))
                     else:
@@ -156,7 +155,7 @@ class _CountingLink:
     def nblob_many(self, requests, iyloc, iblb1, iblb2):
         self.count += len(requests)
         self.link.nblob_many(requests, iyloc, iblb1, iblb2)
-        if self.debug & 16:
+        if self.debug & Debug.BIT_MAPS:
             for image, edge, _, _ in requests:
                 self.listing.records(prbm((iblb1 if image == 1 else iblb2)[edge - 1][1:]))
 

@@ -40,14 +40,7 @@ class Abort(Exception):
 
 
 def _ask_int(console: Console, prompt: str) -> int:
-    while True:
-        answer = console.prompt(prompt)
-        if answer is None:
-            raise EOFError
-        try:
-            return int(answer)
-        except ValueError:
-            console.type(f" '{answer}' is not a whole number; answer again.")
+    return console.accept(prompt)
 
 
 def load_picture(path: str):

@@ -3,7 +3,18 @@ are "listed under NSTAR" and linked into both programs)."""
 
 from __future__ import annotations
 
+from enum import IntFlag
+
 from diskfmt.listing import fi
+
+
+class Debug(IntFlag):
+    """NSTAR's debug flags: which listings its commands print."""
+    RAY_VALUES = 1         # RADSP: each Star ray's IDIR and feature count
+    FEATURE_LISTS = 2      # PRQVFL of each ray
+    CENTRE_BLOB = 4        # command 1's centre blob
+    BLOB_MAP = 8           # command 1's block bit map (PRBM)
+    EDGE_MAPS = 16         # command 4's edge bit maps (PREM)
 
 
 def prqvfl(nfeat: int, features) -> list[str]:

@@ -20,7 +20,7 @@ from diskfmt.listing import Console, Listing, fi
 from octek_sim import Octek
 from .bitmaps import block_map, command_geometry, edge_map, edge_map_batch, scale_factors
 from .exqvfl import exqvfl
-from .printouts import prbm
+from .printouts import Debug, prbm
 from .radial import direction_cosines, ilcm, radsp
 
 IHMIN, IHMAX = 0, 127
@@ -119,11 +119,11 @@ class Nova:
         out = np.zeros((len(words), 17), dtype=np.int64)
         corners = np.zeros((len(words), 2), dtype=np.int64)
         edge_map_batch(self.octek.frame, words, out, corners)
-        for k in range(len(words)) if (self.debug & 16 or not self.console.quiet) else ():
+        for k in range(len(words)) if (self.debug & Debug.EDGE_MAPS or not self.console.quiet) else ():
             geometry = command_geometry(*words[k, 1:4])
             self.console.type(" Bit map region edge. IYC=", int(geometry[8]),
                               " IXC=", int(geometry[7]))
-            if self.debug & 16:
+            if self.debug & Debug.EDGE_MAPS:
                 self.listing.records(prbm(out[k, 1:]))
         self.ifbuf[6] = words[-1, 1]                         # IDIR(7) of the last one
         ixlft, iytop = (int(v) for v in corners[-1])
@@ -154,7 +154,7 @@ class Nova:
         ibmap, ixlft, iytop = edge_map(self.octek, ixc, iyc, idn, bounds)
         self.octek.boxcur(18, 18)
         self.octek.hctab(ixlft - 1, iytop - 1)
-        if self.debug & 16:
+        if self.debug & Debug.EDGE_MAPS:
             self.listing.records(prbm(ibmap))
         self.octek.hctab(ixlft, 255)
         return Reply("WBMAP.DT", encode_wbmap(ibmap))
@@ -181,7 +181,7 @@ class Nova:
         ixs, ixe = icntr[0] + ixoff, icntr[1] + ixoff
         iys, iye = icntr[2] + iyoff, icntr[3] + iyoff
         self.console.type(" Characterize block. IX=", ixs, ixe, " IY=", iys, iye)
-        if self.debug & 4:
+        if self.debug & Debug.CENTRE_BLOB:
             self.listing.record(" ---ICNTR =" + "".join(fi(v, 5) for v in icntr))
         ixs, ixe = max(ixs, ixmin), min(ixe, ixmax)
         iys, iye = max(iys, iymin), min(iye, iymax)
@@ -191,14 +191,14 @@ class Nova:
             self.octek.bocur(ixl, iyl)
             self.octek.hctab(ixs, iys)
             self.sfx, self.sfy = scale_factors(ixl, iyl)
-            if self.debug & 4:
+            if self.debug & Debug.CENTRE_BLOB:
                 self.listing.record("" + "".join(
                     " LCM( 16," + fi(a, 3) + ") = " + fi(b, 5) + "   "
                     for a, b in ((ixl, ilcm(ixl, 16)), (iyl, ilcm(iyl, 16)))))
             ibmap = block_map(self.octek, ixs, iys, ixl, iyl, icntr[4], icntr[5],
                               wrap=not self.options.no_wrap_percent,
                               chatter=self.console.type if self.console.verbose else None)
-            if self.debug & 8:
+            if self.debug & Debug.BLOB_MAP:
                 self.listing.records(prbm(ibmap))
         else:
             ibmap = [0] * 16

@@ -12,7 +12,7 @@ import math
 
 from diskfmt.dgreal import Real
 from .exqvfl import exqvfl, feature_list
-from .printouts import prqvfl
+from .printouts import Debug, prqvfl
 from diskfmt.listing import fi
 
 SQRT2 = Real.from_float(math.sqrt(2.0))          # SQRT(2.0), truncated (QUIRKS M3)
@@ -106,10 +106,10 @@ def radsp(octek, isx: int, isy: int, cax, cay, icntr: list[int], ifbuf, bounds,
                           warn=console.type if console is not None else None)
         ifbuf[0:7] = idir
         ifbuf[7] = nfeat
-        if debug & 1 and listing is not None:
+        if debug & Debug.RAY_VALUES and listing is not None:
             listing.record(" -- RADSP -- IDIR = " + "".join(fi(v, 5) for v in idir)
                            + " NFEAT= " + fi(nfeat, 3))
-        if debug & 2 and listing is not None:
+        if debug & Debug.FEATURE_LISTS and listing is not None:
             listing.records(prqvfl(nfeat, feature_list(nfeat, ifeat)))
         ifirst, ilast = idat[0], idat[ixl - 1]
         ifbuf[8], ifbuf[9] = ifirst, ilast

@@ -18,6 +18,7 @@ from typing import Callable, TextIO
 
 import numpy as np
 
+from diskfmt.listing import accept
 from octek_sim.board import Octek
 
 from . import framestore
@@ -83,22 +84,14 @@ class PreMenu:
         return line.rstrip("\r\n")
 
     def accept(self, prompt: str) -> int:
-        """ACCEPT "prompt", I: an INTEGER from one line.  Anything else gets a
-        clear message and the prompt again (DG FORTRAN would have stopped)."""
-        while True:
-            self.stdout.write(prompt)
-            self.stdout.flush()
-            text = self._line().strip()
-            try:
-                value = int(text)
-            except ValueError:
-                shown = repr(text) if text else "an empty line"
-                self.type(f"** {shown} is not a number: enter a whole number")
-                continue
-            if not -32768 <= value <= 32767:
-                self.type(f"** {value} does not fit a 16-bit INTEGER (-32768..32767)")
-                continue
-            return value
+        """ACCEPT "prompt", I: an INTEGER from one line (:func:`diskfmt.listing.accept`);
+        the end of input ends the session (EndOfInput)."""
+        return accept(self._ask, self.type, prompt)
+
+    def _ask(self, prompt: str) -> str:
+        self.stdout.write(prompt)
+        self.stdout.flush()
+        return self._line()
 
     def read_name(self) -> str:
         """READ(11,1000) NFILE(1) with FORMAT(S40): the file name on one line."""

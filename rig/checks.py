@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from diskfmt.layouts import BI_COLS, BI_ROWS
 from pre.files import PreError, load_bi
 
 PICTURE_SUFFIXES = (".png", ".jpg", ".jpeg")
 MAX_SHIFT = 40                   # the widest whole-row shift tried (128-px rows)
-MIN_OVERLAP = 128 - MAX_SHIFT
 
 
 class UsageError(ValueError):
@@ -41,9 +41,9 @@ def check_lines(lines: list[int], option: str) -> list[int]:
     """Lines to scan: at least one, each an epipolar line 0..119."""
     if not lines:
         raise UsageError(f"{option}: no lines (give FIRST <= LAST, or --line Y ...)")
-    bad = [y for y in lines if not 0 <= y <= 119]
+    bad = [y for y in lines if not 0 <= y < BI_ROWS]
     if bad:
-        raise UsageError(f"lines must lie within 0..119 (got {bad})")
+        raise UsageError(f"lines must lie within 0..{BI_ROWS - 1} (got {bad})")
     return lines
 
 
@@ -60,10 +60,10 @@ def load_truth(path) -> np.ndarray:
     except (ValueError, OSError, EOFError):
         raise UsageError(f"--truth {path}: not a NumPy .npy file (make one with numpy.save "
                          f"of a 120x128 array of true ranges)") from None
-    if not isinstance(truth, np.ndarray) or truth.shape != (120, 128):
+    if not isinstance(truth, np.ndarray) or truth.shape != (BI_ROWS, BI_COLS):
         shape = getattr(truth, "shape", "?")
-        raise UsageError(f"--truth {path}: shape {shape}, expected (120, 128): one true range "
-                         f"per left-picture pixel, rows top to bottom")
+        raise UsageError(f"--truth {path}: shape {shape}, expected ({BI_ROWS}, {BI_COLS}): one "
+                         f"true range per left-picture pixel, rows top to bottom")
     if not np.issubdtype(truth.dtype, np.number):
         raise UsageError(f"--truth {path}: holds {truth.dtype}, not numbers")
     return truth.astype(np.float64)

@@ -230,9 +230,11 @@ def line_picture(left, right, result, scale: int = 4) -> np.ndarray:
     (grey 0..15), ``result`` the line's :class:`~estar.program.LineResult`
     (iyloc, features1, features2, matches, positions).  Returns a BGR uint8
     array of ``line_layout(scale).height`` x ``.width`` (see module docstring)."""
+    from diskfmt.layouts import BI_COLS, BI_ROWS
     left, right = np.asarray(left), np.asarray(right)
-    if left.shape != (120, 128) or right.shape != (120, 128):
-        raise ValueError(f"pictures must be 120x128, got {left.shape} and {right.shape}")
+    if left.shape != (BI_ROWS, BI_COLS) or right.shape != (BI_ROWS, BI_COLS):
+        raise ValueError(f"pictures must be {BI_ROWS}x{BI_COLS}, got {left.shape} and "
+                         f"{right.shape}")
     lay = line_layout(scale)
     s = lay.scale
     iy = int(result.iyloc)
