@@ -65,7 +65,7 @@ def prfpos(np_: int, pos, dsep, dvirt) -> list[str]:
            ""]
     for indx in range(1, np_ + 1):
         for j in (1, 2):
-            jndx = (j - 1) * 50 + indx
+            jndx = (j - 1) * RIGHT_EDGE + indx
             base = (jndx - 1) * 6
             if pos[base] > 0:
                 out.append(" " + fi(jndx, 3) + " " * 5

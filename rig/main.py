@@ -3,6 +3,8 @@
 * ``rig demo``: the bundled laboratory pair through NSTAR and ESTAR as two
   processes over ``jhdata/`` (as in 1985), the position tables on screen, then
   pictures of what the rig saw.
+* ``rig posit``: the located edges of a POSIT.DT (e.g. from a two-terminal
+  run) as a table and a CSV.
 * ``rig scan``: a whole-picture scan (lines 8..112 by default) with a progress
   bar: every located edge as a 3-D point with its error bounds and covariance,
   written as CSV and PLY; the accuracy table when the true range is known.
@@ -224,6 +226,24 @@ def _line_pictures(outdir: Path, left, right, result, quiet: bool) -> list[Path]
     return [save_png(outdir / f"line-{y}.png", line_picture(left, right, r)) for y, r in pairs]
 
 
+def cmd_posit(args) -> int:
+    from . import posit
+    ds = positive_number(args.separation, "--separation", "the camera separation, in any unit")
+    dv = positive_number(args.virtual_distance, "--virtual-distance",
+                         "pixels at the 128-px picture width")
+    if args.csv:
+        check_output_file(args.csv, "--csv")
+    np_, rows = posit.read_posit(args.file, ds, dv)
+    print(posit.table_text(np_, rows, args.unit))
+    if rows and not all(r.point for r in rows):
+        _warn(f"{sum(r.point is None for r in rows)} of {len(rows)} edges do not fit "
+              f"--separation {ds} --virtual-distance {dv} exactly (were those ESTAR's?): "
+              f"their line, LOC1 and LOC2 are left out")
+    if args.csv:
+        print(f"CSV: {scanmod.write_atomic(args.csv, posit.csv_text(rows))}")
+    return 0
+
+
 def _version() -> str:
     try:
         from importlib.metadata import version
@@ -323,6 +343,22 @@ def build_parser() -> argparse.ArgumentParser:
                    help="FIX (not 1985): MARF's refined location with the geometric sign")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_scan)
+    q = sub.add_parser("posit", help="the located edges of a POSIT.DT as a table and CSV",
+                       description="Read the POSIT.DT an ESTAR run left in its JHDATA (the "
+                                   "last line's located edges) and print them; with the run's "
+                                   "separation and virtual distance the line, LOC1 and LOC2 "
+                                   "are recovered and checked bit for bit against LCSL.",
+                       epilog="example:\n  rig posit jhdata/POSIT.DT --csv last-line.csv",
+                       formatter_class=raw)
+    q.add_argument("file", metavar="POSIT.DT", help="the file (e.g. jhdata/POSIT.DT)")
+    q.add_argument("--separation", default="0.75", metavar="DS",
+                   help="the run's camera separation (default: 0.75)")
+    q.add_argument("--virtual-distance", default="180", metavar="DV",
+                   help="the run's virtual image distance, pixels (default: 180)")
+    q.add_argument("--unit", default="the unit of the separation", metavar="NAME",
+                   help="name of the separation's unit for the table")
+    q.add_argument("--csv", metavar="FILE", help="write the edges as CSV (rig scan's columns)")
+    q.set_defaults(func=cmd_posit)
     return p
 
 
@@ -336,6 +372,10 @@ def main(argv=None) -> int:
     except FormatError as exc:
         print(f"rig: {exc}", file=sys.stderr)
         return 1
+    except BrokenPipeError:                # e.g. rig posit ... | head
+        import os
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":
