@@ -234,19 +234,38 @@ def matches(rule: Rule, syms: Sequence[Sym], at: int) -> bool:
     return all(syms[at + j].kind == rule.lhs[j] for j in range(n))
 
 
+def _by_first_symbol(rules: Sequence[Rule]) -> dict[str, list[tuple[int, tuple, Rule]]]:
+    """The rules grouped by the first symbol of their left side, each group in
+    list order, as (length, rest of the left side, rule): at one position only
+    the group of the symbol there can match, and trying it in order is trying
+    the whole list in order."""
+    index: dict[str, list[tuple[int, tuple, Rule]]] = {}
+    for rule in rules:
+        if not 1 <= len(rule.lhs) <= 3:          # rewrite() compares at most three symbols
+            raise ValueError(f"rule {rule.rid}: a left side of {len(rule.lhs)} symbols")
+        index.setdefault(rule.lhs[0], []).append((len(rule.lhs), rule.lhs[1:], rule))
+    return index
+
+
 def rewrite(syms: Sequence[Sym], rules: Sequence[Rule] = RULES, trace=None) -> list[Sym]:
     """Apply the productions until none applies (leftmost position first, list
     order at one position).  ``trace`` (a list) receives the ids of the rules
     in the order they fired."""
     s = list(syms)
+    kinds = [sym.kind for sym in s]          # kept beside s: matching reads only kinds
+    index = _by_first_symbol(rules)
+    back = _MAXLEN - 1
     pos = 0
-    while pos < len(s):
-        for rule in rules:
-            if matches(rule, s, pos):
-                s[pos:pos + len(rule.lhs)] = apply_rule(rule, s, pos)
+    while pos < len(kinds):
+        for n, rest, rule in index.get(kinds[pos], ()):
+            if pos + n <= len(kinds) and (n == 1 or (kinds[pos + 1] == rest[0] and (
+                    n == 2 or kinds[pos + 2] == rest[1]))):
+                new = apply_rule(rule, s, pos)
+                s[pos:pos + n] = new
+                kinds[pos:pos + n] = [sym.kind for sym in new]
                 if trace is not None:
                     trace.append(rule.rid)
-                pos = max(0, pos - (_MAXLEN - 1))
+                pos = pos - back if pos > back else 0
                 break
         else:
             pos += 1

@@ -189,3 +189,33 @@ def test_every_rule_has_a_quirks_line():
     pre_section = text.split("## PRE", 1)[1]
     for r in RULES:
         assert f"\n| {r.rid} | " in pre_section, r.rid
+
+
+def _rewrite_reference(syms, rules):
+    """The productions as the module describes them, tried rule by rule at each
+    position with no index (the plain form of qv_production.rewrite)."""
+    from pre.qv_production import _MAXLEN, apply_rule, matches
+    s = list(syms)
+    pos = 0
+    while pos < len(s):
+        for rule in rules:
+            if matches(rule, s, pos):
+                s[pos:pos + len(rule.lhs)] = apply_rule(rule, s, pos)
+                pos = max(0, pos - (_MAXLEN - 1))
+                break
+        else:
+            pos += 1
+    return s
+
+
+def test_indexed_rewrite_equals_trying_every_rule_in_order():
+    import random
+    from pre.qv_production import EXTENDED_RULES, RULES, Sym, rewrite
+    rng = random.Random(1985)
+    kinds = ["e-", "g-", "s", "g+", "e+", "S", "G+", "G-"]
+    for trial in range(300):
+        n = rng.randint(1, 60)
+        syms = [Sym(rng.choice(kinds), i + 1, i + 2, rng.randint(0, 15), rng.randint(0, 15))
+                for i in range(n)]
+        for rules in (RULES, EXTENDED_RULES):
+            assert rewrite(syms, rules) == _rewrite_reference(syms, rules), trial
