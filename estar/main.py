@@ -14,6 +14,7 @@ import sys
 from fractions import Fraction
 from pathlib import Path
 
+from diskfmt import version
 from diskfmt.dgreal import Real
 from diskfmt.listing import Console, Listing
 from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
@@ -60,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "epipolar line asks NSTAR for the two slices and edge bit maps, matches "
                     "the edges, locates them in 3-D with error bounds and writes POSIT.DT. "
                     "Values not given as flags are asked for as in 1985.")
+    p.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     p.add_argument("--jhdata", type=Path, default=None,
                    help="shared directory (default: $JHDATA, else ./jhdata)")
     p.add_argument("--separation", metavar="DS", help="camera separation (any unit; "

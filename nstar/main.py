@@ -11,6 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from diskfmt import version
 from diskfmt.layouts import FormatError, decode_bi, read_file, encode_bi
 from diskfmt.listing import Console, Listing
 from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
@@ -139,6 +140,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "commands (slices, edge bit maps, Star filter + block map) through "
                     "files in the JHDATA directory. Values not given as flags are asked "
                     "for as in 1985.")
+    p.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     p.add_argument("--jhdata", type=Path, default=None,
                    help="shared directory (default: $JHDATA, else ./jhdata)")
     p.add_argument("--debug", type=int, default=None, metavar="N",

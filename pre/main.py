@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from diskfmt import version
 from diskfmt.layouts import encode_bi, encode_vd
 
 from .cartoon import DEFAULT_T, bits_report, cartoon
@@ -95,14 +96,6 @@ def _levels(args):
     return Levels(args.brightness, args.contrast, args.auto_levels)
 
 
-def _version() -> str:
-    try:
-        from importlib.metadata import version
-        return version("holten-rig")
-    except Exception:                      # running from a checkout that is not installed
-        return "unknown (not installed)"
-
-
 def build_parser() -> argparse.ArgumentParser:
     raw = argparse.RawDescriptionHelpFormatter
     ap = argparse.ArgumentParser(
@@ -112,7 +105,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n  pre pair left.jpg right.jpg -o DESK   DESK-L.BI, DESK-R.BI "
                "(and .VD) for nstar and rig scan\n  pre                                   "
                "the 1985 menu", formatter_class=raw)
-    ap.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    ap.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     ap.add_argument("--force", action="store_true",
                     help="menu commands 4 and 11 may replace an existing file")
     ap.add_argument("--threshold", type=_threshold, default=DEFAULT_T,

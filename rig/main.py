@@ -22,6 +22,7 @@ import time
 from pathlib import Path
 
 
+from diskfmt import version
 from diskfmt.dgreal import Real
 from diskfmt.layouts import FormatError, decode_bi, decode_posit, read_file
 from estar.link import DirectLink
@@ -244,14 +245,6 @@ def cmd_posit(args) -> int:
     return 0
 
 
-def _version() -> str:
-    try:
-        from importlib.metadata import version
-        return version("holten-rig")
-    except Exception:                      # running from a checkout that is not installed
-        return "unknown (not installed)"
-
-
 DEMO_EXAMPLES = """examples:
   rig demo                       the bundled pair, lines 40 60 80, pictures in ./out
   rig demo --lines 60 --out pics one line
@@ -276,7 +269,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="rig", description=__doc__.split("\n\n")[0].strip(),
                                 epilog="rig COMMAND --help shows each command's options "
                                        "and examples.")
-    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    p.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     raw = argparse.RawDescriptionHelpFormatter
     d = sub.add_parser("demo", help="run NSTAR and ESTAR on the bundled pair, show and "

@@ -159,9 +159,11 @@ def test_help_gives_defaults_units_and_examples_and_version_answers():
     for words in ("default: 0.75", "default: 180", "focal length in pixels",
                   "examples:", "rig scan --left", "rectified", "default: 8 112"):
         assert words in help_text, words
-    done = subprocess.run([sys.executable, "-m", "rig.main", "--version"], capture_output=True,
-                          text=True, env=child_env(), timeout=60)
-    assert done.returncode == 0 and done.stdout.startswith("rig ")
+    for module, prog in (("rig.main", "rig"), ("pre", "pre"), ("estar.main", "estar"),
+                         ("nstar.main", "nstar")):
+        done = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True,
+                              text=True, env=child_env(), timeout=60)
+        assert done.returncode == 0 and done.stdout.startswith(prog + " "), (prog, done.stderr)
 
 
 def test_estar_warns_when_nstar_serves_blank_pictures(tmp_path):
