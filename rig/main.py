@@ -155,6 +155,8 @@ def _check_scan(args):
             check_output_file(path, option, suffixes)
     if args.line_pictures:
         check_output_dir(args.line_pictures, "--line-pictures")
+    if args.link == "file":
+        check_output_dir(args.jhdata, "--jhdata")
     lp, rp, left, right = _load_pair(args.left, args.right)
     truth = _truth_for(args, args.left is None)
     return lines, lp, rp, left, right, truth

@@ -155,7 +155,7 @@ def test_import_to_a_bi_name_writes_a_bi_not_a_vd(tmp_path, capsys):
     assert not (tmp_path / "P.png").exists()
 
 
-def test_version():
-    done = subprocess.run([sys.executable, "-m", "pre", "--version"], capture_output=True,
-                          text=True, timeout=60, cwd=Path(__file__).parent.parent)
-    assert done.returncode == 0 and done.stdout.startswith("pre ")
+def test_version(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0 and capsys.readouterr().out.startswith("pre ")

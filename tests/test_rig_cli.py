@@ -73,6 +73,19 @@ def test_bad_output_paths_are_one_line_and_nothing_is_written(capsys, no_work, t
     assert list(tmp_path.iterdir()) == []
 
 
+def test_output_directories_that_are_files_are_one_line(capsys, no_work, tmp_path):
+    f = tmp_path / "file"
+    f.write_text("x")
+    assert _one_line_error(capsys, ["scan", "--line-pictures", str(f)]) == \
+        f"rig: --line-pictures {f}: is a file, not a directory"
+    assert _one_line_error(capsys, ["scan", "--link", "file", "--jhdata", str(f)]) == \
+        f"rig: --jhdata {f}: is a file, not a directory"
+    assert _one_line_error(capsys, ["demo", "--out", str(f)]) == \
+        f"rig: --out {f}: is a file, not a directory"
+    assert _one_line_error(capsys, ["demo", "--lines", "200"]) == \
+        "rig: lines must lie within 0..119 (got [200])"
+
+
 def test_picture_writes_what_its_name_says_or_refuses(capsys, tmp_path):
     gif = tmp_path / "map.gif"
     assert "can write .png or .jpg" in _one_line_error(
@@ -154,16 +167,20 @@ def test_own_pair_summary_points_at_the_outputs_and_line_pictures_are_written(ca
     assert cv2.imread(str(tmp_path / "lines" / "line-60.png")).shape == (1206, 1128, 3)
 
 
-def test_help_gives_defaults_units_and_examples_and_version_answers():
+def test_help_gives_defaults_units_and_examples_and_version_answers(capsys):
     help_text = rigmain.build_parser()._subparsers._group_actions[0].choices["scan"].format_help()
     for words in ("default: 0.75", "default: 180", "focal length in pixels",
                   "examples:", "rig scan --left", "rectified", "default: 8 112"):
         assert words in help_text, words
-    for module, prog in (("rig.main", "rig"), ("pre", "pre"), ("estar.main", "estar"),
-                         ("nstar.main", "nstar")):
-        done = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True,
-                              text=True, env=child_env(), timeout=60)
-        assert done.returncode == 0 and done.stdout.startswith(prog + " "), (prog, done.stderr)
+    import estar.main
+    import nstar.main
+    import pre.main
+    for parser, prog in ((rigmain.build_parser(), "rig"), (pre.main.build_parser(), "pre"),
+                         (estar.main.build_parser(), "estar"), (nstar.main.build_parser(), "nstar")):
+        with pytest.raises(SystemExit) as stop:
+            parser.parse_args(["--version"])
+        assert stop.value.code == 0
+        assert capsys.readouterr().out.startswith(prog + " "), prog
 
 
 def test_estar_warns_when_nstar_serves_blank_pictures(tmp_path):
