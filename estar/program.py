@@ -32,6 +32,11 @@ class LineResult:
     positions: dict[int, tuple[float, ...] | None]
     posit: bytes
     requests: int = 0
+    # Not 1985: the line's edge bit maps (IBLB1/IBLB2) and, with an improved
+    # matcher (package ``matching``, issue 13), its verdict per left edge.
+    maps1: np.ndarray | None = None
+    maps2: np.ndarray | None = None
+    verdicts: list | None = None
 
 
 class Eclipse:
@@ -39,8 +44,11 @@ class Eclipse:
 
     def __init__(self, link, dsep: Real, dvirt: Real, debug: int = 0,
                  listing: Listing | None = None, console: Console | None = None,
-                 options: MaslOptions | None = None, publish=None):
+                 options: MaslOptions | None = None, publish=None, matcher=None):
         self.link = link
+        # None: the 1985 match lists go to LCSL.  A ``matching`` matcher (never
+        # the default) replaces them by its verdicts (issue 13).
+        self.matcher = matcher
         self.dsep, self.dvirt = dsep, dvirt
         self.debug = debug
         self.listing = listing or Listing()
@@ -91,7 +99,10 @@ class Eclipse:
         if self.debug & 4:
             self.listing.records(pmal(nfeat1, self.tables))
         say(" Computing locations.")
-        lcsl(iyloc, nfeat1, self.tables, self.pos, self.dsep, self.dvirt)
+        tables, verdicts = self.tables, None
+        if self.matcher is not None:
+            tables, verdicts = self.matcher.tables_for(self, iyloc, f1, f2, iblb1, iblb2)
+        lcsl(iyloc, nfeat1, tables, self.pos, self.dsep, self.dvirt)
         self.np_ = nfeat1
         if self.debug & 8:
             self.listing.records(prfpos(self.np_, self.pos, self.dsep, self.dvirt))
@@ -101,10 +112,10 @@ class Eclipse:
         self.requests += counting.count
         return LineResult(
             iyloc, f1, f2,
-            {e: self.tables.entries(e) for e in edges},
+            {e: tables.entries(e) for e in edges},
             {e: (tuple(float(v) for v in self.pos[(e - 1) * 6:(e - 1) * 6 + 6])
                  if self.pos[(e - 1) * 6].m > 0 else None) for e in edges},
-            posit, counting.count)
+            posit, counting.count, iblb1, iblb2, verdicts)
 
     def pnpl(self, changed=None) -> bytes:
         """PNPL — POSIT.DT: NP and COMMON /POSIT/ cut at 5 blocks, written as
