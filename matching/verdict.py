@@ -241,7 +241,7 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
             out[i] = replace(v, matched=False, reason="ambiguous")
     if constraints.subpixel and profiles is not None:
         from .subpixel import refine_verdicts
-        out = dict(zip(out, refine_verdicts(list(out.values()), c, profiles)))
+        out = dict(zip(out, refine_verdicts(list(out.values()), data, profiles)))
     verdicts = [out.get(i) or Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), False,
                                       reason[i]) for i in range(len(left))]
     return sorted(verdicts, key=lambda v: v.edge)
