@@ -86,11 +86,13 @@ class Params:
     smooth: float = 8.0            # per pixel of disparity change between consecutive matches
     jump_cap: float = 4.0          # ... counted up to this many pixels (depth steps are allowed)
     grey_penalty: float = 16.0     # added per grey level of difference (0 or 1)
-    lr_tolerance: float = 8.0      # a match within this of the right edge's best partner
+    lr_tolerance: float = 64.0     # a match within this of the right edge's best partner
     region_tolerance: float = 2.0  # px: the two ends of a feature pair agree this well
-    neighbour_dx: int = 1          # px: the same vertical line on the next scan line
-    neighbour_dd: float = 1.0      # px: ... with nearly the same disparity
-    min_confidence: float = 0.0    # matches below are "no match (ambiguous)"
+    region_penalty: float | None = 64.0   # None: an edge pair without its region is dropped;
+    #                                       a number: it is only charged this much more
+    neighbour_dx: int = 2          # px: the same vertical line on the next scan line
+    neighbour_dd: float = 2.0      # px: ... with nearly the same disparity
+    min_confidence: float = 0.1    # matches below are "no match (ambiguous)"
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
 
@@ -222,7 +224,11 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
             reason[i] = "not mutual"
         has = set(c.i.tolist())
     if constraints.region:
-        c = c.subset(_region_supported(c, p.region_tolerance))
+        supported = _region_supported(c, p.region_tolerance)
+        if p.region_penalty is None:
+            c = c.subset(supported)
+        else:
+            c = replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
         for i in has - set(c.i.tolist()):
             reason[i] = "no region partner"
     chosen, marginal = _choose(c, constraints, p)
