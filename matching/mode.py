@@ -11,7 +11,9 @@ each line about once more than 1985 did).  ``--match 1985`` (the default)
 hands ESTAR no matcher: the 1985 lists, byte for byte.
 
 For other commands (``rig walk``): :func:`add_arguments` registers the same
-flags, :func:`from_args` turns them into a matcher (None for 1985).
+flags; ``make_matcher(args.match, constraints_from_args(args))`` turns them
+into a matcher (None for 1985) to hand to ``Eclipse(matcher=...)``;
+:func:`located_points` gives each located edge with its confidence.
 """
 
 from __future__ import annotations
@@ -59,6 +61,7 @@ def fetch_line(eclipse, iyloc: int) -> LineData:
         def fetch(req, y, b1, b2):
             Link.nblob_many(eclipse.link, req, y, b1, b2)
     fetch(requests[:n], iyloc, maps1, maps2)
+    eclipse.requests += int(n)
     return LineData(iyloc, sl1.features(), sl2.features(), maps1, maps2)
 
 
