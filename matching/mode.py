@@ -27,6 +27,7 @@ from .verdict import CONSTRAINTS, Constraints, LineData, Params, Verdict, match_
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 8
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"
 
 
 class VerdictTables:
@@ -140,14 +141,17 @@ def add_arguments(parser: argparse.ArgumentParser, subpixel: bool = True) -> Non
                         help="1985: the faithful MASL/LCSL matches (default, POSIT.DT as in "
                              "1985); improved (not 1985): a verdict per edge, matched with a "
                              "confidence or 'no match'")
-    parser.add_argument("--constraints", default="order,lr,neighbours,region", metavar="LIST",
+    parser.add_argument("--constraints", default=None, metavar="LIST",
                         help="with --match improved: a comma list of " + ", ".join(names)
                              + ", or 'all' / 'none' (default order,lr,neighbours,region)")
 
 
 def constraints_from_args(args, subpixel: bool = True) -> Constraints:
-    """The parsed ``--constraints`` (``all`` includes subpixel only where available)."""
-    text = args.constraints.strip().lower()
+    """The parsed ``--constraints`` (``all`` includes subpixel only where
+    available); refused without ``--match improved``."""
+    if args.constraints is not None and getattr(args, "match", "improved") != "improved":
+        raise ValueError("--constraints only applies with --match improved")
+    text = (args.constraints or DEFAULT_CONSTRAINTS).strip().lower()
     c = Constraints.parse(text)
     if text == "all":
         c = replace(c, subpixel=subpixel)

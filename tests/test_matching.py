@@ -379,9 +379,15 @@ def test_modes_and_flags():
         Constraints.parse("order,magic")
 
     class A:
+        match = "improved"
         constraints = "all"
     assert constraints_from_args(A(), subpixel=True).subpixel
     assert not constraints_from_args(A(), subpixel=False).subpixel
     A.constraints = "subpixel"
     with pytest.raises(ValueError, match="VD"):
         constraints_from_args(A(), subpixel=False)
+    A.constraints = None
+    assert constraints_from_args(A()) == Constraints()
+    A.match, A.constraints = "1985", "order"
+    with pytest.raises(ValueError, match="--match improved"):
+        constraints_from_args(A())

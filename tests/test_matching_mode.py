@@ -121,10 +121,11 @@ def test_subpixel_without_vd_is_one_clear_error(tmp_path, capsys):
 
 def test_estar_refuses_subpixel_and_unknown_constraints(tmp_path, capsys):
     from estar import main as estar_main
-    for cons in ("subpixel", "order,magic"):
+    for match, cons in (("improved", "subpixel"), ("improved", "order,magic"),
+                        ("1985", "order")):
         rc = estar_main.main(["--jhdata", str(tmp_path), "--separation", "0.75",
                               "--virtual-distance", "180", "--debug", "0", "--line", "60",
-                              "--match", "improved", "--constraints", cons, "--quiet"])
+                              "--match", match, "--constraints", cons, "--quiet"])
         assert rc == 1
         err = capsys.readouterr().err
         assert err.startswith("estar: ") and err.count("\n") == 1
