@@ -49,7 +49,6 @@ def fetch_line(eclipse, iyloc: int) -> LineData:
     """Slices and edge maps of line IY from NSTAR, through the Eclipse's link
     (CFEAT, then the NBLOB requests MASL would make), without touching ESTAR's
     COMMON blocks."""
-    from estar.link import Link
     from estar.masl import masl_requests
     sl1, sl2 = eclipse.cfeat(iyloc)
     maps1 = np.zeros((100, 17), dtype=np.int64)
@@ -57,11 +56,7 @@ def fetch_line(eclipse, iyloc: int) -> LineData:
     requests = np.zeros((200, 4), dtype=np.int64)
     n = masl_requests(sl1.nfeat, _ifeat_columns(sl1), sl2.nfeat, _ifeat_columns(sl2),
                       np.zeros(100, dtype=np.bool_), np.zeros(100, dtype=np.bool_), requests)
-    fetch = getattr(eclipse.link, "nblob_many", None)
-    if fetch is None:
-        def fetch(req, y, b1, b2):
-            Link.nblob_many(eclipse.link, req, y, b1, b2)
-    fetch(requests[:n], iyloc, maps1, maps2)
+    eclipse.link.nblob_many(requests[:n], iyloc, maps1, maps2)
     eclipse.requests += int(n)
     return LineData(iyloc, sl1.features(), sl2.features(), maps1, maps2)
 

@@ -92,6 +92,8 @@ class Params:
     #                                       a number: it is only charged this much more
     neighbour_dx: int = 2          # px: the same vertical line on the next scan line
     neighbour_dd: float = 2.0      # px: ... with nearly the same disparity
+    unsupported_factor: float | None = None   # None: an edge on no vertical line is "no
+    #                                           match"; a number: its confidence is scaled
     min_confidence: float = 0.1    # matches below are "no match (ambiguous)"
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
@@ -263,6 +265,8 @@ def _neighbour_check(v: Verdict, neighbours, p: Params) -> Verdict:
                and abs(n.disparity - v.disparity) <= p.neighbour_dd for n in line):
             support += 1
     if support == 0:
+        if p.unsupported_factor is not None:
+            return replace(v, confidence=v.confidence * p.unsupported_factor)
         return replace(v, matched=False, reason="not on a vertical line")
     return replace(v, confidence=v.confidence * (0.75 + 0.125 * support))
 
