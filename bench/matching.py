@@ -244,8 +244,11 @@ def improved_edges(scan, scene: Scene, constraints: Constraints, params: Params)
                  n[:, 0], n[:, 1], a[:, 0], a[:, 1])
 
 
+HALFWIDTH = 1          # --halfwidth: truth at an edge over columns LOC1-1 +- this
+
+
 def truth_at(scene: Scene, ys, cols) -> np.ndarray:
-    return np.array([acc.true_disparity_at(scene.true_disp, int(y), int(c), 1)
+    return np.array([acc.true_disparity_at(scene.true_disp, int(y), int(c), HALFWIDTH)
                      for y, c in zip(ys, cols)], dtype=float)
 
 
@@ -280,7 +283,8 @@ def score(scene: Scene, e: Edges, bm: np.ndarray, sgbm: np.ndarray) -> Score:
     for disp in (bm, sgbm):
         at = disp[e.y[ok], np.clip(e.col[ok], 0, 127)]
         sel = np.isfinite(at)
-        out.append((float(np.mean(np.abs(at[sel] - td[ok][sel]) > 2)) if sel.any() else float("nan"),
+        bad = np.abs(at[sel] - td[ok][sel]) > 2
+        out.append((float(np.mean(bad)) if sel.any() else float("nan"),
                     int(sel.sum())))
     prec = rec = float("nan")
     if scene.occluded is not None:
@@ -353,7 +357,8 @@ def table(results, faithful) -> str:
     for scene, rows in results.items():
         for name, s in rows:
             keep = f"{s.located} ({100 * s.located / max(1, faithful[scene]):.0f} %)"
-            nm = "-" if not np.isfinite(s.nm_precision) else f"{pct(s.nm_precision)} / {pct(s.nm_recall)}"
+            nm = ("-" if not np.isfinite(s.nm_precision)
+                  else f"{pct(s.nm_precision)} / {pct(s.nm_recall)}")
             out.append(f"| {scene} | {name} | {keep} | {pct(s.bad1)} | {pct(s.bad2)} | "
                        f"{s.median:.2f} | {pct(s.within)} | {pct(s.bm_bad2)} ({s.bm_n}) | "
                        f"{pct(s.sgbm_bad2)} ({s.sgbm_n}) | {nm} |")
@@ -474,7 +479,12 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, help="write the tables into this Markdown file "
                                              "(between the matching-table markers)")
     ap.add_argument("--picture", type=Path, help="write the reliability picture (PNG)")
+    ap.add_argument("--halfwidth", type=int, default=1,
+                    help="truth at an edge = largest true disparity over LOC1-1 +- this "
+                         "(default 1, bench/accuracy.py's rule)")
     args = ap.parse_args(argv)
+    global HALFWIDTH
+    HALFWIDTH = args.halfwidth
     if args.scenes < 5:
         print(f"matching: --scenes {args.scenes}: the benchmark wants at least 5", file=sys.stderr)
         return 2
@@ -486,6 +496,8 @@ def main(argv=None) -> int:
     rel_real, rel_gen = reliability(results, scenes=real), reliability(results, scenes=gen)
     times = scan_times()
     cmd = "python bench/matching.py" + (f" --scenes {args.scenes}" if args.scenes != 6 else "")
+    if args.halfwidth != 1:
+        cmd += f" --halfwidth {args.halfwidth}"
     if args.out:
         cmd += f" --out {args.out}"
     if args.picture:

@@ -61,7 +61,8 @@ class Constraints:
         """Just the named constraints (names of :data:`CONSTRAINTS`)."""
         bad = [n for n in names if n not in CONSTRAINTS]
         if bad:
-            raise ValueError(f"unknown constraint {', '.join(bad)}; known: {', '.join(CONSTRAINTS)}")
+            raise ValueError(f"unknown constraint {', '.join(bad)}; "
+                             f"known: {', '.join(CONSTRAINTS)}")
         return cls(**{n: n in names for n in CONSTRAINTS})
 
     @classmethod

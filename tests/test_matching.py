@@ -17,7 +17,6 @@ from matching.mode import VerdictTables, locate_float, make_matcher, constraints
 from matching.order import assign, order_dp
 from matching.subpixel import step_position
 
-RNG = np.random.default_rng(13)
 
 
 def random_map(seed: int) -> list[int]:
