@@ -89,6 +89,8 @@ class ImprovedMatcher:
             from .subpixel import line_profile
             profiles = (line_profile(self.vd[0], iyloc), line_profile(self.vd[1], iyloc))
         verdicts = match_line(data, self.constraints, self.params, neighbours, profiles)
+        if getattr(eclipse, "debug", 0) & 4:
+            eclipse.listing.records(verdict_listing(verdicts, self.constraints))
         return VerdictTables(verdicts), verdicts
 
     def _remember(self, iyloc: int, data: LineData) -> None:
@@ -110,6 +112,21 @@ class ImprovedMatcher:
                                                 subpixel=False),
                                         replace(self.params, min_confidence=0.0))
         return self._first[y]
+
+
+def verdict_listing(verdicts: list[Verdict], constraints: Constraints) -> list[str]:
+    """Debug flag 4 in the improved mode: after 1985's match lists (PMAL), the
+    verdict of every edge (not a 1985 printout)."""
+    out = ["", " Improved matcher (not 1985), constraints: "
+           + (",".join(constraints.names()) or "none"),
+           "  EDGE   X  PARTNER  LOC1  LOC2  DISP  CONF"]
+    for v in verdicts:
+        if v.matched:
+            out.append(f" {v.edge:5d}{v.x:4d}{v.partner:9d}{v.loc1:6.0f}{v.loc2:6.0f}"
+                       f"{v.disparity:6.0f}{v.confidence:6.2f}")
+        else:
+            out.append(f" {v.edge:5d}{v.x:4d}  no match ({v.reason})")
+    return out + [""]
 
 
 def _same(a: LineData, b: LineData) -> bool:

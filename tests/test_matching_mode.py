@@ -129,3 +129,21 @@ def test_estar_refuses_subpixel_and_unknown_constraints(tmp_path, capsys):
         assert rc == 1
         err = capsys.readouterr().err
         assert err.startswith("estar: ") and err.count("\n") == 1
+
+
+def test_debug_4_lists_the_verdicts_after_the_match_lists():
+    from diskfmt.listing import Listing
+    buf = io.StringIO()
+    nova = Nova()
+    nova.load_pair(*bundled_pair())
+    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"), debug=4,
+                  listing=Listing(buf), matcher=ImprovedMatcher())
+    r = ecl.lcln(60)
+    text = buf.getvalue()
+    assert "Improved matcher (not 1985), constraints: order,lr,neighbours,region" in text
+    head = text.index("Improved matcher")
+    assert "INDX" in text[:head]                   # 1985's match lists (PMAL) come first
+    lines = text[head:].splitlines()[2:]
+    for v in r.verdicts:
+        row = next(x for x in lines if x[:6].strip() == str(v.edge))
+        assert ("no match" in row) == (not v.matched)
