@@ -298,6 +298,8 @@ def score(scene: Scene, e: Edges, bm: np.ndarray, sgbm: np.ndarray) -> Score:
 
 VARIANTS = [
     ("1985 (default)", None),
+    ("improved, no constraint, no minimum confidence", (Constraints.none(),
+                                                        {"min_confidence": 0.0})),
     ("improved, no constraint", Constraints.none()),
     ("order (uniqueness + 1-1 DP) alone", Constraints.only("order")),
     ("left-right consistency alone", Constraints.only("lr")),
