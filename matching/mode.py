@@ -155,7 +155,8 @@ def add_arguments(parser: argparse.ArgumentParser, subpixel: bool = True) -> Non
                              "confidence or 'no match'")
     parser.add_argument("--constraints", default=None, metavar="LIST",
                         help="with --match improved: a comma list of " + ", ".join(names)
-                             + ", or 'all' / 'none' (default order,lr,neighbours,region)")
+                             + ", or 'all' (" + ("all five" if subpixel else "all four")
+                             + ") or 'none' (default order,lr,neighbours,region)")
 
 
 def constraints_from_args(args, subpixel: bool = True) -> Constraints:
