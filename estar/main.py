@@ -85,6 +85,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--marf-sign-fix", action="store_true",
                    help="FIX (not 1985): store MARF's refined right-image location with "
                         "the sign the geometry implies")
+    from matching.mode import add_arguments as add_match_arguments   # issue 13
+    add_match_arguments(p, subpixel=False)
     return p
 
 
@@ -94,6 +96,8 @@ def main(argv=None) -> int:
     listing_stream = None
     jh = None
     try:
+        from matching.mode import constraints_from_args, make_matcher
+        matcher = make_matcher(args.match, constraints_from_args(args, subpixel=False))
         for line in BANNER:
             console.type(line)
         if args.separation is not None:
@@ -134,7 +138,7 @@ def main(argv=None) -> int:
 
         eclipse = Eclipse(FileLink(jh), dsep, dvirt, debug & 0xFFFF, Listing(listing_stream),
                           console, Options(marf_sign_fix=args.marf_sign_fix),
-                          publish=publish_posit)
+                          publish=publish_posit, matcher=matcher)
         lines = list(args.line) if args.line is not None else None
         featureless = 0                   # lines so far, while no slice had any feature
         while True:

@@ -34,6 +34,11 @@ class LineResult:
     requests: int = 0
     used: dict[int, tuple[int, int, int, int]] = field(default_factory=dict)
     """For each located edge, the match entry (INDX, QUAL, LOC1, LOC2) LCSL took."""
+    # Not 1985: the line's edge bit maps (IBLB1/IBLB2) and, with an improved
+    # matcher (package ``matching``, issue 13), its verdict per left edge.
+    maps1: np.ndarray | None = None
+    maps2: np.ndarray | None = None
+    verdicts: list | None = None
 
 
 class Eclipse:
@@ -41,8 +46,11 @@ class Eclipse:
 
     def __init__(self, link, dsep: Real, dvirt: Real, debug: int = 0,
                  listing: Listing | None = None, console: Console | None = None,
-                 options: MaslOptions | None = None, publish=None):
+                 options: MaslOptions | None = None, publish=None, matcher=None):
         self.link = link
+        # None: the 1985 match lists go to LCSL.  A ``matching`` matcher (never
+        # the default) replaces them by its verdicts (issue 13).
+        self.matcher = matcher
         self.dsep, self.dvirt = dsep, dvirt
         self.debug = debug
         self.listing = listing or Listing()
@@ -92,7 +100,10 @@ class Eclipse:
         if self.debug & Debug.MATCH_LISTS:
             self.listing.records(pmal(nfeat1, self.tables))
         say(" Computing locations.")
-        used = lcsl(iyloc, nfeat1, self.tables, self.pos, self.dsep, self.dvirt)
+        tables, verdicts = self.tables, None
+        if self.matcher is not None:
+            tables, verdicts = self.matcher.tables_for(self, iyloc, f1, f2, iblb1, iblb2)
+        used = lcsl(iyloc, nfeat1, tables, self.pos, self.dsep, self.dvirt)
         self.np_ = nfeat1
         if self.debug & Debug.POSITIONS:
             self.listing.records(prfpos(self.np_, self.pos, self.dsep, self.dvirt))
@@ -102,10 +113,10 @@ class Eclipse:
         self.requests += counting.count
         return LineResult(
             iyloc, f1, f2,
-            {e: self.tables.entries(e) for e in edges},
+            {e: tables.entries(e) for e in edges},
             {e: (tuple(float(v) for v in self.pos[(e - 1) * 6:(e - 1) * 6 + 6])
                  if self.pos[(e - 1) * 6].m > 0 else None) for e in edges},
-            posit, counting.count, used)
+            posit, counting.count, used, iblb1, iblb2, verdicts)
 
     def pnpl(self, changed=None) -> bytes:
         """PNPL — POSIT.DT: NP and COMMON /POSIT/ cut at 5 blocks, written as

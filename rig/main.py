@@ -162,6 +162,26 @@ def _check_scan(args):
     return lines, lp, rp, left, right, truth
 
 
+def _matcher_for(args, lp: Path, rp: Path):
+    """--match / --constraints (issue 13): None for 1985; the subpixel
+    constraint reads the .VD pictures beside the .BI ones."""
+    from matching.mode import constraints_from_args, make_matcher
+    from diskfmt.layouts import decode_vd
+    try:
+        constraints = constraints_from_args(args)
+    except ValueError as exc:
+        raise SystemExit(f"rig: {exc}")
+    vd = None
+    if args.match == "improved" and constraints.subpixel:
+        paths = [p.with_suffix(".VD") for p in (lp, rp)]
+        missing = [str(p) for p in paths if not p.is_file()]
+        if missing:
+            raise SystemExit(f"rig: the subpixel constraint needs {', '.join(missing)} "
+                             "(the .VD picture beside each .BI)")
+        vd = tuple(decode_vd(read_file(p), str(p)) for p in paths)
+    return make_matcher(args.match, constraints, vd=vd)
+
+
 def cmd_scan(args) -> int:
     lines, lp, rp, left, right, truth = _check_scan(args)
     bundled = args.left is None
@@ -169,16 +189,24 @@ def cmd_scan(args) -> int:
     for w in pair_warnings(left, right):
         _warn(w)
     options = MaslOptions(marf_sign_fix=args.marf_sign_fix)
+    matcher = _matcher_for(args, lp, rp)
     t0 = time.perf_counter()
     if args.link == "file":
         with file_link_eclipse(Path(args.jhdata), lp, rp, args.separation,
                                args.virtual_distance, options) as ecl:
+            ecl.matcher = matcher
             result = scanmod.run_lines(ecl, lines, progress=not args.quiet)
     else:
         result = scanmod.scan_pair(left, right, lines, args.separation, args.virtual_distance,
-                                   options, progress=not args.quiet)
+                                   options, progress=not args.quiet, matcher=matcher)
     took = time.perf_counter() - t0
-    pts = result.points
+    pts, confidences = result.points, None
+    if matcher is not None:
+        from fractions import Fraction
+        from matching.mode import located_points
+        pairs = [pc for r in result.results for pc in located_points(
+            r, float(Fraction(args.separation)), float(Fraction(args.virtual_distance)))]
+        pts, confidences = [p for p, _ in pairs], [c for _, c in pairs]
     print(f"{len(pts)} located edges on {len(result.lines)} lines "
           f"({len(pts) / max(1, len(result.lines)):.1f} per line), {result.requests} edge-map "
           f"requests, {took:.2f} s over the {args.link} link")
@@ -187,7 +215,7 @@ def cmd_scan(args) -> int:
         _warn(blank)
     print(scanmod.summary(result, unit, impossible_share(left, right, lines)))
     if args.csv:
-        print(f"CSV: {scanmod.write_atomic(args.csv, scanmod.csv_text(pts))}")
+        print(f"CSV: {scanmod.write_atomic(args.csv, scanmod.csv_text(pts, confidences))}")
     if args.ply:
         print(f"PLY: {scanmod.write_atomic(args.ply, scanmod.ply_text(pts))}")
     if truth is not None:
@@ -337,6 +365,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--marf-sign-fix", action="store_true",
                    help="FIX (not 1985): MARF's refined location with the geometric sign")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
+    from matching.mode import add_arguments as add_match_arguments   # issue 13
+    add_match_arguments(s)
     s.set_defaults(func=cmd_scan)
     q = sub.add_parser("posit", help="the located edges of a POSIT.DT as a table and CSV",
                        description="Read the POSIT.DT an ESTAR run left in its JHDATA (the "

@@ -59,13 +59,15 @@ class ScanResult:
 
 def scan_pair(left: np.ndarray, right: np.ndarray, lines=DEFAULT_LINES,
               ds: str = "0.75", dv: str = "180", options: MaslOptions | None = None,
-              progress: bool = False, eclipse: Eclipse | None = None) -> ScanResult:
+              progress: bool = False, eclipse: Eclipse | None = None,
+              matcher=None) -> ScanResult:
     """Scan the pair over the direct (in-process) link: NSTAR's command handler
     is called with the same NCONT.DT bytes the file link would carry."""
     if eclipse is None:
         nova = Nova()
         nova.load_pair(left, right)
-        eclipse = Eclipse(DirectLink(nova), Real.const(ds), Real.const(dv), options=options)
+        eclipse = Eclipse(DirectLink(nova), Real.const(ds), Real.const(dv), options=options,
+                          matcher=matcher)
     return run_lines(eclipse, lines, progress)
 
 
@@ -110,15 +112,18 @@ CSV_COLUMNS = ["line", "edge", "loc1", "loc2", "disparity", "dp", "dx", "dy", "e
                "var_p", "var_x", "var_y"]
 
 
-def csv_text(points: list[Point]) -> str:
+def csv_text(points: list[Point], confidences=None) -> str:
+    """The points as CSV; with ``confidences`` (one per point: the improved
+    matcher's, issue 13) a last column ``confidence`` is added."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(CSV_COLUMNS)
-    for p in points:
+    w.writerow(CSV_COLUMNS + (["confidence"] if confidences is not None else []))
+    for k, p in enumerate(points):
         c = p.covariance()
         w.writerow([p.line, p.edge, p.loc1, p.loc2, p.disparity,
                     *(repr(float(v)) for v in (p.dp, p.dx, p.dy, p.ep, p.ex, p.ey,
-                                        c[0, 0], c[1, 1], c[2, 2]))])
+                                        c[0, 0], c[1, 1], c[2, 2]))]
+                   + ([repr(float(confidences[k]))] if confidences is not None else []))
     return buf.getvalue()
 
 

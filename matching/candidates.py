@@ -1,0 +1,179 @@
+"""The candidate partners of every edge of a line: the 1985 evidence, kept whole.
+
+MASL (estar/masl.py) pairs every left-slice edge with every right-slice edge
+of the same side whose grey level differs by at most 1, and MARF scores the
+pair by sliding the two 16x16 edge bit maps against each other.  The 1985
+program keeps the ten best partners of each edge and LCSL takes the first with
+a disparity above one pixel: "the best match available" (Chapter V,
+"Matches").  Here the same evidence is computed for every pair, in both
+directions, so that the constraints of :mod:`matching.assign` can weigh it:
+
+* the shape cost is MARF's mismatch ``(ND*256)/NTOT`` at the best shift within
+  MASL's shift bound (half the gap to the neighbouring feature, at most half
+  the feature's width), ties to the shift nearest zero, as MARF breaks them
+  (:func:`shape_cost` equals MARF's shift search (``estar.marf.marf_kernel``) with ``cap_overflow``);
+  the 1985 16-bit overflow (ND >= 128 counts as 256) is not kept by default;
+* the right-slice location is ``x2 - shift`` (the sign the geometry implies,
+  the E7 fix; the 1985 sign is ``x2 + shift``) when ``use_shift``, else the
+  feature index itself;
+* a candidate needs a disparity above EDISP = 1 pixel (LCSL could not locate
+  it otherwise).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+NPIX = 128
+EDISP = 1
+GREY_TOLERANCE = 1                 # MASL: |IGREY1 - IGREY2| <= 1
+
+_POP = np.array([bin(v).count("1") for v in range(1 << 16)], dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class SliceEdges:
+    """The edges of one slice, in MASL's numbering: edge k (1..50) is the left
+    end of feature k, edge 50+k its right end.  Arrays are indexed in the
+    order of the edges along the line (x, then left ends before right ends)."""
+    edge: np.ndarray          # MASL edge number 1..100
+    x: np.ndarray             # 1-based slice index of the edge (IFEAT start or stop)
+    side: np.ndarray          # 0 left end, 1 right end
+    grey: np.ndarray          # the grey level MASL compares (left grey / right grey)
+    feature: np.ndarray       # feature number 1..50
+    bound: np.ndarray         # MASL's shift bound on this edge's side (IRGDL/IRGDR)
+
+    def __len__(self) -> int:
+        return len(self.edge)
+
+
+def _half(a: int) -> int:
+    """FORTRAN integer /2 (truncates toward zero)."""
+    return int(a / 2)
+
+
+def slice_edges(features) -> SliceEdges:
+    """The edges of a slice's feature list ``[(start, stop, lgrey, rgrey), ...]``
+    (``Slice.features()``), with MASL's shift bounds."""
+    n = len(features)
+    rows = []
+    for k, (start, stop, lg, rg) in enumerate(features, start=1):
+        width = _half(stop - start)
+        left = start if k == 1 else _half(start - features[k - 2][1])
+        right = NPIX - stop + 1 if k >= n else _half(features[k][0] - stop)
+        left = max(min(left, width), 0)
+        right = max(min(right, width), 0)
+        rows.append((start, 0, k, lg, k, left))
+        rows.append((stop, 1, k + 50, rg, k, right))
+    rows.sort(key=lambda r: (r[0], r[1], r[2]))
+    cols = list(zip(*rows)) if rows else [()] * 6
+    arr = [np.asarray(c, dtype=np.int64) for c in cols]
+    return SliceEdges(edge=arr[2], x=arr[0], side=arr[1], grey=arr[3], feature=arr[4],
+                      bound=arr[5])
+
+
+def shape_cost(map1, map2, bound: int, cap_overflow: bool = False) -> tuple[int, int]:
+    """MARF's search on two 17-word maps (word 0 the flag, words 1..16 the
+    columns): ``(shift, mismatch)`` of the best shift in ``-bound..bound``."""
+    s, v = shape_costs(np.asarray(map1, dtype=np.int64)[None, 1:17],
+                       np.asarray(map2, dtype=np.int64)[None, 1:17],
+                       np.array([bound]), cap_overflow)
+    return int(s[0]), int(v[0])
+
+
+def shape_costs(cols1: np.ndarray, cols2: np.ndarray, bounds: np.ndarray,
+                cap_overflow: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`shape_cost` for K pairs at once: ``cols1``/``cols2`` (K, 16)
+    column words, ``bounds`` (K,).  Returns (shift, mismatch) arrays."""
+    k = len(bounds)
+    best_v = np.full(k, 256, dtype=np.int64)
+    best_s = np.zeros(k, dtype=np.int64)
+    if k == 0:
+        return best_s, best_v
+    c1 = cols1 & 0xFFFF
+    c2 = cols2 & 0xFFFF
+    top = int(min(int(bounds.max()), 15))
+    # visit shifts in MARF's order of preference: |s| ascending, negative first,
+    # and replace only on a strictly smaller mismatch
+    order = [0] + [s for a in range(1, top + 1) for s in (-a, a)]
+    for s in order:
+        off = abs(s)
+        n = 16 - off
+        if s < 0:
+            a, b = c1[:, :n], c2[:, off:off + n]
+        else:
+            a, b = c1[:, off:off + n], c2[:, :n]
+        n1 = _POP[a].sum(axis=1)
+        n2 = _POP[b].sum(axis=1)
+        nd = _POP[a ^ b].sum(axis=1)
+        ntot = n1 + n2
+        ok = ntot != 0
+        if cap_overflow:
+            ok &= nd < 128
+        val = np.where(ok, (nd * 256) // np.maximum(ntot, 1), 256)
+        better = (val < best_v) & (off <= bounds)
+        best_v = np.where(better, val, best_v)
+        best_s = np.where(better, s, best_s)
+    return best_s, best_v
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """Every admissible (left edge, right edge) pair of a line.  ``i``/``j``
+    index :class:`SliceEdges` of the left / right slice (positions along the
+    line); ``cost`` = shape mismatch + grey penalty; ``loc1``/``loc2`` the
+    locations a match would give; ``disp`` = loc1 - loc2."""
+    left: SliceEdges
+    right: SliceEdges
+    i: np.ndarray
+    j: np.ndarray
+    cost: np.ndarray
+    shape: np.ndarray
+    shift: np.ndarray
+    loc1: np.ndarray
+    loc2: np.ndarray
+
+    @property
+    def disp(self) -> np.ndarray:
+        return self.loc1 - self.loc2
+
+    def __len__(self) -> int:
+        return len(self.i)
+
+    def subset(self, keep: np.ndarray) -> "Candidates":
+        return Candidates(self.left, self.right, self.i[keep], self.j[keep], self.cost[keep],
+                          self.shape[keep], self.shift[keep], self.loc1[keep], self.loc2[keep])
+
+
+def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
+               grey_penalty: float = 16.0, max_disparity: float = NPIX,
+               cap_overflow: bool = False) -> Candidates:
+    """All same-side pairs passing MASL's grey rule whose two edge maps were
+    fetched (flag word 1), scored by shape; only those with a disparity above
+    EDISP (and at most ``max_disparity``) are kept."""
+    left, right = slice_edges(features1), slice_edges(features2)
+    m1 = np.asarray(maps1, dtype=np.int64)
+    m2 = np.asarray(maps2, dtype=np.int64)
+    if len(left) == 0 or len(right) == 0:
+        empty = np.zeros(0, dtype=np.int64)
+        return Candidates(left, right, empty, empty, empty.astype(float), empty, empty,
+                          empty.astype(float), empty.astype(float))
+    ii, jj = np.meshgrid(np.arange(len(left)), np.arange(len(right)), indexing="ij")
+    ii, jj = ii.ravel(), jj.ravel()
+    gd = np.abs(left.grey[ii] - right.grey[jj])
+    ok = (left.side[ii] == right.side[jj]) & (gd <= GREY_TOLERANCE)
+    ok &= (m1[left.edge[ii] - 1, 0] == 1) & (m2[right.edge[jj] - 1, 0] == 1)
+    ok &= left.x[ii] - right.x[jj] > -16          # cannot come back above EDISP
+    ii, jj, gd = ii[ok], jj[ok], gd[ok]
+    bounds = np.minimum(left.bound[ii], right.bound[jj])
+    shift, shape = shape_costs(m1[left.edge[ii] - 1, 1:17], m2[right.edge[jj] - 1, 1:17],
+                               bounds, cap_overflow)
+    loc1 = left.x[ii].astype(np.float64)
+    loc2 = (right.x[jj] - (shift if use_shift else 0)).astype(np.float64)
+    d = loc1 - loc2
+    keep = (d > EDISP) & (d <= max_disparity)
+    cost = shape + grey_penalty * gd
+    c = Candidates(left, right, ii, jj, cost.astype(np.float64), shape, shift, loc1, loc2)
+    return c.subset(keep)

@@ -1,0 +1,210 @@
+"""``--match 1985|improved``: the improved matcher inside ESTAR, and the flags.
+
+:class:`ImprovedMatcher` is handed to ``estar.program.Eclipse(matcher=...)``.
+After MASL has fetched the line's edge maps (the same NBLOB traffic as 1985),
+LCLN asks it for the line's tables: one entry per matched edge (its partner,
+cost, LOC1, LOC2) and none for a "no match", so LCSL writes POS(1,k) = -1
+there and POSIT.DT carries only the edges the matcher vouches for.  With the
+``neighbours`` constraint it also asks NSTAR for the slices and edge maps of
+lines IY-1 and IY+1 (remembered, so a scan of consecutive lines asks for
+each line about once more than 1985 did).  ``--match 1985`` (the default)
+hands ESTAR no matcher: the 1985 lists, byte for byte.
+
+For other commands (``rig walk``): :func:`add_arguments` registers the same
+flags; ``make_matcher(args.match, constraints_from_args(args))`` turns them
+into a matcher (None for 1985) to hand to ``Eclipse(matcher=...)``;
+:func:`located_points` gives each located edge with its confidence.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+
+import numpy as np
+
+from .verdict import CONSTRAINTS, Constraints, LineData, Params, Verdict, match_line
+
+MODES = ("1985", "improved")
+MAX_CACHED_LINES = 8
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"
+
+
+class VerdictTables:
+    """The improved verdicts in the shape LCSL reads (``entries(edge)``)."""
+
+    def __init__(self, verdicts: list[Verdict]):
+        self._rows = {v.edge: [(v.partner, int(round(v.cost)), int(v.loc1), int(v.loc2))]
+                      for v in verdicts if v.matched}
+
+    def entries(self, edge: int) -> list[tuple[int, int, int, int]]:
+        return self._rows.get(edge, [])
+
+
+def _ifeat_columns(sl) -> np.ndarray:
+    return np.asarray([sl.ifbuf[10 + 50 * j:60 + 50 * j] for j in range(4)], dtype=np.int64)
+
+
+def fetch_line(eclipse, iyloc: int) -> LineData:
+    """Slices and edge maps of line IY from NSTAR, through the Eclipse's link
+    (CFEAT, then the NBLOB requests MASL would make), without touching ESTAR's
+    COMMON blocks."""
+    from estar.masl import masl_requests
+    sl1, sl2 = eclipse.cfeat(iyloc)
+    maps1 = np.zeros((100, 17), dtype=np.int64)
+    maps2 = np.zeros((100, 17), dtype=np.int64)
+    requests = np.zeros((200, 4), dtype=np.int64)
+    n = masl_requests(sl1.nfeat, _ifeat_columns(sl1), sl2.nfeat, _ifeat_columns(sl2),
+                      np.zeros(100, dtype=np.bool_), np.zeros(100, dtype=np.bool_), requests)
+    eclipse.link.nblob_many(requests[:n], iyloc, maps1, maps2)
+    eclipse.requests += int(n)
+    return LineData(iyloc, sl1.features(), sl2.features(), maps1, maps2)
+
+
+class ImprovedMatcher:
+    """The improved mode for ESTAR's LCLN (see the module docstring).
+
+    ``vd``: the (left, right) 240x256 .VD pictures, needed by the
+    ``subpixel`` constraint (ESTAR itself never sees them)."""
+
+    def __init__(self, constraints: Constraints = Constraints(), params: Params = Params(),
+                 vd=None):
+        if constraints.subpixel and vd is None:
+            raise ValueError("the subpixel constraint needs the .VD pictures")
+        self.constraints, self.params, self.vd = constraints, params, vd
+        self._lines: dict[int, LineData] = {}
+        self._first: dict[int, list[Verdict]] = {}
+
+    def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
+        """LCLN's hook: (tables for LCSL, verdicts) of line IY."""
+        data = LineData(iyloc, list(features1), list(features2), np.array(maps1),
+                        np.array(maps2))
+        self._remember(iyloc, data)
+        neighbours = []
+        if self.constraints.neighbours:
+            neighbours = [self._first_pass(eclipse, y) for y in (iyloc - 1, iyloc + 1)
+                          if 0 <= y <= 119]
+        profiles = None
+        if self.constraints.subpixel:
+            from .subpixel import line_profile
+            profiles = (line_profile(self.vd[0], iyloc), line_profile(self.vd[1], iyloc))
+        verdicts = match_line(data, self.constraints, self.params, neighbours, profiles)
+        if getattr(eclipse, "debug", 0) & 4:
+            eclipse.listing.records(verdict_listing(verdicts, self.constraints))
+        return VerdictTables(verdicts), verdicts
+
+    def _remember(self, iyloc: int, data: LineData) -> None:
+        if iyloc in self._lines and not _same(self._lines[iyloc], data):
+            self._first.pop(iyloc, None)          # new pictures: forget the old verdicts
+        self._lines[iyloc] = data
+        while len(self._lines) > MAX_CACHED_LINES:
+            old = next(iter(self._lines))
+            del self._lines[old]
+            self._first.pop(old, None)
+
+    def _first_pass(self, eclipse, y: int) -> list[Verdict]:
+        """Line y's verdicts without the neighbour constraint (as match_lines)."""
+        if y not in self._lines:
+            self._remember(y, fetch_line(eclipse, y))
+        if y not in self._first:
+            self._first[y] = match_line(self._lines[y],
+                                        replace(self.constraints, neighbours=False,
+                                                subpixel=False),
+                                        replace(self.params, min_confidence=0.0))
+        return self._first[y]
+
+
+def verdict_listing(verdicts: list[Verdict], constraints: Constraints) -> list[str]:
+    """Debug flag 4 in the improved mode: after 1985's match lists (PMAL), the
+    verdict of every edge (not a 1985 printout)."""
+    out = ["", " Improved matcher (not 1985), constraints: "
+           + (",".join(constraints.names()) or "none"),
+           "  EDGE   X  PARTNER  LOC1  LOC2  DISP  CONF"]
+    for v in verdicts:
+        if v.matched:
+            out.append(f" {v.edge:5d}{v.x:4d}{v.partner:9d}{v.loc1:6.0f}{v.loc2:6.0f}"
+                       f"{v.disparity:6.0f}{v.confidence:6.2f}")
+        else:
+            out.append(f" {v.edge:5d}{v.x:4d}  no match ({v.reason})")
+    return out + [""]
+
+
+def _same(a: LineData, b: LineData) -> bool:
+    return (a.features1 == b.features1 and a.features2 == b.features2
+            and np.array_equal(a.maps1, b.maps1) and np.array_equal(a.maps2, b.maps2))
+
+
+def make_matcher(mode: str = "1985", constraints: Constraints | str = "all",
+                 params: Params = Params(), vd=None) -> ImprovedMatcher | None:
+    """None for ``"1985"`` (ESTAR's own lists), else an :class:`ImprovedMatcher`."""
+    if mode not in MODES:
+        raise ValueError(f"--match {mode!r}: choose 1985 or improved")
+    if mode == "1985":
+        return None
+    if isinstance(constraints, str):
+        constraints = Constraints.parse(constraints)
+    return ImprovedMatcher(constraints, params, vd)
+
+
+def add_arguments(parser: argparse.ArgumentParser, subpixel: bool = True) -> None:
+    """``--match`` and ``--constraints`` for a command that runs ESTAR."""
+    names = [n for n in CONSTRAINTS if subpixel or n != "subpixel"]
+    parser.add_argument("--match", choices=MODES, default="1985",
+                        help="1985: the faithful MASL/LCSL matches (default, POSIT.DT as in "
+                             "1985); improved (not 1985): a verdict per edge, matched with a "
+                             "confidence or 'no match'")
+    parser.add_argument("--constraints", default=None, metavar="LIST",
+                        help="with --match improved: a comma list of " + ", ".join(names)
+                             + ", or 'all' (" + ("all five" if subpixel else "all four")
+                             + ") or 'none' (default order,lr,neighbours,region)")
+
+
+def constraints_from_args(args, subpixel: bool = True) -> Constraints:
+    """The parsed ``--constraints`` (``all`` includes subpixel only where
+    available); refused without ``--match improved``."""
+    if args.constraints is not None and getattr(args, "match", "improved") != "improved":
+        raise ValueError("--constraints only applies with --match improved")
+    text = (args.constraints or DEFAULT_CONSTRAINTS).strip().lower()
+    c = Constraints.parse(text)
+    if text == "all":
+        c = replace(c, subpixel=subpixel)
+    if c.subpixel and not subpixel:
+        raise ValueError("--constraints subpixel needs the .VD pictures, which estar "
+                         "never sees (use rig scan)")
+    return c
+
+
+def locate_float(loc1: float, loc2: float, iyloc: int, ds: float, dv: float):
+    """LCSL's equations (3-1..3-6, Appendix A) in floating point for
+    fractional locations: (dp, dx, dy, ep, ex, ey), or None when the disparity
+    is not above EDISP = 1."""
+    d = float(loc1) - float(loc2)
+    if d <= 1.0:
+        return None
+    dp = ds * dv / d
+    ep = ds * dv * 1.0 / (d * d - d)
+    dl, dd = float(loc1) - 60.0, float(iyloc) - 60.0
+    return (dp, dl * dp / dv, dd * dp / dv, ep,
+            (abs(dl) * ep + dp * 0.5 + ep * 0.5) / dv,
+            (abs(dd) * ep + dp * 0.5 + ep * 0.5) / dv)
+
+
+def located_points(result, ds: float = 0.75, dv: float = 180.0):
+    """The located edges of one LCLN done with an :class:`ImprovedMatcher`,
+    each as ``(rig.scan.Point, confidence)``: the LCSL point of the edge, or,
+    where the subpixel constraint gave fractional locations, the same
+    equations in floating point at those locations."""
+    from rig.scan import Point, points_of_line
+    verdicts = {v.edge: v for v in (result.verdicts or []) if v.matched}
+    out = []
+    for p in points_of_line(result):
+        v = verdicts.get(p.edge)
+        if v is None:
+            continue
+        if v.loc1_sub is not None:
+            pos = locate_float(v.loc1_sub, v.loc2_sub, result.iyloc, ds, dv)
+            if pos is None:
+                continue
+            p = Point(p.line, p.edge, v.loc1_sub, v.loc2_sub, *pos)
+        out.append((p, v.confidence))
+    return out

@@ -1,0 +1,298 @@
+"""A verdict for every located edge: matched, with a confidence, or "no match".
+
+Chapter V ("Matches") finds the 1985 matches "in two categories, those which
+were the correct features, and those which had no correct match and so were
+left with the best match available", and asks for "a method for
+automatically determining whether each is a good match, and which matches are
+the result of a feature which has no match".  :func:`match_line` gives each
+edge of the left slice (MASL's edges 1..NFEAT1 and 51..50+NFEAT1) such a
+verdict, under constraints that are each switched on their own
+(:class:`Constraints`):
+
+``order``
+    uniqueness and the 1-1 order-keeping assignment along the line by dynamic
+    programming (Chapter V's picket fence; Ohta and Kanade 1985), see
+    :mod:`matching.order`.  Off: each edge takes its cheapest partner, as
+    LCSL takes the first of MASL's list.
+``lr``
+    left-right consistency: the right slice's edge, searched against every
+    left edge, finds the same partner (within ``lr_tolerance`` of its best).
+``neighbours``
+    agreement with the neighbouring scan lines: an edge lies on a vertical
+    line in the picture, so line IY-1 or IY+1 has an edge of the same side
+    within a pixel whose match has nearly the same disparity.
+``region``
+    region first, then its edges (Chapter III: "Once a region match is made
+    then the coinciding edges can be matched"): an edge pair counts only if
+    the other ends of the two feature intervals also pass the grey rule and
+    give nearly the same disparity (both ends matched together).
+``subpixel``
+    edge positions from the grey profile of the .VD picture (twice the .BI's
+    resolution), see :mod:`matching.subpixel`; changes locations, not verdicts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from .candidates import Candidates, candidates
+from .order import assign
+
+CONSTRAINTS = ("order", "lr", "neighbours", "region", "subpixel")
+
+
+@dataclass(frozen=True)
+class Constraints:
+    """Which constraints the improved matcher applies (see the module docstring)."""
+    order: bool = True
+    lr: bool = True
+    neighbours: bool = True
+    region: bool = True
+    subpixel: bool = False
+
+    @classmethod
+    def none(cls) -> "Constraints":
+        return cls(False, False, False, False, False)
+
+    @classmethod
+    def only(cls, *names: str) -> "Constraints":
+        """Just the named constraints (names of :data:`CONSTRAINTS`)."""
+        bad = [n for n in names if n not in CONSTRAINTS]
+        if bad:
+            raise ValueError(f"unknown constraint {', '.join(bad)}; "
+                             f"known: {', '.join(CONSTRAINTS)}")
+        return cls(**{n: n in names for n in CONSTRAINTS})
+
+    @classmethod
+    def parse(cls, text: str) -> "Constraints":
+        """``"all"``, ``"none"`` or a comma list such as ``"order,lr"``."""
+        text = text.strip().lower()
+        if text == "all":
+            return cls()
+        if text in ("none", ""):
+            return cls.none()
+        return cls.only(*(t.strip() for t in text.split(",") if t.strip()))
+
+    def names(self) -> list[str]:
+        return [f.name for f in fields(self) if getattr(self, f.name)]
+
+
+@dataclass(frozen=True)
+class Params:
+    """The matcher's weights, in MARF's mismatch units (0 = identical maps,
+    256 = nothing in common)."""
+    occlusion: float = 64.0        # cost of an edge left unmatched (a match must cost < 2x)
+    smooth: float = 8.0            # per pixel of disparity change between consecutive matches
+    jump_cap: float = 4.0          # ... counted up to this many pixels (depth steps are allowed)
+    grey_penalty: float = 16.0     # added per grey level of difference (0 or 1)
+    lr_tolerance: float = 64.0     # a match within this of the right edge's best partner
+    region_tolerance: float = 2.0  # px: the two ends of a feature pair agree this well
+    region_penalty: float | None = 64.0   # None: an edge pair without its region is dropped;
+    #                                       a number: it is only charged this much more
+    neighbour_dx: int = 2          # px: the same vertical line on the next scan line
+    neighbour_dd: float = 2.0      # px: ... with nearly the same disparity
+    unsupported_factor: float | None = None   # None: an edge on no vertical line is "no
+    #                                           match"; a number: its confidence is scaled
+    min_confidence: float = 0.1    # matches below are "no match (ambiguous)"
+    use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
+
+
+@dataclass(frozen=True)
+class LineData:
+    """What ESTAR has for one line: the two feature lists (``Slice.features()``
+    rows ``(start, stop, lgrey, rgrey)``) and the edge bit maps IBLB1/IBLB2
+    (100 x 17 words, flag word first)."""
+    iyloc: int
+    features1: list
+    features2: list
+    maps1: np.ndarray
+    maps2: np.ndarray
+
+    @classmethod
+    def of(cls, result) -> "LineData":
+        """From an ``estar.program.LineResult`` (which keeps its maps)."""
+        return cls(result.iyloc, list(result.features1), list(result.features2),
+                   np.asarray(result.maps1), np.asarray(result.maps2))
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One edge of the left slice.  ``matched`` False means "no match" and
+    ``reason`` says why: "no candidate" (nothing passes the grey rule with a
+    disparity above 1), "not mutual" (lr), "no region partner" (region),
+    "occluded" (the order-keeping assignment leaves it out), "not on a
+    vertical line" (neighbours), "ambiguous" (confidence below the minimum)."""
+    iyloc: int
+    edge: int                  # MASL's number, 1..50 left end, 51..100 right end
+    x: int                     # its 1-based slice index
+    matched: bool
+    reason: str
+    partner: int = 0           # right-slice edge number
+    loc1: float = 0.0
+    loc2: float = 0.0
+    cost: float = float("nan")
+    confidence: float = 0.0
+    loc1_sub: float | None = None   # sub-pixel locations (subpixel constraint)
+    loc2_sub: float | None = None
+
+    @property
+    def disparity(self) -> float:
+        return self.loc1 - self.loc2
+
+    @property
+    def disparity_sub(self) -> float:
+        if self.loc1_sub is None:
+            return self.disparity
+        return self.loc1_sub - self.loc2_sub
+
+
+def _mutual(c: Candidates, tol: float) -> np.ndarray:
+    """Candidates within ``tol`` of the best cost of their left edge AND of their
+    right edge (the same match found from either slice)."""
+    keep = np.zeros(len(c), dtype=bool)
+    if len(c) == 0:
+        return keep
+    row_best = np.full(len(c.left), np.inf)
+    col_best = np.full(len(c.right), np.inf)
+    np.minimum.at(row_best, c.i, c.cost)
+    np.minimum.at(col_best, c.j, c.cost)
+    return (c.cost <= row_best[c.i] + tol) & (c.cost <= col_best[c.j] + tol)
+
+
+def _region_supported(c: Candidates, tol: float) -> np.ndarray:
+    """Candidates whose features' other ends are also a candidate pair with a
+    disparity within ``tol``."""
+    if len(c) == 0:
+        return np.zeros(0, dtype=bool)
+    f1 = c.left.feature[c.i]
+    f2 = c.right.feature[c.j]
+    side = c.left.side[c.i]
+    best: dict[tuple[int, int, int], list[float]] = {}
+    for a, b, s, d in zip(f1.tolist(), f2.tolist(), side.tolist(), c.disp.tolist()):
+        best.setdefault((a, b, s), []).append(d)
+    keep = np.zeros(len(c), dtype=bool)
+    for k, (a, b, s, d) in enumerate(zip(f1.tolist(), f2.tolist(), side.tolist(),
+                                         c.disp.tolist())):
+        other = best.get((a, b, 1 - s))
+        keep[k] = other is not None and min(abs(d - o) for o in other) <= tol
+    return keep
+
+
+def _choose(c: Candidates, constraints: Constraints, p: Params):
+    """Chosen candidate indices and each candidate's min-marginal cost."""
+    if constraints.order:
+        return assign(c.i, c.j, c.cost, c.disp, p.occlusion, p.smooth, p.jump_cap)
+    marginal = c.cost - 2.0 * p.occlusion
+    chosen = []
+    for i in np.unique(c.i):
+        ks = np.flatnonzero(c.i == i)
+        k = ks[np.lexsort((c.j[ks], c.cost[ks]))[0]]        # cheapest, then leftmost
+        if marginal[k] < 0:
+            chosen.append(k)
+    return np.array(chosen, dtype=np.int64), marginal
+
+
+def _confidence(c: Candidates, k: int, marginal: np.ndarray, p: Params) -> float:
+    """Margin of match ``k`` over its best rival (another partner of either of
+    its edges), and over leaving it out, in units of 2 x occlusion."""
+    rivals = ((c.i == c.i[k]) | (c.j == c.j[k]))
+    rivals[k] = False
+    gap = 2.0 * p.occlusion - c.cost[k]
+    if rivals.any():
+        gap = min(gap, float(marginal[rivals].min() - marginal[k]))
+    return float(np.clip(gap / (2.0 * p.occlusion), 0.0, 1.0))
+
+
+def match_line(data: LineData, constraints: Constraints = Constraints(),
+               params: Params = Params(), neighbours=None, profiles=None) -> list[Verdict]:
+    """Verdicts for every edge of the left slice of one line.
+
+    ``neighbours``: verdicts of lines IY-1 and IY+1 made without the
+    neighbour constraint (a list of lists; missing lines simply give no
+    support), needed when ``constraints.neighbours``.  ``profiles``: the
+    (left, right) .VD grey profiles of this line (:mod:`matching.subpixel`),
+    needed when ``constraints.subpixel``."""
+    p = params
+    c = candidates(data.features1, data.features2, data.maps1, data.maps2,
+                   use_shift=p.use_shift, grey_penalty=p.grey_penalty)
+    reason = {int(i): "no candidate" for i in range(len(c.left))}
+    has = set(c.i.tolist())
+    for i in has:
+        reason[i] = "occluded"
+    if constraints.lr:
+        c = c.subset(_mutual(c, p.lr_tolerance))
+        for i in has - set(c.i.tolist()):
+            reason[i] = "not mutual"
+        has = set(c.i.tolist())
+    if constraints.region:
+        supported = _region_supported(c, p.region_tolerance)
+        if p.region_penalty is None:
+            c = c.subset(supported)
+        else:
+            c = replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
+        for i in has - set(c.i.tolist()):
+            reason[i] = "no region partner"
+    chosen, marginal = _choose(c, constraints, p)
+    out: dict[int, Verdict] = {}
+    left = c.left
+    for k in chosen.tolist():
+        i = int(c.i[k])
+        conf = _confidence(c, k, marginal, p)
+        out[i] = Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), True, "matched",
+                         int(c.right.edge[c.j[k]]), float(c.loc1[k]), float(c.loc2[k]),
+                         float(c.cost[k]), conf)
+    if constraints.neighbours:
+        out = {i: _neighbour_check(v, neighbours or (), p) for i, v in out.items()}
+    for i, v in list(out.items()):
+        if v.matched and v.confidence < p.min_confidence:
+            out[i] = replace(v, matched=False, reason="ambiguous")
+    if constraints.subpixel and profiles is not None:
+        from .subpixel import refine_verdicts
+        out = dict(zip(out, refine_verdicts(list(out.values()), data, profiles)))
+    verdicts = [out.get(i) or Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), False,
+                                      reason[i]) for i in range(len(left))]
+    return sorted(verdicts, key=lambda v: v.edge)
+
+
+def _neighbour_check(v: Verdict, neighbours, p: Params) -> Verdict:
+    if not v.matched:
+        return v
+    support = 0
+    for line in neighbours:
+        if any(n.matched and (n.edge > 50) == (v.edge > 50)
+               and abs(n.x - v.x) <= p.neighbour_dx
+               and abs(n.disparity - v.disparity) <= p.neighbour_dd for n in line):
+            support += 1
+    if support == 0:
+        if p.unsupported_factor is not None:
+            return replace(v, confidence=v.confidence * p.unsupported_factor)
+        return replace(v, matched=False, reason="not on a vertical line")
+    return replace(v, confidence=v.confidence * (0.75 + 0.125 * support))
+
+
+def match_lines(lines, constraints: Constraints = Constraints(), params: Params = Params(),
+                profiles=None) -> dict[int, list[Verdict]]:
+    """Verdicts for many lines at once (the batch form of the improved mode).
+
+    ``lines``: :class:`LineData` or ``estar.program.LineResult`` objects.
+    The neighbour constraint uses the lines given (a line whose neighbour is
+    not among them gets support from the other side only, as at the ends of
+    a scan).  ``profiles``: a callable ``iy -> (left, right)`` grey profiles
+    for the subpixel constraint."""
+    datas = {d.iyloc: d for d in (x if isinstance(x, LineData) else LineData.of(x)
+                                  for x in lines)}
+    first_pass = replace(constraints, neighbours=False, subpixel=False)
+    first = {y: match_line(d, first_pass, replace(params, min_confidence=0.0))
+             for y, d in datas.items()} if constraints.neighbours else {}
+    out = {}
+    for y, d in datas.items():
+        nb = [first[n] for n in (y - 1, y + 1) if n in first]
+        out[y] = match_line(d, constraints, params, nb,
+                            profiles(y) if (profiles and constraints.subpixel) else None)
+    return out
+
+
+__all__ = ["CONSTRAINTS", "Constraints", "Params", "LineData", "Verdict", "match_line",
+           "match_lines"]

@@ -1,0 +1,393 @@
+"""The improved matcher (issue 13) on hand-made lines whose right answer is known:
+a picket fence whose first picket only the left camera sees, an occluded feature
+that must get "no match", a line where the 1985 matcher (MASL + LCSL, run here
+on the same maps) takes a wrong partner; each constraint on its own; the
+MARF measure, the DP kernel and the sub-pixel step against independent
+computations."""
+
+import numpy as np
+import pytest
+
+from diskfmt.dgreal import Real
+from estar.lcsl import lcsl, locate
+from estar.masl import MatchTables, masl
+from masl_wrappers import marf_shift
+from matching import Constraints, LineData, Params, match_line, match_lines
+from matching.candidates import candidates, shape_cost, slice_edges
+from matching.mode import VerdictTables, locate_float, make_matcher, constraints_from_args
+from matching.order import assign, order_dp
+from matching.subpixel import step_position
+
+
+
+def random_map(seed: int) -> list[int]:
+    """A 17-word edge map (flag 1, then 16 columns of about 8 bits each)."""
+    r = np.random.default_rng(seed)
+    cols = [int(sum(1 << b for b in r.choice(16, 8, replace=False))) for _ in range(16)]
+    return [1] + cols
+
+
+def damaged(m: list[int], flips: int, seed: int) -> list[int]:
+    """``m`` with ``flips`` set bits cleared: mismatch 256*f/(2n-f) at shift 0."""
+    r = np.random.default_rng(seed)
+    out = list(m)
+    bits = [(c, b) for c in range(1, 17) for b in range(16) if out[c] >> b & 1]
+    for k in r.choice(len(bits), flips, replace=False):
+        c, b = bits[k]
+        out[c] &= ~(1 << b)
+    return out
+
+
+class Line:
+    """A hand-made line: features (start, stop, lgrey, rgrey) with a map for
+    each end, in both slices."""
+
+    def __init__(self):
+        self.f = ([], [])
+        self.maps = (np.zeros((100, 17), dtype=np.int64), np.zeros((100, 17), dtype=np.int64))
+
+    def add(self, side: int, start: int, lg: int, rg: int, left_map, right_map, width=2):
+        k = len(self.f[side]) + 1
+        self.f[side].append((start, start + width, lg, rg))
+        self.maps[side][k - 1] = left_map
+        self.maps[side][k + 49] = right_map
+        return k
+
+    def data(self, iy=60) -> LineData:
+        return LineData(iy, list(self.f[0]), list(self.f[1]), self.maps[0].copy(),
+                        self.maps[1].copy())
+
+
+def all_on(data: LineData, constraints=Constraints()):
+    """Verdicts of ``data``'s line with the line repeated above and below (a
+    vertical edge), so the neighbour constraint has lines to look at."""
+    stack = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
+             for y in (data.iyloc - 1, data.iyloc, data.iyloc + 1)]
+    return match_lines(stack, constraints)[data.iyloc]
+
+
+def matched(verdicts):
+    return {v.edge: v for v in verdicts if v.matched}
+
+
+def faithful_disparities(data: LineData) -> dict[int, int]:
+    """MASL + LCSL of 1985 on the line's maps: edge -> located disparity."""
+    class NoFetch:
+        def nblob_many(self, requests, *a):
+            assert len(requests) == 0                  # every map is already there
+    cols = [[np.array([f[j] for f in fs] + [0] * (50 - len(fs))) for j in range(4)]
+            for fs in (data.features1, data.features2)]
+    tables = MatchTables()
+    masl(data.iyloc, len(data.features1), cols[0], len(data.features2), cols[1],
+         data.maps1.copy(), data.maps2.copy(), tables, NoFetch())
+    pos = [Real.from_int(0)] * 640
+    lcsl(data.iyloc, len(data.features1), tables, pos, Real.const("0.75"), Real.const("180"))
+    out = {}
+    for e in [k for k in range(1, len(data.features1) + 1)] + \
+             [k + 50 for k in range(1, len(data.features1) + 1)]:
+        entry = next((x for x in tables.entries(e) if x[2] - x[3] > 1), None)
+        if entry is not None and pos[(e - 1) * 6].m > 0:
+            out[e] = entry[2] - entry[3]
+    return out
+
+
+# --- the picket fence ---------------------------------------------------------
+
+PICKET_UP, PICKET_DOWN = (random_map(1), random_map(2)), (random_map(3), random_map(4))
+ANCHOR = (random_map(5), random_map(6))
+D_TRUE = 10
+
+
+def picket_fence() -> tuple[LineData, dict[int, int | None]]:
+    """Five identical pickets 8 px apart in the left slice at disparity 10; the
+    first is outside the right picture; a different feature (a door jamb)
+    stands beside them on the same wall.  Returns the line and the true
+    right-slice feature of each left feature (None: not in the right picture)."""
+    line = Line()
+    for side, shift in ((0, 0), (1, D_TRUE)):
+        for x in (6, 14, 22, 30, 38):
+            if x - shift >= 1:
+                line.add(side, x - shift, 3, 12, *PICKET_UP)
+                line.add(side, x - shift + 3, 12, 3, *PICKET_DOWN)
+        line.add(side, 60 - shift, 3, 8, *ANCHOR)
+    # features: left  1,2=picket@6  3,4=@14 ... 9,10=@38  11=anchor
+    #           right 1,2=picket@4(=left @14) ... 7,8=@28   9=anchor@50
+    truth = {1: None, 2: None}
+    for k in range(3, 11):
+        truth[k] = k - 2
+    truth[11] = 9
+    return line.data(), truth
+
+
+def test_picket_fence_1985_takes_wrong_partners():
+    data, _ = picket_fence()
+    disp = faithful_disparities(data)
+    wrong = [e for e, d in disp.items() if d != D_TRUE]
+    assert len(wrong) >= 8, disp            # "the best match available": the first picket
+
+
+def test_picket_fence_order_constraint_solves_it():
+    data, truth = picket_fence()
+    v = match_line(data, Constraints.only("order"))
+    m = matched(v)
+    for k, partner in truth.items():
+        for e, pe in ((k, partner), (k + 50, partner and partner + 50)):
+            if partner is None:
+                assert e not in m, f"edge {e} is outside the right picture"
+            else:
+                assert e in m and m[e].partner == pe, (e, m.get(e))
+                assert m[e].disparity == D_TRUE
+    first = [x for x in v if x.edge in (1, 51)]
+    assert all(x.reason == "occluded" for x in first)
+
+
+def test_picket_fence_all_constraints_keep_the_answer():
+    data, truth = picket_fence()
+    lines = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
+             for y in (59, 60, 61)]
+    m = matched(match_lines(lines, Constraints())[60])
+    assert {e: x.disparity for e, x in m.items()} == {
+        e: D_TRUE for k, p in truth.items() if p is not None for e in (k, k + 50)}
+
+
+def test_without_order_the_fence_stays_ambiguous():
+    """Without the order constraint the pickets are told apart by nothing: with
+    no minimum confidence some take wrong partners; by default their
+    confidence (no margin over the rival pickets) makes them "ambiguous"."""
+    data, _ = picket_fence()
+    m = matched(match_line(data, Constraints.none(), Params(min_confidence=0.0)))
+    assert any(x.disparity != D_TRUE for x in m.values())
+    assert all(x.confidence == 0 for x in m.values() if x.disparity != D_TRUE)
+    v = match_line(data, Constraints.none())
+    assert all(x.disparity == D_TRUE for x in v if x.matched)
+    assert sum(x.reason == "ambiguous" for x in v) >= 8
+
+
+# --- an occluded feature --------------------------------------------------------
+
+def occluded_line():
+    """Left slice: A at 30, F at 50, B at 70; right slice: A at 22, G at 35, B
+    at 62 (disparity 8).  F (greys 9->5) is hidden from the right camera; G
+    has F's greys and a shape somewhat like it (about 100 of 256 apart), and
+    G's true partner is left feature G' at 43, which looks exactly like it."""
+    line = Line()
+    a, b = (random_map(11), random_map(12)), (random_map(13), random_map(14))
+    g = (random_map(15), random_map(16))
+    f = (damaged(g[0], 40, 1), damaged(g[1], 40, 2))
+    line.add(0, 30, 4, 11, *a)
+    line.add(0, 43, 9, 5, *g)
+    line.add(0, 50, 9, 5, *f)
+    line.add(0, 70, 6, 14, *b)
+    line.add(1, 22, 4, 11, *a)
+    line.add(1, 35, 9, 5, *g)
+    line.add(1, 62, 6, 14, *b)
+    return line.data()
+
+
+def test_occluded_feature_gets_no_match():
+    data = occluded_line()
+    disp = faithful_disparities(data)
+    assert disp.get(3) == 50 - 35 and disp.get(53) == 15     # 1985: the best match available
+    for cons in (Constraints(), Constraints.only("order"), Constraints.only("lr")):
+        v = {x.edge: x for x in all_on(data, cons)}
+        assert not v[3].matched and not v[53].matched, cons
+        assert v[3].reason in ("occluded", "not mutual", "ambiguous")
+        for e, d in ((1, 8), (2, 8), (4, 8), (51, 8), (52, 8), (54, 8)):
+            assert v[e].matched and v[e].disparity == d, (cons, e, v[e])
+
+
+def test_lr_reports_not_mutual():
+    v = {x.edge: x for x in match_line(occluded_line(), Constraints.only("lr"),
+                                       Params(lr_tolerance=8))}
+    assert v[3].reason == "not mutual"
+
+
+# --- a wrong partner in 1985, the right one here ---------------------------------
+
+def crossing_line():
+    """C at 20 and A at 30 in the left slice, C' at 12 and A' at 22 in the right
+    (disparity 8).  A looks a little more like C' (5 bits off) than like its
+    own partner A' (10 bits off), so 1985 takes C' for A (disparity 18)."""
+    line = Line()
+    c = (random_map(21), random_map(22))
+    a = (damaged(c[0], 5, 3), damaged(c[1], 5, 4))
+    a_right = (damaged(c[0], 15, 3), damaged(c[1], 15, 4))
+    line.add(0, 20, 5, 10, *c)
+    line.add(0, 30, 5, 10, *a)
+    line.add(1, 12, 5, 10, *c)
+    line.add(1, 22, 5, 10, *a_right)
+    return line.data()
+
+
+def test_1985_picks_a_wrong_partner_the_improved_mode_does_not():
+    data = crossing_line()
+    disp = faithful_disparities(data)
+    assert disp[2] == 18 and disp[52] == 18                      # A -> C': wrong
+    for cons in (Constraints(), Constraints.only("order")):
+        m = matched(all_on(data, cons))
+        assert {e: x.disparity for e, x in m.items()} == {1: 8, 2: 8, 51: 8, 52: 8}, cons
+        assert m[2].partner == 2 and m[52].partner == 52
+
+
+def test_confidence_is_lower_for_the_contested_match():
+    m = matched(match_line(crossing_line(), Constraints.only("order")))
+    assert 0 <= m[2].confidence < m[1].confidence <= 1
+
+
+# --- neighbours and regions -----------------------------------------------------
+
+def test_neighbour_constraint_needs_a_vertical_line():
+    data = crossing_line()
+    p = Params(min_confidence=0.0)
+    lone = match_lines([data], Constraints.only("neighbours"), p)[60]
+    assert not any(v.matched for v in lone)
+    assert {v.reason for v in lone} == {"not on a vertical line"}
+    stack = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
+             for y in (59, 60, 61)]
+    assert matched(match_lines(stack, Constraints.only("neighbours"), p)[60])
+
+
+def test_region_constraint_wants_both_ends():
+    """A feature whose right end has no admissible partner (grey 14 vs 7)
+    loses its left end's match too under 'region'."""
+    line = Line()
+    m = (random_map(31), random_map(32))
+    line.add(0, 30, 4, 14, *m)
+    line.add(1, 22, 4, 7, *m)
+    data = line.data()
+    assert matched(match_line(data, Constraints.none())).keys() == {1}
+    strict = Params(region_penalty=None)
+    v = {x.edge: x for x in match_line(data, Constraints.only("region"), strict)}
+    assert not v[1].matched and v[1].reason == "no region partner"
+    # the default only charges the lone end one occlusion's worth more
+    v = {x.edge: x for x in match_line(data, Constraints.only("region"))}
+    assert v[1].matched and v[1].cost == Params().region_penalty
+
+
+# --- the pieces against independent computations ----------------------------------
+
+def test_shape_cost_is_marfs_search():
+    for seed in range(40):
+        r = np.random.default_rng(seed)
+        m1 = [1] + [int(x) for x in r.integers(0, 1 << 16, 16)]
+        m2 = [1] + [int(x) & int(y) for x, y in zip(m1[1:], r.integers(0, 1 << 16, 16))]
+        bound = int(r.integers(0, 9))
+        mloc, mnval, _ = marf_shift(m1, m2, bound)
+        assert shape_cost(m1, m2, bound, cap_overflow=True) == (mloc, mnval)
+
+
+def test_shape_cost_of_hand_counted_maps():
+    m = [1] + [0b1111] * 16                           # 64 bits
+    half = [1] + [0b0011] * 16                        # 32 bits, all inside m
+    assert shape_cost(m, m, 3) == (0, 0)
+    assert shape_cost(m, half, 0) == (0, 32 * 256 // 96)
+    assert shape_cost([1] + [0] * 16, [1] + [0] * 16, 2) == (0, 256)
+
+
+def test_edges_follow_the_line_with_masl_bounds():
+    e = slice_edges([(10, 14, 3, 9), (20, 22, 9, 3)])
+    assert e.x.tolist() == [10, 14, 20, 22]
+    assert e.edge.tolist() == [1, 51, 2, 52]
+    # left end of feature 1: min(start=10, half width 2) = 2; gap to feature 2 is 6 -> 3 > 2
+    assert e.bound.tolist() == [2, 2, 1, 1]
+
+
+def test_candidates_need_grey_side_maps_and_disparity():
+    data = crossing_line()
+    c = candidates(data.features1, data.features2, data.maps1, data.maps2)
+    pairs = {(int(c.left.edge[i]), int(c.right.edge[j])) for i, j in zip(c.i, c.j)}
+    assert pairs == {(1, 1), (2, 1), (2, 2), (51, 51), (52, 51), (52, 52)}
+
+
+def test_dp_kernel_equals_its_plain_python():
+    kernel = getattr(order_dp, "py_func", order_dp)
+    for seed in range(10):
+        r = np.random.default_rng(seed)
+        k = 60
+        ci = np.sort(r.integers(0, 20, k))
+        cj = r.integers(0, 20, k)
+        o = np.lexsort((cj, ci))
+        ci, cj = ci[o], cj[o]
+        ben = r.uniform(-100, 20, k)
+        disp = r.uniform(2, 30, k)
+        outs = []
+        for fn in (order_dp, kernel):
+            f, b, p = np.zeros(k), np.zeros(k), np.zeros(k, dtype=np.int64)
+            outs.append((fn(ci, cj, ben, disp, 8.0, 4.0, f, b, p), f, b, p))
+        assert outs[0][0] == outs[1][0]
+        for x, y in zip(outs[0][1:], outs[1][1:]):
+            assert np.allclose(x, y)
+
+
+def test_dp_against_brute_force():
+    """The best order-keeping 1-1 assignment of a small random grid, by trying
+    every subset of candidates."""
+    from itertools import combinations
+    for seed in range(8):
+        r = np.random.default_rng(100 + seed)
+        ci = r.integers(0, 5, 9)
+        cj = r.integers(0, 5, 9)
+        cost = r.uniform(0, 200, 9)
+        disp = r.uniform(2, 12, 9)
+        chosen, _ = assign(ci, cj, cost, disp, 64.0, 8.0, 4.0)
+
+        def total(sel):
+            sel = sorted(sel, key=lambda k: (ci[k], cj[k]))
+            t = sum(cost[k] - 128.0 for k in sel)
+            t += sum(8.0 * min(abs(disp[a] - disp[b]), 4.0) for a, b in zip(sel, sel[1:]))
+            return t
+
+        def valid(sel):
+            sel = sorted(sel, key=lambda k: (ci[k], cj[k]))
+            return all(ci[a] < ci[b] and cj[a] < cj[b] for a, b in zip(sel, sel[1:]))
+        best = min((total(s) for n in range(10) for s in combinations(range(9), n) if valid(s)))
+        assert valid(chosen) and total(chosen) == pytest.approx(best)
+
+
+def test_step_position_finds_the_crossing():
+    profile = np.full(256, 3.0)
+    profile[61:] = 11.0
+    profile[60] = 7.0                 # the step's middle at .VD 60.5 (pixel centre)
+    # 128-px index units: 60.5 / 2 + 0.5
+    assert step_position(profile, 29, 32, 3, 11) == pytest.approx(60.5 / 2 + 0.5)
+    profile[60] = 5.0                 # a quarter of the way: the crossing moves right
+    assert step_position(profile, 29, 32, 3, 11) == pytest.approx((60.5 + 2 / 6) / 2 + 0.5)
+    assert step_position(profile, 29, 32, 3, 3) is None
+
+
+def test_locate_float_is_lcsl_in_floating_point():
+    for loc1, loc2, iy in ((40, 30, 60), (100, 91, 20), (12, 4, 110)):
+        exact = [float(v) for v in locate(loc1, loc2, iy, Real.const("0.75"), Real.const("180"))]
+        assert np.allclose(locate_float(loc1, loc2, iy, 0.75, 180.0), exact, rtol=1e-5)
+    assert locate_float(30.5, 29.6, 60, 0.75, 180.0) is None
+
+
+def test_verdict_tables_feed_lcsl():
+    data = crossing_line()
+    v = match_line(data, Constraints.only("order"))
+    pos = [Real.from_int(7)] * 640
+    lcsl(60, 2, VerdictTables(v), pos, Real.const("0.75"), Real.const("180"))
+    assert float(pos[(2 - 1) * 6]) == pytest.approx(0.75 * 180 / 8, rel=1e-5)
+
+
+def test_modes_and_flags():
+    assert make_matcher("1985") is None
+    assert make_matcher("improved", "order,lr").constraints == Constraints.only("order", "lr")
+    with pytest.raises(ValueError):
+        make_matcher("1986")
+    with pytest.raises(ValueError):
+        Constraints.parse("order,magic")
+
+    class A:
+        match = "improved"
+        constraints = "all"
+    assert constraints_from_args(A(), subpixel=True).subpixel
+    assert not constraints_from_args(A(), subpixel=False).subpixel
+    A.constraints = "subpixel"
+    with pytest.raises(ValueError, match="VD"):
+        constraints_from_args(A(), subpixel=False)
+    A.constraints = None
+    assert constraints_from_args(A()) == Constraints()
+    A.match, A.constraints = "1985", "order"
+    with pytest.raises(ValueError, match="--match improved"):
+        constraints_from_args(A())

@@ -1,0 +1,57 @@
+"""The matching benchmark's truth (bench/matching.py): the occlusion mask of a
+box before a wall against the same geometry worked out by hand, and the
+generated rooms render deterministically."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from rig import scene as sc
+
+_PATH = Path(__file__).resolve().parent.parent / "bench" / "matching.py"
+_spec = importlib.util.spec_from_file_location("bench_matching", _PATH)
+bm = importlib.util.module_from_spec(_spec)
+sys.modules.setdefault("bench_matching", bm)
+_spec.loader.exec_module(bm)
+
+WALL_Z, BOX_Z, BOX_X = 12.0, 4.0, (-0.5, 0.5)
+
+
+def box_before_wall():
+    return sc.box("box", BOX_X, (-1.0, 1.0), (BOX_Z, BOX_Z + 1.0), sc.flat(9), sc.flat(9),
+                  sc.flat(9)) + [
+        sc._quad("wall", 2, WALL_Z, (-40.0, 40.0), (-40.0, 40.0), sc.flat(4))]
+
+
+def test_occlusion_truth_of_a_box_before_a_wall():
+    occ = bm.occlusion_truth(box_before_wall())
+    row = 60                                   # through the box (pixel centre y = 0.5/360*Z)
+    u = 2.0 * np.arange(128) + 1.0
+    px = (u - sc.CX) / sc.FOCAL_256
+    x_box = sc.LEFT_X + BOX_Z * px             # where the left ray meets the box's front plane
+    on_box = (x_box >= BOX_X[0]) & (x_box <= BOX_X[1])
+    x_wall = sc.LEFT_X + WALL_Z * px
+    # the right camera's ray to the wall point crosses the box front at
+    x_cross = sc.RIGHT_X + (x_wall - sc.RIGHT_X) * BOX_Z / WALL_Z
+    hidden = ~on_box & (x_cross >= BOX_X[0]) & (x_cross <= BOX_X[1])
+    ur = (x_wall - sc.RIGHT_X) / WALL_Z * sc.FOCAL_256 + sc.CX
+    outside = (ur < 0) | (ur >= sc.WIDTH)
+    want = hidden | outside
+    # the first 135/12 = 11.25 columns of the left picture lie left of the right one's
+    assert np.flatnonzero(outside).tolist() == list(range(11))
+    # the hidden band is the strip left of the box, as wide as the disparity difference
+    band = np.flatnonzero(hidden)
+    assert band.max() < np.flatnonzero(on_box).min()
+    assert abs(len(band) - (135 / BOX_Z - 135 / WALL_Z)) <= 1
+    assert np.array_equal(occ[row], want)
+
+
+def test_generated_rooms_are_seeded_and_differ():
+    def geometry(seed):
+        return [(q.name, q.axis, q.c, q.lo, q.hi) for q in bm.generated_quads(seed)]
+    assert geometry(1) == geometry(1) != geometry(2)
+    room = bm.rendered("r", bm.generated_quads(3), 3)          # rendering: rig.scene's own
+    assert room.occluded.any() and np.isfinite(room.true_disp).all()
+    assert room.left_bi.shape == (120, 128) and room.left_vd.shape == (240, 256)
