@@ -280,7 +280,7 @@ def bundled_lab() -> Room:
     back to a front wall at Z = -5 ft (with a door and a poster), the side walls carry posters
     (left wall at Z 2..8, nearer than the 10.2 ft where the left wall enters the 1985 view; right
     wall at Z < 18.6), and every box gets its back face (never nearer than its front, so never
-    drawn from the bundled pose).
+    drawn from the bundled pose).  tests/test_world_render.py checks the bytes.
     """
     s = scene
     y0, y1 = s.CEILING_Y, FLOOR_Y
@@ -291,9 +291,15 @@ def bundled_lab() -> Room:
         _q("left poster", 0, x0, (-2.8, -0.6), (2.0, 4.0), flat(13)),
         _q("left chart", 0, x0, (-2.5, 0.5), (5.5, 8.0),
            checks(11, 4, 0.5, 1, 2, origin=(-2.5, 5.5))),
-        # right wall (X = 7): a striped poster and a dark notice board
+        # left wall, near the front: a striped calendar
+        _q("left calendar", 0, x0, (-2.2, 0.2), (-3.5, -0.5), stripes(12, 3, 0.3, 2, origin=-3.5)),
+        # right wall (X = 7): a map, a striped poster, a notice board with two sheets, a picture
+        _q("right map", 0, x1, (-2.0, 0.5), (-3.0, 1.5), checks(13, 5, 0.45, 1, 2, origin=(-2.0, -3.0))),
         _q("right poster", 0, x1, (-2.5, 0.0), (5.0, 8.0), stripes(14, 5, 0.4, 2, origin=5.0)),
+        _q("right notice sheet", 0, x1, (-2.6, -1.5), (11.4, 12.3), flat(14)),
+        _q("right notice sheet", 0, x1, (-1.2, 0.1), (12.8, 13.5), flat(12)),
         _q("right notice board", 0, x1, (-3.0, 0.5), (11.0, 14.0), flat(2)),
+        _q("right picture", 0, x1, (-2.0, -0.5), (15.5, 17.5), flat(1)),
         # front wall (Z = -5): a door and a poster
         _q("front door knob", 2, z0, (1.25, 1.4), (-0.05, 0.1), flat(15)),
         _q("front door panel", 2, z0, (0.5, 2.4), (-4.0, y1), flat(4)),
