@@ -7,7 +7,7 @@ import pytest
 from diskfmt.layouts import encode_bi, encode_vd
 from rig.scene import bundled_path, flat, range_npy_bytes
 from world.pose import Pose
-from world.render import (LeftTheRoom, _directions, _grid, render_camera, render_look,
+from world.render import (LeftTheRoom, _directions, _grid, _trace_windows, render_camera, render_look,
                           project, trace_grid, trace_rays, visible)
 from world.room import bundled_lab, full_box, generate_room, make_room, _q
 
@@ -122,6 +122,9 @@ def test_windowed_trace_equals_plain_trace(lab):
             t, which, d = trace_grid(lab.quads, o, R, px, py)
             t0, which0 = trace_rays(lab.quads, o, _directions(R, px, py))
             assert np.array_equal(which, which0) and np.array_equal(t, t0)
+            # the numpy windowed path (used without numba) too
+            t1, which1, _ = _trace_windows(lab.quads, o, R, px, py, tuple(d))
+            assert np.array_equal(which1, which0) and np.array_equal(t1, t0)
 
 
 def test_visible_vertices(lab):
