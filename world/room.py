@@ -77,8 +77,13 @@ class Room:
 # --- building rooms ------------------------------------------------------------------------
 
 def _q(name, axis, c, b1, b2, shade) -> Quad:
+    """A quad on the plane ``coord[axis] == c`` spanning ranges ``b1``, ``b2`` of the two other
+    axes in X, Y, Z order (rig.scene's convention)."""
     return Quad(name, axis, float(c), (float(b1[0]), float(b2[0])),
                 (float(b1[1]), float(b2[1])), shade)
+
+
+quad = _q          # the public name
 
 
 def full_box(name, x, y, z, front, side, top, back=None) -> list[Quad]:
