@@ -174,10 +174,33 @@ def cmd_pictures(args) -> int:
              look_strip(looks, [f"room {s}, look 12 (pitch {lk.pose.pitch_deg:.1f}, roll "
                                 f"{lk.pose.roll_deg:.1f})" for s, lk in zip((1, 2, 3), looks)],
                         per_row=1))
+    save_png(out / "bitmaps-door.png", _door_sheet())
     for name in ("world-lab-map.png", "world-lab-looks.png", "world-rooms.png",
-                 "world-room-looks.png"):
+                 "world-room-looks.png", "bitmaps-door.png"):
         print(out / name)
     return 0
+
+
+def _door_sheet():
+    """docs/formats.md's picture: NSTAR's extension codes 13 and 11 on the bundled pair's door
+    panel (Star at column 48, row 45, radius 40), the block map with the named fix
+    --no-wrap-percent (in 1985 its 16-bit percentage wraps for a region this large, QUIRKS N6,
+    and the map reads empty)."""
+    from diskfmt.bitmap_files import decode_opmap, decode_rbmap
+    from diskfmt.layouts import Command, decode_bi, encode_ncont
+    from model.bitmaps import rotate
+    from nstar.program import Nova, Options
+    from rig.scene import bundled_path
+    from world.pictures import bitmap_sheet
+    left = decode_bi(bundled_path("LAB-L.BI").read_bytes())
+    right = decode_bi(bundled_path("LAB-R.BI").read_bytes())
+    nova = Nova(options=Options(bitmap_extensions=True, no_wrap_percent=True))
+    nova.load_pair(left, right)
+    _, maps = decode_opmap(nova.execute(encode_ncont(Command(13, 1, 48, 45, 40, 1)))[0].data)
+    rm = decode_rbmap(nova.execute(encode_ncont(Command(11, 1, 48, 45, 40, 1)))[0].data)
+    return bitmap_sheet(left, rm.icntr, maps, rotate(rm.irmap, -rm.orientation), rm.orientation,
+                        "LAB-L.BI, the Star at the door panel (48, 45): code 13 (block map A and "
+                        "B-2..B-8) and code 11 (radial map)")
 
 
 def main(argv=None) -> int:
