@@ -52,6 +52,7 @@ from matching import Constraints, Params, match_lines   # noqa: E402
 from matching.subpixel import line_profile               # noqa: E402
 from pre.condense import condense                        # noqa: E402
 from rig import scene as sc                              # noqa: E402
+from world.render import trace_rays                      # noqa: E402
 
 BEGIN = "<!-- matching-table:begin -->"
 END = "<!-- matching-table:end -->"
@@ -81,11 +82,11 @@ def occlusion_truth(quads) -> np.ndarray:
     v = 2.0 * np.arange(120) + 1.0
     px = np.ascontiguousarray(np.broadcast_to(((u - sc.CX) / sc.FOCAL_256)[None, :], (120, 128)))
     py = np.ascontiguousarray(np.broadcast_to(((v - sc.CY) / sc.FOCAL_256)[:, None], (120, 128)))
-    z, _ = sc._trace(sc.LEFT_X, px, py, quads)
+    z, _ = trace_rays(quads, (sc.LEFT_X, 0.0, 0.0), (px, py, np.ones_like(px)))
     x = sc.LEFT_X + z * px
     pr = (x - sc.RIGHT_X) / z
     ur = pr * sc.FOCAL_256 + sc.CX
-    zr, _ = sc._trace(sc.RIGHT_X, np.ascontiguousarray(pr), py, quads)
+    zr, _ = trace_rays(quads, (sc.RIGHT_X, 0.0, 0.0), (np.ascontiguousarray(pr), py, np.ones_like(px)))
     outside = (ur < 0) | (ur >= sc.WIDTH)
     hidden = zr < z * (1 - 1e-6) - 1e-6
     return outside | hidden
