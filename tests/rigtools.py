@@ -52,3 +52,13 @@ def run_estar(jhdata: Path, *extra, timeout=120) -> subprocess.CompletedProcess:
         [sys.executable, "-m", "estar.main", "--jhdata", str(jhdata), "--separation", "0.75",
          "--virtual-distance", "180", "--debug", "0", *extra],
         capture_output=True, text=True, env=env(), timeout=timeout, stdin=subprocess.DEVNULL)
+
+
+def hold_estar_lock(jhdata: Path):
+    """Play a live ESTAR's part in the protocol: hold ESTAR.LCK (NSTAR obeys a
+    command found at its start only while an ESTAR holds it, issue 9.7).
+    ``.close()`` the result to die."""
+    from diskfmt.rdos import JHData, ESTAR_LOCK
+    jh = JHData(jhdata, me="ESTAR", peer="NSTAR", use_events=False)
+    jh.lock(ESTAR_LOCK)
+    return jh

@@ -12,7 +12,7 @@ from estar.link import DirectLink
 from estar.program import Eclipse
 from nstar.program import Nova
 
-from rigtools import make_pair, env, start_nstar
+from rigtools import make_pair, env, start_nstar, hold_estar_lock
 
 
 def test_estar_asks_as_in_1985_and_stops_on_a_line_outside_0_119(tmp_path):
@@ -54,6 +54,7 @@ def test_nstar_dialogue_loads_the_pair_from_typed_file_names(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
     left, right = make_pair(tmp_path)
+    live = hold_estar_lock(jh)                     # the test plays the ESTAR
     p = subprocess.Popen([sys.executable, "-m", "nstar.main", "--jhdata", str(jh),
                           "--idle-timeout", "30"],
                          stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -68,6 +69,7 @@ def test_nstar_dialogue_loads_the_pair_from_typed_file_names(tmp_path):
     finally:
         if p.poll() is None:
             p.kill()
+        live.close()
     assert p.returncode == 0, err
     for text in (" NOVA half of stereo vision system", " 16-Edge bit map.",
                  " Input the debug flags. (=0 for no flags.) ", "Save the current image? (0=NO) ",
