@@ -112,7 +112,7 @@ def _save_new(name: str, data: bytes, console: Console) -> bool:
     except FileExistsError:
         console.type(f" {name} exists; not overwritten.")
     except (OSError, ValueError) as exc:        # ValueError: a NUL byte in the name
-        why = describe_os_error(exc) if isinstance(exc, OSError) else f"{name!r}: {exc}"
+        why = f"{name!r}: {exc.strerror if isinstance(exc, OSError) else exc}"
         console.type(f" Cannot save the image: {why}; not saved.")
     return False
 

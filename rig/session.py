@@ -19,6 +19,7 @@ from estar.masl import Options as MaslOptions
 from estar.program import file_link_estar
 
 REPO = Path(__file__).resolve().parent.parent
+_IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT")
 
 
 def child_env() -> dict:
@@ -101,10 +102,40 @@ def file_link_eclipse(jhdata: Path, left: Path, right: Path, ds: str = "0.75",
             if ok and proc.poll() is None:
                 ecl.terminate()
                 stop_process(proc)
-            else:
-                link.withdraw()
-                if proc.poll() is None:
-                    proc.kill()
+            else:                          # interrupted or failed: stop now, and tidy
+                if proc.poll() is None:        # the directory (every protocol file in
+                    proc.kill()                # it is ours or our NSTAR's)
                 proc.wait()
+                for name in _IN_FLIGHT:
+                    link.jh.delete(name)
     finally:
         link.close()
+
+
+@contextlib.contextmanager
+def rig_jhdata(given: str | Path | None):
+    """The jhdata/ a ``rig`` command runs its own NSTAR on: a private temporary
+    directory, removed afterwards, unless one is ``given`` (issue 8.12) — and
+    then only if no NSTAR runs there already: rig never talks to an NSTAR it
+    did not start."""
+    import shutil
+    import tempfile
+    from diskfmt.rdos import JHData, LockedError, NSTAR_LOCK
+    if given is None:
+        d = Path(tempfile.mkdtemp(prefix="rig-jhdata-"))
+        try:
+            yield d
+        finally:
+            shutil.rmtree(d, ignore_errors=True)
+        return
+    d = Path(given)
+    d.mkdir(parents=True, exist_ok=True)
+    probe = JHData(d, me="rig", peer="NSTAR", use_events=False)
+    try:
+        if probe.held(NSTAR_LOCK):
+            raise LockedError(f"an nstar is already running on {d}; rig starts its own "
+                              f"NSTAR — stop that one, or leave out --jhdata (rig then uses "
+                              f"a private temporary directory)")
+    finally:
+        probe.close()
+    yield d

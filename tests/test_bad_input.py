@@ -2,12 +2,16 @@
 nothing lost."""
 
 import subprocess
+
+import pytest
 import sys
 import time
 
 from diskfmt.layouts import Command, encode_ncont, encode_slice, Slice, decode_posit
 
 from rigtools import make_pair, start_nstar, run_estar, env, hold_estar_lock
+
+pytestmark = pytest.mark.processes
 
 
 def test_bi_of_wrong_size_is_refused_by_nstar(tmp_path):

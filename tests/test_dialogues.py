@@ -3,6 +3,8 @@ each flag turns on (FORTRAN unit 12)."""
 
 import io
 import subprocess
+
+import pytest
 import sys
 
 from diskfmt.dgreal import Real
@@ -15,6 +17,7 @@ from nstar.program import Nova
 from rigtools import make_pair, env, start_nstar, hold_estar_lock
 
 
+@pytest.mark.processes
 def test_estar_asks_as_in_1985_and_stops_on_a_line_outside_0_119(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
@@ -39,6 +42,7 @@ def test_estar_asks_as_in_1985_and_stops_on_a_line_outside_0_119(tmp_path):
     assert decode_posit((jh / "POSIT.DT").read_bytes()).np_ == 6
 
 
+@pytest.mark.processes
 def test_estar_asks_again_after_an_answer_that_is_not_a_number(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
@@ -50,6 +54,7 @@ def test_estar_asks_again_after_an_answer_that_is_not_a_number(tmp_path):
     assert done.stdout.count(" Camera seperation = ") == 2
 
 
+@pytest.mark.processes
 def test_nstar_dialogue_loads_the_pair_from_typed_file_names(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()

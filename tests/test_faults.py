@@ -31,108 +31,13 @@ from estar.link import DirectLink
 from estar.program import Eclipse
 from nstar.program import Nova
 
-from rigtools import make_pair, env, hold_estar_lock
+from rigtools import (BOX_LINES, FakeNova, cleanup, command_in, env, estar, finish, freeze,
+                      freeze_when, hold_estar_lock, nstar, output, reference, send_raw, stale,
+                      wait_until)
 
-# lines crossing the boxes of rigtools.make_pair, each with edge maps to ask for:
-# enough round trips for a poll to catch a given moment
-BOX_LINES = [str(y) for y in range(30, 90, 3)]
+pytestmark = pytest.mark.processes
+
 PUBLIC = ("NCONT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT", "POSIT.DT", "TERM.DT")
-
-
-# --- helpers -------------------------------------------------------------------
-
-def wait_until(cond, timeout=15.0, what="condition"):
-    deadline = time.monotonic() + timeout
-    while not cond():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"timed out waiting for {what}")
-        time.sleep(0.002)
-
-
-def spawn(module: str, out: Path, *args) -> subprocess.Popen:
-    """A program as a real process; its console goes to ``out``.stdout/.stderr
-    files (a pipe nobody reads could block it)."""
-    return subprocess.Popen([sys.executable, "-m", module, *map(str, args)],
-                            stdout=open(f"{out}.stdout", "w"), stderr=open(f"{out}.stderr", "w"),
-                            stdin=subprocess.DEVNULL, env=env(), text=True)
-
-
-def nstar(tmp: Path, jh: Path, tag: str, *extra) -> subprocess.Popen:
-    return spawn("nstar.main", tmp / tag, "--jhdata", jh, "--debug", "0", "--left",
-                 tmp / "L.BI", "--right", tmp / "R.BI", "--idle-timeout", "60", *extra)
-
-
-def estar(tmp: Path, jh: Path, tag: str, *extra) -> subprocess.Popen:
-    return spawn("estar.main", tmp / tag, "--jhdata", jh, "--separation", "0.75",
-                 "--virtual-distance", "180", "--debug", "0", *extra)
-
-
-def output(tmp: Path, tag: str) -> tuple[str, str]:
-    return ((tmp / f"{tag}.stdout").read_text(), (tmp / f"{tag}.stderr").read_text())
-
-
-def finish(p: subprocess.Popen, timeout=20) -> int:
-    return p.wait(timeout=timeout)
-
-
-def cleanup(*procs) -> None:
-    for p in procs:
-        if p is not None and p.poll() is None:
-            p.kill()                      # SIGKILL also ends a stopped process
-            p.wait(timeout=10)
-
-
-def stopped(pid: int) -> bool:
-    with open(f"/proc/{pid}/stat") as fh:
-        return fh.read().rsplit(")", 1)[1].split()[0] in "tT"
-
-
-def freeze(p: subprocess.Popen) -> None:
-    os.kill(p.pid, signal.SIGSTOP)
-    wait_until(lambda: stopped(p.pid), 5, "SIGSTOP to take effect")
-
-
-def command_in(jh: Path) -> Command | None:
-    try:
-        return decode_ncont((jh / "NCONT.DT").read_bytes())
-    except (FileNotFoundError, FormatError):
-        return None
-
-
-def freeze_when(p: subprocess.Popen, cond, timeout=15.0, recheck=True) -> None:
-    """Stop ``p`` at a moment when ``cond()`` holds (with ``recheck``, checked
-    again while it is stopped, so the state cannot move on under us)."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if cond():
-            freeze(p)
-            if not recheck or cond():
-                return
-            os.kill(p.pid, signal.SIGCONT)
-        time.sleep(0.0005)
-    raise AssertionError("the wanted moment never came")
-
-
-def reference(tmp: Path, lines) -> bytes:
-    """POSIT.DT of one clean ESTAR run over ``lines`` (direct link)."""
-    nova = Nova()
-    nova.load_pair(decode_bi((tmp / "L.BI").read_bytes()), decode_bi((tmp / "R.BI").read_bytes()))
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
-    return [ecl.lcln(y) for y in lines][-1].posit
-
-
-def send_raw(jh: Path, cmd: Command) -> None:
-    """Publish one NCONT.DT as ESTAR does: temp name, wait for the name, link."""
-    wait_until(lambda: not (jh / "NCONT.DT").exists(), 10, "NSTAR to take NCONT.DT")
-    tmp = jh / "XCONT.DT"
-    tmp.write_bytes(encode_ncont(cmd))
-    os.link(tmp, jh / "NCONT.DT")
-    tmp.unlink()
-
-
-def stale(jh: Path) -> list[str]:
-    d = jh / "STALE"
-    return sorted(p.name for p in d.iterdir()) if d.is_dir() else []
 
 
 class WriteWatch:
@@ -179,14 +84,6 @@ class WriteWatch:
     def appeared(self, name: str) -> int:
         return sum(1 for m, n in self.events
                    if n == name and m & (self.C.IN_CREATE | self.C.IN_MOVED_TO))
-
-
-@pytest.fixture
-def rig(tmp_path):
-    jh = tmp_path / "jhdata"
-    jh.mkdir()
-    make_pair(tmp_path)
-    return tmp_path, jh
 
 
 # --- stale files at start ----------------------------------------------------------
@@ -400,40 +297,6 @@ def test_kill_estar_between_slices_nstar_reports_the_untaken_reply_and_keeps_ser
 
 
 # --- corrupt or truncated files -------------------------------------------------------
-
-class FakeNova(threading.Thread):
-    """NSTAR's loop in this process (the real program's replies from
-    nstar.program.Nova), with one reply replaced by damaged bytes."""
-
-    def __init__(self, tmp: Path, jh: Path, name: str, damage):
-        super().__init__(daemon=True)
-        self.nova = Nova()
-        self.nova.load_pair(decode_bi((tmp / "L.BI").read_bytes()),
-                            decode_bi((tmp / "R.BI").read_bytes()))
-        self.jh = JHData(jh, me="NSTAR", peer="ESTAR", timeout=5)
-        self.name, self.damage, self.sent = name, damage, None
-        self.running = True
-
-    def run(self):
-        while self.running:
-            try:
-                self.jh.wait_for("NCONT.DT", timeout=0.2)
-            except LinkTimeout:
-                continue
-            for reply in self.nova.execute(self.jh.take("NCONT.DT")):
-                data = reply.data
-                if reply.name == self.name and self.sent is None:
-                    data = self.sent = self.damage(data)
-                try:
-                    self.jh.publish(reply.temp, reply.name, data)
-                except LinkTimeout:
-                    return
-
-    def stop(self):
-        self.running = False
-        self.join(5)
-        self.jh.close()
-
 
 @pytest.mark.parametrize("name,damage,problem", [
     ("SLICE.DT", lambda d: d[:1000], "1000 bytes, expected 1024 or 512"),

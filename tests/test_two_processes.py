@@ -10,6 +10,8 @@ from nstar.program import Nova
 
 from rigtools import make_pair, start_nstar, run_estar, BOXES
 
+pytestmark = pytest.mark.processes
+
 LINES = [20, 60, 45, 90]
 
 
