@@ -137,8 +137,13 @@ class FileLink(Link):
     def withdraw(self) -> bool:
         """Take back a command NSTAR has not taken (while ESTAR.LCK is held every
         NCONT.DT and ECONT.DT is this ESTAR's).  True if there was one."""
-        temp = self.jh.delete("ECONT.DT")
-        return self.jh.delete("NCONT.DT") or temp
+        taken_back = False
+        for name in ("ECONT.DT", "NCONT.DT"):
+            try:
+                taken_back = self.jh.delete(name) or taken_back
+            except OSError:                   # not a file of ours (a directory planted)
+                pass
+        return taken_back
 
     def nwait(self, name: str) -> bytes:
         self.jh.wait_for(name)

@@ -21,14 +21,11 @@ from pathlib import Path
 
 import pytest
 
-from diskfmt.dgreal import Real
-from diskfmt.layouts import (Command, FormatError, decode_bi, decode_block, decode_ncont,
+from diskfmt.layouts import (Command, FormatError, decode_bi, decode_block,
                              decode_posit, encode_ncont, encode_slice, encode_wbmap,
                              Slice, CODE_EDGE_MAP, CODE_SLICE, BLOCK_DT_BYTES,
                              POSIT_BYTES)
-from diskfmt.rdos import JHData, LinkTimeout
-from estar.link import DirectLink
-from estar.program import Eclipse
+from diskfmt.rdos import JHData
 from nstar.program import Nova
 
 from rigtools import (BOX_LINES, FakeNova, cleanup, command_in, env, estar, finish, freeze,

@@ -22,6 +22,7 @@ from diskfmt.layouts import (Command, Slice, decode_wbmap, encode_bi, encode_nco
                              TERM_TEXT)
 from diskfmt.rdos import JHData, ESTAR_LOCK
 from nstar.program import Nova
+from rig.session import nstar_command, start_nstar as start_nstar_process
 
 from rigtools import (BOX_LINES, FakeNova, cleanup, command_in, env, estar, finish,
                       hold_estar_lock, load_pair, make_pair, nstar, nstar_ready, output,
@@ -353,7 +354,6 @@ def test_estar_giving_up_withdraws_its_command(rig):
 # thousands of times in a 3-process stress test.
 
 def _contend(directory, seconds, counts):
-    import fcntl
     from diskfmt.rdos import LockedError
     marker = os.path.join(directory, "HOLDER")
     held = overlaps = 0
@@ -460,8 +460,7 @@ def test_a_picture_that_is_not_a_file_is_one_line_from_nstar_rig_and_pre(tmp_pat
     what = "a character device" if kind == "dev-zero" else "a FIFO"
     jh = tmp_path / "jh"
     jh.mkdir()
-    for argv, who in (([sys.executable, "-m", "nstar.main", "--jhdata", str(jh), "--debug", "0",
-                        "--left", str(left), "--right", str(bad)], "nstar"),
+    for argv, who in ((nstar_command(jh, left, bad, idle_timeout=None), "nstar"),
                       ([sys.executable, "-m", "rig.main", "scan", "--left", str(left),
                         "--right", str(bad), "--line", "45"], "rig"),
                       ([sys.executable, "-m", "pre", "cartoon", str(bad), "-o",
@@ -541,10 +540,9 @@ def test_a_save_name_that_cannot_be_written_keeps_nstar_serving(rig, name):
     if name == "EXISTS":
         name = str(tmp / "L.BI")
     live = hold_estar_lock(jh)
-    p = subprocess.Popen([sys.executable, "-m", "nstar.main", "--jhdata", str(jh), "--debug",
-                          "0", "--left", str(tmp / "L.BI"), "--right", str(tmp / "R.BI"),
-                          "--idle-timeout", "30"], stdin=subprocess.PIPE,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env())
+    p = start_nstar_process(jh, tmp / "L.BI", tmp / "R.BI", idle_timeout=30, text=False,
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, env=env())
     try:
         send_raw(jh, Command(3))
         p.stdin.write(b"1\n" + name.encode() + b"\n" + str(tmp / "R2.BI").encode() + b"\n0\n")

@@ -13,11 +13,8 @@ import cv2
 import numpy as np
 import pytest
 
-from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi
-from estar.link import DirectLink
-from estar.program import Eclipse
-from nstar.program import Nova
+from estar.program import in_process_rig
 from octek_sim import Octek
 from octek_sim.monitor import render_monitor, CURSOR_COLOUR
 from rig.pictures import (line_picture, topdown_map, save_png, used_matches, MATCH_PALETTE,
@@ -37,10 +34,9 @@ def _pair():
 @pytest.fixture(scope="module")
 def lab():
     left, right = _pair()
-    nova = Nova()
-    nova.load_pair(left, right)
-    res = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180")).lcln(60)
-    return left, right, nova, res
+    ecl = in_process_rig(left, right)
+    res = ecl.lcln(60)
+    return left, right, ecl.link.nova, res
 
 
 # --- monitor -----------------------------------------------------------------

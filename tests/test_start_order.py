@@ -10,14 +10,13 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 
 from diskfmt.layouts import TERM_TEXT
 
 from rigtools import (cleanup, env, finish, hold_estar_lock, nstar, nstar_ready, output,
-                      reference, run_estar, wait_until, REPO)
+                      reference, run_estar, wait_until)
 
 pytestmark = pytest.mark.processes
 
