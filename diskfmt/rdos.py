@@ -629,13 +629,21 @@ class JHData:
         except FileExistsError:
             pass
         try:
-            return os.open(stale, os.O_RDONLY | os.O_DIRECTORY | _NOFOLLOW | _CLOEXEC)
+            fd = os.open(stale, os.O_RDONLY | os.O_DIRECTORY | _NOFOLLOW | _CLOEXEC)
         except OSError as exc:
             if exc.errno in (errno.ELOOP, errno.ENOTDIR):
                 what = "a symbolic link" if os.path.islink(stale) else "not a directory"
                 raise _DirError(exc.errno, f"{stale} is {what}, not a plain directory; "
                                            f"nothing is kept through it — remove it") from None
             raise
+        st = os.fstat(fd)
+        mode = stat.S_IMODE(st.st_mode)
+        if st.st_uid == os.geteuid() and mode | DIR_MODE != mode:
+            try:                              # the group sets aside into it too
+                os.fchmod(fd, mode | DIR_MODE)
+            except OSError:
+                pass
+        return fd
 
     def _into_stale(self, src: str, label: str) -> Path | None:
         """Move ``src`` (whatever it is: file, link, FIFO; never followed, never

@@ -400,7 +400,7 @@ def _as_other_user():
     return ["setpriv", "--bounding-set", "-dac_override,-dac_read_search,-fowner,-chown"]
 
 
-def test_lock_files_are_group_writable_whatever_the_umask(rig):
+def test_lock_files_and_stale_are_group_writable_whatever_the_umask(rig):
     tmp, jh = rig
     old = os.umask(0o077)
     try:
@@ -409,6 +409,11 @@ def test_lock_files_are_group_writable_whatever_the_umask(rig):
             j.lock(name) if name == ESTAR_LOCK else j.open_busy(name)
             j.close()
             assert stat.S_IMODE(os.stat(jh / name).st_mode) == 0o664
+        (jh / "NCONT.DT").write_bytes(b"stale")
+        j = JHData(jh, me="ESTAR", peer="NSTAR", use_events=False)
+        j.set_aside("NCONT.DT")
+        j.close()
+        assert stat.S_IMODE(os.stat(jh / "STALE").st_mode) == 0o775   # the group's too
     finally:
         os.umask(old)
 
