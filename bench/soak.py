@@ -168,15 +168,17 @@ def soak_raw(n: int, seed: int, timeout: float, parent) -> dict:
 # --- part 2: the real estar program -------------------------------------------------
 
 class Counter(threading.Thread):
-    """IN_CREATE events of the public names in jhdata/ (both programs publish
-    with link(2), which makes exactly one IN_CREATE per message)."""
+    """Arrivals of the public names in jhdata/: both programs publish by a
+    no-replace rename (IN_MOVED_TO), or by link(2) where the file system has no
+    renameat2 (IN_CREATE) — exactly one event per message either way."""
 
     def __init__(self, directory: Path):
         from watchdog.observers.inotify_c import (inotify_init, inotify_add_watch,
                                                   InotifyConstants as C)
         super().__init__(daemon=True)
         self.fd = inotify_init()
-        inotify_add_watch(self.fd, os.fsencode(directory), C.IN_CREATE | C.IN_Q_OVERFLOW)
+        inotify_add_watch(self.fd, os.fsencode(directory),
+                          C.IN_CREATE | C.IN_MOVED_TO | C.IN_Q_OVERFLOW)
         self.C = C
         self.created: dict[str, int] = {}
         self.first: float | None = None
@@ -199,7 +201,7 @@ class Counter(threading.Thread):
                 off += 16 + length
                 if mask & self.C.IN_Q_OVERFLOW:
                     self.overflow = True
-                if mask & self.C.IN_CREATE:
+                if mask & (self.C.IN_CREATE | self.C.IN_MOVED_TO):
                     self.created[name] = self.created.get(name, 0) + 1
                     if name == "NCONT.DT" and self.first is None:
                         self.first = now

@@ -145,7 +145,7 @@ def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) ->
             try:
                 jh.delete("NCONT.DT")
             except OSError as exc:         # it would be obeyed again and again
-                _publish(jh, replies)      # the reply is not lost
+                _publish(jh, replies, then="")     # the reply is not lost
                 raise Abort(f"cannot delete {jh.path('NCONT.DT')} after carrying it out "
                             f"({exc.strerror}); stopping, as the same command would be "
                             f"carried out again") from None
@@ -156,7 +156,7 @@ def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) ->
             return 0
 
 
-def _publish(jh: JHData, replies) -> None:
+def _publish(jh: JHData, replies, then: str = " Waiting for the next command.") -> None:
     """Publish each reply; one that cannot be is said, and NSTAR keeps serving."""
     for reply in replies:
         try:
@@ -164,15 +164,14 @@ def _publish(jh: JHData, replies) -> None:
         except LinkTimeout as exc:     # nobody takes it: keep serving (QUIRKS M15)
             where = jh.set_aside(reply.temp, "unsent", as_name=reply.name)
             print(f"nstar: {exc} This {reply.name} reply was not published; kept as "
-                  f"{where}. Waiting for the next command.", file=sys.stderr, flush=True)
+                  f"{where}.{then}", file=sys.stderr, flush=True)
         except OSError as exc:         # disk full, permissions, a directory in the way
             try:
                 jh.delete(reply.temp)
             except OSError:
                 pass
             print(f"nstar: cannot publish {reply.name}: {describe_os_error(exc)}. This "
-                  f"reply is lost. Waiting for the next command.", file=sys.stderr,
-                  flush=True)
+                  f"reply is lost.{then}", file=sys.stderr, flush=True)
 
 
 def sweep_at_start(jh: JHData, console: Console) -> None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import shutil
+import signal
 import stat
 import subprocess
 import sys
@@ -24,7 +25,7 @@ from diskfmt.rdos import JHData, ESTAR_LOCK
 from nstar.program import Nova
 from rig.session import nstar_command, start_nstar as start_nstar_process
 
-from rigtools import (BOX_LINES, FakeNova, cleanup, command_in, env, estar, finish,
+from rigtools import (BOX_LINES, FakeNova, cleanup, command_in, env, estar, finish, freeze,
                       hold_estar_lock, load_pair, make_pair, nstar, nstar_ready, output,
                       reference, run_estar, send_raw, wait_until)
 
@@ -450,6 +451,39 @@ def test_an_unwritable_jhdata_is_one_line_before_any_question(rig):
     assert one_line(done.stderr) == (f"estar: jhdata directory {jh} is not writable by this "
                                      f"user (see jhdata/README.md for a shared setup)")
     assert done.stdout == ""                                  # nothing asked
+
+
+def test_permissions_removed_mid_run_stop_nstar_with_one_line(rig):
+    """NSTAR (as a user without the override) takes a command, then cannot
+    delete it: before, a traceback killed it and the reply was lost unsaid."""
+    tmp, jh = rig
+    prefix = _as_other_user()
+    live = hold_estar_lock(jh)
+    err_file = tmp / "nstar.stderr"
+    n = subprocess.Popen(prefix + nstar_command(jh, tmp / "L.BI", tmp / "R.BI",
+                                                idle_timeout=60),
+                         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                         stderr=open(err_file, "w"), env=env())
+    try:
+        wait_until(lambda: (jh / "NSTAR.BSY").exists(), 60, "NSTAR")
+        time.sleep(1.0)                                    # its start-up sweep done
+        freeze(n)
+        send_raw(jh, Command(CODE_SLICE, 1, 0, 45, 128, 0))
+        os.chmod(jh, 0o555)                                # permissions removed
+        os.kill(n.pid, signal.SIGCONT)
+        assert finish(n, 60) == 1
+    finally:
+        os.chmod(jh, 0o755)
+        cleanup(n)
+        live.close()
+    err = err_file.read_text()
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert lines[0] == (f"nstar: cannot publish SLICE.DT: {jh / 'NDAT.DT'}: Permission denied. "
+                        f"This reply is lost.")
+    assert lines[-1] == (f"nstar: cannot delete {jh / 'NCONT.DT'} after carrying it out "
+                         f"(Permission denied); stopping, as the same command would be "
+                         f"carried out again")
 
 
 # --- 10. inputs without a size or type limit ----------------------------------------------------
