@@ -255,6 +255,10 @@ def _open_lock_file(path: Path) -> int:
     if not stat.S_ISREG(st.st_mode):
         os.close(fd)
         raise NotAProtocolFile(path, f"not a regular file ({_kind(st.st_mode)})")
+    if st.st_nlink != 1:                      # a hard link to some other file: hands off
+        os.close(fd)
+        raise NotAProtocolFile(path, f"has {st.st_nlink} hard links; a lock file has one — "
+                                     f"remove it")
     if st.st_uid == os.geteuid() and stat.S_IMODE(st.st_mode) != LOCK_MODE:
         try:
             os.fchmod(fd, LOCK_MODE)              # the umask must not make it private

@@ -390,6 +390,20 @@ def test_the_estar_lock_is_never_held_by_two_processes(tmp_path):
     assert sum(o for _, o in results) == 0
 
 
+def test_a_lock_file_hard_linked_to_another_file_is_refused_untouched(rig):
+    tmp, jh = rig
+    victim = tmp / "victim"
+    victim.write_bytes(b"precious")
+    os.chmod(victim, 0o600)
+    os.link(victim, jh / "ESTAR.LCK")
+    done = run_estar(jh, "--line", "45", "--timeout", "1")
+    assert done.returncode == 1
+    assert one_line(done.stderr) == (f"estar: {jh / 'ESTAR.LCK'}: has 2 hard links; a lock "
+                                     f"file has one — remove it")
+    assert victim.read_bytes() == b"precious"                  # not truncated to a pid
+    assert stat.S_IMODE(victim.stat().st_mode) == 0o600        # nor made 0664
+
+
 # --- 9. a shared, multi-user jhdata/ ---------------------------------------------------------
 # Before: lock files were 0644 (another user's program ended in a PermissionError
 # traceback).  Another user is played by this root process without its
