@@ -202,12 +202,14 @@ def _write_new(path, data: bytes, mode: int = 0o644, dir_fd: int | None = None,
             view = view[os.write(fd, view):]
         if fsync:
             os.fsync(fd)
-    except BaseException:
+    except BaseException as exc:
         os.close(fd)
         try:
             os.unlink(path, dir_fd=dir_fd)
         except OSError:
             pass
+        if isinstance(exc, OSError) and exc.filename is None:   # name the file (ENOSPC…)
+            raise OSError(exc.errno, exc.strerror, str(path)) from None
         raise
     os.close(fd)
 

@@ -617,6 +617,77 @@ def test_a_save_name_that_cannot_be_written_keeps_nstar_serving(rig, name):
         assert " Cannot save the image: " in out and "; not saved." in out
 
 
+_DISK_FULL = r"""
+import json, os, subprocess, sys, time
+sys.path.insert(0, sys.argv[2])
+from rigtools import env, hold_estar_lock, wait_until
+from rig.session import nstar_command
+from diskfmt.layouts import Command
+tmp = sys.argv[1]
+jh = os.path.join(tmp, "full")
+os.mkdir(jh)
+subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", jh], check=True)
+live = hold_estar_lock(__import__("pathlib").Path(jh))
+n = subprocess.Popen(nstar_command(jh, os.path.join(tmp, "L.BI"), os.path.join(tmp, "R.BI"),
+                                   idle_timeout=60), stdin=subprocess.DEVNULL,
+                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env())
+wait_until(lambda: os.path.exists(os.path.join(jh, "NSTAR.BSY")), 60, "NSTAR")
+time.sleep(1.0)
+from diskfmt.layouts import encode_ncont
+for k, c in enumerate((Command(2, 1, 0, 45, 128, 0), Command(-1))):   # before the disk fills
+    with open(os.path.join(jh, f"C{k}.DT"), "wb") as fh:
+        fh.write(encode_ncont(c))
+    os.link(os.path.join(jh, f"C{k}.DT"), os.path.join(jh, f"KEEP{k}"))  # its DELETE frees nothing
+fill = os.open(os.path.join(jh, "FILL"), os.O_WRONLY | os.O_CREAT)     # the disk full
+try:
+    while True:
+        os.write(fill, bytes(4096))
+except OSError:
+    os.close(fill)
+for k in range(2):
+    wait_until(lambda: not os.path.lexists(os.path.join(jh, "NCONT.DT")), 20, "NSTAR to take")
+    os.rename(os.path.join(jh, f"C{k}.DT"), os.path.join(jh, "NCONT.DT"))
+rc = n.wait(timeout=60)
+nerr = n.stderr.read()
+live.close()
+e = subprocess.run([sys.executable, "-m", "estar.main", "--jhdata", jh, "--separation", "0.75",
+                    "--virtual-distance", "180", "--debug", "0", "--line", "45", "--timeout", "2"],
+                   capture_output=True, text=True, env=env(), stdin=subprocess.DEVNULL, timeout=60)
+subprocess.run(["umount", jh])
+print(json.dumps({"nstar_rc": rc, "nstar_err": nerr, "estar_rc": e.returncode,
+                  "estar_err": e.stderr}))
+"""
+
+
+def test_a_full_disk_is_one_line_and_nstar_keeps_serving(rig):
+    """jhdata/ on a 256 KiB file system, filled up (in a private mount namespace)."""
+    import json
+    tmp, jh = rig
+    if os.geteuid() != 0 or shutil.which("unshare") is None:
+        pytest.skip("needs root and unshare to mount a small file system")
+    probe = subprocess.run(["unshare", "-m", "true"], capture_output=True)
+    if probe.returncode != 0:
+        pytest.skip("no mount namespaces here")
+    script = tmp / "full.py"
+    script.write_text(_DISK_FULL)
+    done = subprocess.run(["unshare", "-m", sys.executable, str(script), str(tmp),
+                           str(Path(__file__).parent)], capture_output=True, text=True,
+                          env=env(), timeout=240)
+    assert done.returncode == 0, done.stderr
+    got = json.loads(done.stdout.strip().splitlines()[-1])
+    assert "Traceback" not in got["nstar_err"] + got["estar_err"]
+    full = tmp / "full"
+    assert got["nstar_err"].splitlines() == [
+        f"nstar: cannot publish SLICE.DT: {full / 'NDAT.DT'}: No space left on device. This "
+        f"reply is lost. Waiting for the next command.",          # and it served the next:
+        f"nstar: cannot publish TERM.DT: {full / 'TRM.DT'}: No space left on device. This "
+        f"reply is lost. Waiting for the next command."]
+    assert got["nstar_rc"] == 0
+    assert got["estar_rc"] == 1
+    assert one_line(got["estar_err"]) == (f"estar: {full / 'ECONT.DT'}: No space left on "
+                                          f"device")
+
+
 # --- 12. REALs outside the Data General range ------------------------------------------------------
 # Before: 1e400 failed with an OverflowError traceback after the first line's traffic.
 
