@@ -211,15 +211,14 @@ def matcher_disparity(matcher, left4: np.ndarray, right4: np.ndarray) -> np.ndar
 
 def scan(left, right, marf_sign_fix=False, no_wrap_percent=False):
     from diskfmt.dgreal import Real
-    from estar.link import DirectLink
     from estar.masl import Options as MaslOptions
-    from estar.program import Eclipse
+    from estar.program import in_process_rig
     from nstar.program import Nova, Options as NovaOptions
     from rig.scan import run_lines
     nova = Nova(options=NovaOptions(no_wrap_percent=no_wrap_percent))
     nova.load_pair(left, right)
-    ecl = Eclipse(DirectLink(nova), Real.const(DS), Real.const(DV),
-                  options=MaslOptions(marf_sign_fix=marf_sign_fix))
+    ecl = in_process_rig(left, right, Real.const(DS), Real.const(DV), nova=nova,
+                         options=MaslOptions(marf_sign_fix=marf_sign_fix))
     return run_lines(ecl, LINES)
 
 
@@ -366,6 +365,7 @@ def settings_text(info, halfwidth: int, repeat: int, threads: int,
 
 def write_out(path: Path, block: str) -> None:
     """Replace the marked block in ``path`` (or write the block alone)."""
+    from diskfmt.rdos import write_atomic
     text = path.read_text() if path.exists() else ""
     if BEGIN in text and END in text:
         head, rest = text.split(BEGIN, 1)
@@ -373,9 +373,7 @@ def write_out(path: Path, block: str) -> None:
         text = head + BEGIN + "\n" + block + "\n" + END + tail
     else:
         text = BEGIN + "\n" + block + "\n" + END + "\n"
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    write_atomic(path, text.encode())
 
 
 def main(argv=None) -> int:

@@ -18,9 +18,7 @@ Run:  python bench/bench_rig.py [--lines 8 112] [--repeat 3]
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -31,10 +29,9 @@ sys.path.insert(0, str(REPO))
 
 from diskfmt.dgreal import Real                      # noqa: E402
 from diskfmt.layouts import decode_bi                # noqa: E402
-from diskfmt.rdos import JHData                      # noqa: E402
-from estar.link import DirectLink, FileLink          # noqa: E402
-from estar.program import Eclipse                    # noqa: E402
-from nstar.program import Nova                       # noqa: E402
+from estar.link import start_file_link              # noqa: E402
+from estar.program import file_link_estar, in_process_rig  # noqa: E402
+from rig.session import start_nstar                  # noqa: E402
 from rig.scene import bundled_path                   # noqa: E402
 
 DS, DV = Real.const("0.75"), Real.const("180")
@@ -45,7 +42,7 @@ def pair():
             decode_bi(bundled_path("LAB-R.BI").read_bytes()))
 
 
-def time_lines(ecl: Eclipse, lines) -> list[float]:
+def time_lines(ecl, lines) -> list[float]:
     out = []
     for y in lines:
         t = time.perf_counter()
@@ -58,29 +55,23 @@ def file_link_times(lines, parent=None) -> tuple[list[float], int]:
     with tempfile.TemporaryDirectory(dir=parent) as tmp:
         jh_dir = Path(tmp) / "jhdata"
         jh_dir.mkdir()
-        env = dict(os.environ, PYTHONPATH=str(REPO))
-        nstar = subprocess.Popen(
-            [sys.executable, "-m", "nstar.main", "--jhdata", str(jh_dir), "--debug", "0",
-             "--quiet", "--left", str(bundled_path("LAB-L.BI")),
-             "--right", str(bundled_path("LAB-R.BI")), "--idle-timeout", "120"],
-            env=env, stdin=subprocess.DEVNULL)
-        jh = JHData(jh_dir, me="ESTAR", peer="NSTAR", timeout=60)
+        link = start_file_link(jh_dir, timeout=60)
+        nstar = start_nstar(jh_dir, bundled_path("LAB-L.BI"), bundled_path("LAB-R.BI"),
+                            quiet=True, idle_timeout=120)
         try:
-            ecl = Eclipse(FileLink(jh), DS, DV)
+            ecl = file_link_estar(link, DS, DV)
             times = time_lines(ecl, lines)
             ecl.terminate()
             nstar.wait(timeout=60)
             return times, ecl.requests
         finally:
-            jh.close()
+            link.close()
             if nstar.poll() is None:
                 nstar.kill()
 
 
 def direct_times(lines) -> tuple[list[float], int]:
-    nova = Nova()
-    nova.load_pair(*pair())
-    ecl = Eclipse(DirectLink(nova), DS, DV)
+    ecl = in_process_rig(*pair(), DS, DV)
     return time_lines(ecl, lines), ecl.requests
 
 
@@ -97,9 +88,7 @@ def main(argv=None) -> int:
     f_results = {name: file_link_times(lines, parent) for name, parent in where.items()}
     scans = [sum(d_times)]              # the first pass in this process: cold
     for _ in range(args.repeat):
-        nova = Nova()
-        nova.load_pair(*pair())
-        ecl = Eclipse(DirectLink(nova), DS, DV)
+        ecl = in_process_rig(*pair(), DS, DV)
         t = time.perf_counter()
         for y in lines:
             ecl.lcln(y)

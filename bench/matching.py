@@ -53,6 +53,7 @@ from matching.subpixel import line_profile               # noqa: E402
 from pre.condense import condense                        # noqa: E402
 from rig import scene as sc                              # noqa: E402
 from world.render import trace_rays                      # noqa: E402
+from diskfmt.rdos import write_atomic                    # noqa: E402
 
 BEGIN = "<!-- matching-table:begin -->"
 END = "<!-- matching-table:end -->"
@@ -176,14 +177,9 @@ def all_scenes(n_generated: int):
 # --- runs ----------------------------------------------------------------------
 
 def faithful_scan(scene: Scene):
-    from diskfmt.dgreal import Real
-    from estar.link import DirectLink
-    from estar.program import Eclipse
-    from nstar.program import Nova
+    from estar.program import in_process_rig
     from rig.scan import run_lines
-    nova = Nova()
-    nova.load_pair(scene.left_bi, scene.right_bi)
-    return run_lines(Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180")), SCAN_LINES)
+    return run_lines(in_process_rig(scene.left_bi, scene.right_bi), SCAN_LINES)
 
 
 @dataclass
@@ -471,9 +467,7 @@ def write_out(path: Path, block: str) -> None:
         text = head + BEGIN + "\n" + block + "\n" + END + rest.split(END, 1)[1]
     else:
         text = BEGIN + "\n" + block + "\n" + END + "\n"
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text)
-    tmp.replace(path)
+    write_atomic(path, text.encode())
 
 
 def main(argv=None) -> int:

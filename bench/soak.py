@@ -41,12 +41,12 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 
-from diskfmt.dgreal import Real                                    # noqa: E402
 from diskfmt.layouts import (Command, encode_ncont, decode_bi, CODE_EDGE_MAP,  # noqa: E402
                              CODE_SLICE, CODE_STAR)
-from diskfmt.rdos import JHData, LinkTimeout                       # noqa: E402
-from estar.link import DirectLink, ESTAR_STALE                     # noqa: E402
-from estar.program import Eclipse                                  # noqa: E402
+from diskfmt.rdos import LinkTimeout                               # noqa: E402
+from estar.link import start_file_link                             # noqa: E402
+from estar.program import in_process_rig                           # noqa: E402
+from rig.session import start_nstar as _start_nstar                # noqa: E402
 from nstar.program import Nova                                     # noqa: E402
 from rig.scene import bundled_path                                 # noqa: E402
 
@@ -70,14 +70,9 @@ def mib(kb: int | None) -> str:
 
 
 def start_nstar(jh: Path, timeout: float) -> subprocess.Popen:
-    env = dict(os.environ, PYTHONPATH=str(REPO))
-    env.pop("JHDATA", None)
-    return subprocess.Popen(
-        [sys.executable, "-m", "nstar.main", "--jhdata", str(jh), "--debug", "0", "--quiet",
-         "--left", str(bundled_path("LAB-L.BI")), "--right", str(bundled_path("LAB-R.BI")),
-         "--idle-timeout", "120", "--timeout", str(timeout)],
-        env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-        text=True)
+    return _start_nstar(jh, bundled_path("LAB-L.BI"), bundled_path("LAB-R.BI"), "--timeout",
+                        str(timeout), quiet=True, idle_timeout=120, stdout=subprocess.DEVNULL,
+                        stderr=subprocess.PIPE)
 
 
 def reference_nova() -> Nova:
@@ -116,11 +111,11 @@ def soak_raw(n: int, seed: int, timeout: float, parent) -> dict:
         jh_dir = Path(tmp) / "jhdata"
         jh_dir.mkdir()
         nstar = start_nstar(jh_dir, timeout)
-        jh = JHData(jh_dir, me="ESTAR", peer="NSTAR", timeout=timeout)
+        link = None
         try:
             wait_ready(jh_dir, nstar)
-            jh.lock("ESTAR.LCK")
-            jh.wait_idle("NSTAR.BSY", lambda: [jh.set_aside(s, "stale") for s in ESTAR_STALE])
+            link = start_file_link(jh_dir, timeout=timeout)   # ESTAR's start-up protocol
+            jh = link.jh
             ref = reference_nova()
             rng = random.Random(seed)
             plan = []                                 # commands and the replies they owe
@@ -163,7 +158,8 @@ def soak_raw(n: int, seed: int, timeout: float, parent) -> dict:
             return {"counts": counts, "by_code": by_code, "wall": wall, "lat": lat,
                     "rss": rss, "nstar_rc": rc, "nstar_err": nstar.stderr.read()}
         finally:
-            jh.close()
+            if link is not None:
+                link.close()
             if nstar.poll() is None:
                 nstar.kill()
                 nstar.wait()
@@ -172,15 +168,17 @@ def soak_raw(n: int, seed: int, timeout: float, parent) -> dict:
 # --- part 2: the real estar program -------------------------------------------------
 
 class Counter(threading.Thread):
-    """IN_CREATE events of the public names in jhdata/ (both programs publish
-    with link(2), which makes exactly one IN_CREATE per message)."""
+    """Arrivals of the public names in jhdata/: both programs publish by a
+    no-replace rename (IN_MOVED_TO), or by link(2) where the file system has no
+    renameat2 (IN_CREATE) — exactly one event per message either way."""
 
     def __init__(self, directory: Path):
         from watchdog.observers.inotify_c import (inotify_init, inotify_add_watch,
                                                   InotifyConstants as C)
         super().__init__(daemon=True)
         self.fd = inotify_init()
-        inotify_add_watch(self.fd, os.fsencode(directory), C.IN_CREATE | C.IN_Q_OVERFLOW)
+        inotify_add_watch(self.fd, os.fsencode(directory),
+                          C.IN_CREATE | C.IN_MOVED_TO | C.IN_Q_OVERFLOW)
         self.C = C
         self.created: dict[str, int] = {}
         self.first: float | None = None
@@ -203,7 +201,7 @@ class Counter(threading.Thread):
                 off += 16 + length
                 if mask & self.C.IN_Q_OVERFLOW:
                     self.overflow = True
-                if mask & self.C.IN_CREATE:
+                if mask & (self.C.IN_CREATE | self.C.IN_MOVED_TO):
                     self.created[name] = self.created.get(name, 0) + 1
                     if name == "NCONT.DT" and self.first is None:
                         self.first = now
@@ -218,8 +216,7 @@ class Counter(threading.Thread):
 
 def soak_estar(scans: int, timeout: float, parent) -> dict:
     lines = list(range(120)) * scans
-    nova = reference_nova()
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
+    ecl = in_process_rig(None, None, nova=reference_nova())
     for y in lines:
         posit = ecl.lcln(y).posit
     expected = {"NCONT.DT": 2 * len(lines) + ecl.requests + 1, "SLICE.DT": 2 * len(lines),

@@ -70,13 +70,22 @@ def _need_size(name: str, data: bytes, *sizes: int) -> None:
         raise FormatError(name, f"{len(data)} bytes, expected {want}")
 
 
-def read_file(path) -> bytes:
-    """Read a whole file, turning a missing or unreadable file into FormatError."""
+def read_file(path, limit: int | None = None) -> bytes:
+    """Read a whole file, turning a missing or unreadable file into FormatError.
+    Only a regular file is read (a FIFO or device would block or never end), and
+    with ``limit`` one larger than ``limit`` bytes is refused before reading."""
+    from .rdos import NotAProtocolFile, read_regular
     p = Path(path)
     try:
-        return p.read_bytes()
+        return read_regular(p, (1 << 30) if limit is None else limit,
+                            f"{limit}" if limit is not None else "at most 1 GiB",
+                            follow=True)
     except FileNotFoundError:
         raise FormatError(str(p), "no such file") from None
+    except NotAProtocolFile as exc:
+        if exc.problem == "not a regular file (a directory)":
+            raise FormatError(str(p), "is a directory, not a file") from None
+        raise FormatError(str(p), exc.problem) from None
     except IsADirectoryError:
         raise FormatError(str(p), "is a directory, not a file") from None
     except OSError as exc:
@@ -211,7 +220,31 @@ def decode_slice(data: bytes, name: str = "SLICE.DT") -> Slice:
     sl = Slice(words)
     if not 0 <= sl.nfeat <= 50:
         raise FormatError(name, f"NFEAT (word 8) is {sl.nfeat}, not 0..50")
+    _check_slice(sl, name)
     return sl
+
+
+def _check_slice(sl: Slice, name: str) -> None:
+    """Every word ESTAR takes from a slice, against what NSTAR's label 600 can
+    write: the line (IDIR 3 and 5) 0..119 and the slice 128 pixels long (IDIR 4
+    and 6); IFIRST, ILAST and the features' grey levels 0..15; each feature's
+    start and stop columns in 1..128, start <= stop.  IDIR(1) and IDIR(7) are
+    checked by ESTAR itself (a slice for another line or image is set aside,
+    not refused).  Entries past NFEAT are history (QUIRKS N4) and never read."""
+    w = sl.ifbuf
+    for word, lo, hi, what in ((3, 0, 119, "the line IDIR(3)"), (5, 0, 119, "the line IDIR(5)"),
+                               (4, 127, 127, "IDIR(4)"), (6, 128, 128, "the length IDIR(6)"),
+                               (9, 0, 15, "IFIRST"), (10, 0, 15, "ILAST")):
+        if not lo <= w[word - 1] <= hi:
+            want = f"{lo}..{hi}" if lo != hi else str(lo)
+            raise FormatError(name, f"{what} (word {word}) is {w[word - 1]}, not {want}")
+    for k, (start, stop, left, right) in enumerate(sl.features(), start=1):
+        if not (1 <= start <= 128 and 1 <= stop <= 128 and start <= stop):
+            raise FormatError(name, f"feature {k} spans columns {start}..{stop}, not a "
+                                    f"span within 1..128")
+        if not (0 <= left <= 15 and 0 <= right <= 15):
+            raise FormatError(name, f"feature {k} has grey levels {left}, {right}, not "
+                                    f"0..15")
 
 
 # --- WBMAP.DT ----------------------------------------------------------------

@@ -15,7 +15,8 @@ import numpy as np
 
 from diskfmt.layouts import (Command, encode_ncont, decode_wbmap, decode_slice, Slice,
                              CODE_EDGE_MAP, FormatError)
-from diskfmt.rdos import JHData
+from diskfmt.rdos import (JHData, LinkTimeout, NotAProtocolFile, ESTAR_LOCK, NSTAR_BUSY,
+                          NSTAR_LOCK)
 
 _READERS = {"SLICE.DT": decode_slice, "WBMAP.DT": decode_wbmap}
 
@@ -72,30 +73,97 @@ class Link:
 
 
 class FileLink(Link):
-    """The two-process link over files in JHDATA."""
+    """The two-process link over files in JHDATA.
+
+    ESTAR's start-up protocol lives here and only here: :meth:`open` checks the
+    directory and takes ESTAR.LCK (before any question is asked), :meth:`start`
+    sweeps stale files until NSTAR is idle (QUIRKS M12, M14);
+    :func:`start_file_link` does both for a program without a dialogue."""
 
     def __init__(self, jh: JHData):
         self.jh = jh
 
+    @classmethod
+    def open(cls, jhdata, *, timeout: float | None = 30.0) -> "FileLink":
+        """Check ``jhdata`` and hold ESTAR.LCK (LockedError if another ESTAR does)."""
+        jh = JHData(jhdata, me="ESTAR", peer="NSTAR", timeout=timeout)
+        try:
+            jh.lock(ESTAR_LOCK)
+        except BaseException:
+            jh.close()
+            raise
+        return cls(jh)
+
+    def start(self, say=None) -> None:
+        """Set aside what an earlier run left, until NSTAR is not in the middle of
+        a command sent before we started: a reply it published later would be
+        read as ours (QUIRKS M14)."""
+        def sweep() -> None:
+            for name in ESTAR_STALE:
+                where = self.jh.set_aside(name, "stale")
+                if where and say:
+                    say(f" Found {name} from an earlier run; moved it to {where}")
+        self.jh.wait_idle(NSTAR_BUSY, sweep)
+
+    def nstar_running(self) -> bool:
+        """Does an NSTAR hold NSTAR.LCK on this directory now?"""
+        return self.jh.held(NSTAR_LOCK)
+
+    def wait_for_nstar(self, timeout: float | None = None) -> None:
+        """Wait until an NSTAR runs on this directory (LinkTimeout after ``timeout``)."""
+        self.jh.wait_held(NSTAR_LOCK, timeout)
+
+    def publish_posit(self, data: bytes) -> None:
+        """PNPL's write: EDAT.DT, renamed over POSIT.DT (DELETE + RENAM, atomically)."""
+        self.jh.publish_replace("EDAT.DT", "POSIT.DT", data)
+
     def cnova(self, cmd: Command) -> None:
         # Wait until NSTAR has taken the previous command, then publish by rename.
-        self.jh.publish("ECONT.DT", "NCONT.DT", encode_ncont(cmd))
+        # Giving up, ESTAR takes its command back: NSTAR must not obey it later.
+        try:
+            self.jh.publish("ECONT.DT", "NCONT.DT", encode_ncont(cmd))
+        except LinkTimeout:
+            self.withdraw()
+            raise
+
+    def wait_taken(self) -> None:
+        """Wait until NSTAR has taken the last command (withdrawn on timeout)."""
+        try:
+            self.jh.wait_gone("NCONT.DT")
+        except LinkTimeout:
+            self.withdraw()
+            raise
+
+    def withdraw(self) -> bool:
+        """Take back a command NSTAR has not taken (while ESTAR.LCK is held every
+        NCONT.DT and ECONT.DT is this ESTAR's).  True if there was one."""
+        taken_back = False
+        for name in ("ECONT.DT", "NCONT.DT"):
+            try:
+                taken_back = self.jh.delete(name) or taken_back
+            except OSError:                   # not a file of ours (a directory planted)
+                pass
+        return taken_back
 
     def nwait(self, name: str) -> bytes:
         self.jh.wait_for(name)
+        src = name
         if name == "SLICE.DT":
             # CFEAT renames SLICE.DT to SL.DT before reading, freeing the name so
             # NSTAR can publish the second slice while ESTAR reads the first.
             self.jh.rename("SLICE.DT", "SL.DT")
-            data = self.jh.take("SL.DT")
-        else:
-            data = self.jh.take(name)
+            src = "SL.DT"
+        try:
+            data = self.jh.take(src)
+        except NotAProtocolFile as exc:       # a link, FIFO, huge file: moved, not read
+            kept = self.jh.set_aside_bad(src, f"{name}.bad")
+            raise FormatError(str(self.jh.path(name)), f"{exc.problem}; kept as {kept}") from None
         reader = _READERS.get(name)
         if reader is not None:
             try:
                 reader(data, str(self.jh.path(name)))
             except FormatError as exc:        # one clear error; the bytes are kept
-                kept = self._store(f"{name}.bad", data)
+                kept = self.jh.keep(f"{name}.bad", data)
                 raise FormatError(exc.name, f"{exc.problem}; kept as {kept}") from None
         return data
 
@@ -104,18 +172,24 @@ class FileLink(Link):
         if where:
             say(f" Found {name} from an earlier run; moved it to {where}")
 
-    def _store(self, label: str, data: bytes):
-        stale = self.jh.dir / "STALE"
-        stale.mkdir(exist_ok=True)
-        n = 0
-        while (stale / f"{label}.{n}").exists():
-            n += 1
-        (stale / f"{label}.{n}").write_bytes(data)
-        return stale / f"{label}.{n}"
-
     def keep_aside(self, name: str, data: bytes, say, why: str) -> None:
-        kept = self._store(f"{name}.skipped", data)
+        kept = self.jh.keep(f"{name}.skipped", data)
         say(f" Skipped a {name} left from earlier work ({why}); kept as {kept}")
+
+    def close(self) -> None:
+        self.jh.close()
+
+
+def start_file_link(jhdata, *, timeout: float | None = 30.0, say=None) -> FileLink:
+    """A started file link: directory checked, ESTAR.LCK held, stale files set
+    aside, NSTAR idle — ESTAR's whole start-up protocol (for rig, bench, tests)."""
+    link = FileLink.open(jhdata, timeout=timeout)
+    try:
+        link.start(say)
+    except BaseException:
+        link.close()
+        raise
+    return link
 
 
 class DirectLink(Link):

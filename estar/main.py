@@ -15,12 +15,13 @@ from fractions import Fraction
 from pathlib import Path
 
 from diskfmt import version
-from diskfmt.dgreal import Real
+from diskfmt.dgreal import DGRealError, Real
 from diskfmt.listing import Console, Listing
-from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
-from .link import ESTAR_STALE, FileLink
+from diskfmt.rdos import (LinkTimeout, LockedError, default_jhdata, describe_os_error,
+                          ESTAR_LOCK)
+from .link import FileLink
 from .masl import Options
-from .program import Eclipse
+from .program import file_link_estar
 
 BANNER = ["", "ROBOT VISION SYSTEM", "", " By James R. Holten III", ""]
 DEBUG_MENU = ["", "The debugger options are:",
@@ -35,8 +36,7 @@ DEBUG_MENU = ["", "The debugger options are:",
               ""]
 BLANK_WARNING = ("estar: warning: NSTAR's slices have no edges at all: its pictures look blank "
                  "(was nstar given --left and --right, or new images at its prompt?)")
-LOCK_NAME = "ESTAR.LCK"
-NSTAR_BUSY = "NSTAR.BSY"       # nstar.main.BUSY_NAME
+LOCK_NAME = ESTAR_LOCK
 
 
 def parse_real(text: str, what: str) -> Real:
@@ -46,7 +46,13 @@ def parse_real(text: str, what: str) -> Real:
         raise ValueError(f"{what} '{text}' is not a number") from None
     if value <= 0:
         raise ValueError(f"{what} must be positive, got {text}")
-    return Real.from_fraction(value)
+    real = Real.from_fraction(value)
+    try:
+        real.to_bytes()
+    except (DGRealError, OverflowError):       # the REAL would not fit its 4 bytes
+        raise ValueError(f"{what} {text} is outside the Data General REAL range "
+                         f"(about 5.4e-79 to 7.2e75)") from None
+    return real
 
 
 def _ask(console: Console, prompt: str, convert):
@@ -77,8 +83,9 @@ def build_parser() -> argparse.ArgumentParser:
                                                 "default standard output)")
     p.add_argument("--terminate", action="store_true",
                    help="send code -1 to NSTAR before exiting (NSTAR writes TERM.DT, stops)")
-    p.add_argument("--timeout", type=float, default=30.0, metavar="SECONDS",
-                   help="how long to wait for NSTAR's answer (default 30)")
+    p.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+                   help="how long to wait for NSTAR's answer (default 30 when scripted; "
+                        "at a terminal without --line, as long as it takes)")
     p.add_argument("--quiet", action="store_true", help="no console messages")
     p.add_argument("--verbose", action="store_true",
                    help="also the per-comparison messages of MASL")
@@ -93,21 +100,31 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     console = Console(quiet=args.quiet, verbose=args.verbose)
+    # At a terminal a person may start estar before nstar: wait as long as it
+    # takes; scripted, a missing NSTAR is an error after the timeout.
+    interactive = args.line is None and _is_terminal(sys.stdin)
+    timeout = args.timeout if args.timeout is not None else (None if interactive else 30.0)
     listing_stream = None
-    jh = None
+    link = None
     try:
+        # Flags, files and the directory first: nothing asked, nothing moved on
+        # a command line that cannot work.
         from matching.mode import constraints_from_args, make_matcher
         matcher = make_matcher(args.match, constraints_from_args(args, subpixel=False))
-        for line in BANNER:
-            console.type(line)
+        dsep = dvirt = None
         if args.separation is not None:
             dsep = parse_real(args.separation, "--separation")
-        else:
-            dsep = _ask(console, " Camera seperation = ",
-                        lambda t: parse_real(t, "camera separation"))
         if args.virtual_distance is not None:
             dvirt = parse_real(args.virtual_distance, "--virtual-distance")
-        else:
+        if args.listing:
+            listing_stream = open(args.listing, "a", encoding="ascii")
+        link = FileLink.open(args.jhdata or default_jhdata(), timeout=timeout)
+        for line in BANNER:
+            console.type(line)
+        if dsep is None:
+            dsep = _ask(console, " Camera seperation = ",
+                        lambda t: parse_real(t, "camera separation"))
+        if dvirt is None:
             dvirt = _ask(console, " Virtual image distance = ",
                          lambda t: parse_real(t, "virtual image distance"))
         for line in DEBUG_MENU:
@@ -115,30 +132,16 @@ def main(argv=None) -> int:
         debug = args.debug
         if debug is None:
             debug = _ask(console, " Desired debug flags (0 for none) = ", int)
-        if args.listing:
-            listing_stream = open(args.listing, "a", encoding="ascii")
-        jh = JHData(args.jhdata or default_jhdata(), me="ESTAR", peer="NSTAR",
-                    timeout=args.timeout)
-        jh.lock(LOCK_NAME)
-
-        def sweep() -> None:
-            for name in ESTAR_STALE:
-                where = jh.set_aside(name, "stale")
-                if where:
-                    console.type(f" Found {name} from an earlier run; moved it to {where}")
-
-        # Sweep until NSTAR is not in the middle of a command sent before we
-        # started: a reply it publishes later would be read as ours (QUIRKS M14).
-        jh.wait_idle(NSTAR_BUSY, sweep)
-
-        def publish_posit(data: bytes) -> None:
-            tmp = jh.path("EDAT.DT")
-            tmp.write_bytes(data)
-            jh.rename("EDAT.DT", "POSIT.DT")      # DELETE + RENAM, done atomically
-
-        eclipse = Eclipse(FileLink(jh), dsep, dvirt, debug & 0xFFFF, Listing(listing_stream),
-                          console, Options(marf_sign_fix=args.marf_sign_fix),
-                          publish=publish_posit, matcher=matcher)
+        link.start(console.type)
+        if not link.nstar_running():
+            console.type(f" waiting for NSTAR on {link.jh.dir}…")
+            if interactive:
+                link.wait_for_nstar(timeout)
+                console.type(" NSTAR is running.")
+        eclipse = file_link_estar(link, dsep, dvirt, debug=debug & 0xFFFF,
+                                  listing=Listing(listing_stream), console=console,
+                                  options=Options(marf_sign_fix=args.marf_sign_fix),
+                                  matcher=matcher)
         lines = list(args.line) if args.line is not None else None
         featureless = 0                   # lines so far, while no slice had any feature
         while True:
@@ -160,23 +163,50 @@ def main(argv=None) -> int:
             print(BLANK_WARNING, file=sys.stderr)
         if args.terminate:
             eclipse.terminate()
+            link.wait_taken()
+        elif interactive:
+            _say_nstar_still_runs(console, link)
         return 0
     except EOFError:
+        if interactive and link is not None:
+            _say_nstar_still_runs(console, link)
         return 0
     except ValueError as exc:                 # a bad flag value (FormatError is one too)
         print(f"estar: {exc}", file=sys.stderr)
         return 1
-    except (FileNotFoundError, LinkTimeout, LockedError) as exc:
+    except (LinkTimeout, LockedError) as exc:
         print(f"estar: {exc}", file=sys.stderr)
         return 1
+    except OSError as exc:                    # the file system: one line, no traceback
+        print(f"estar: {describe_os_error(exc)}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
-        print("estar: interrupted", file=sys.stderr)
+        if link is not None and link.withdraw():
+            print("estar: interrupted; its command to NSTAR was withdrawn", file=sys.stderr)
+        else:
+            print("estar: interrupted", file=sys.stderr)
         return 130
     finally:
         if listing_stream:
             listing_stream.close()
-        if jh is not None:
-            jh.close()
+        if link is not None:
+            link.close()
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+def _say_nstar_still_runs(console: Console, link: FileLink) -> None:
+    """A person ending ESTAR should know the NSTAR it leaves behind (issue 8.10)."""
+    if link.nstar_running():
+        d = link.jh.dir
+        console.type(f" NSTAR is still running on {d}, waiting for commands. Stop it with "
+                     f"Ctrl-C in its window, or with: estar --jhdata {d} --separation 1 "
+                     f"--virtual-distance 1 --debug 0 --line -1 --terminate")
 
 
 if __name__ == "__main__":

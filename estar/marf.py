@@ -77,7 +77,8 @@ def marf_kernel(ibm1, ibm2, iwst, values):
         ival = 256
         if ntot != 0 and nd < 128:                   # ND*256 would overflow 16 bits
             ival = (nd * 256) // ntot
-        values[ipos + iwst] = ival
+        if ipos + iwst < values.shape[0]:            # a wild slice must not write past it
+            values[ipos + iwst] = ival
         if mnval < ival:
             continue
         if mnval == ival and abs(mloc) <= abs(ipos):

@@ -171,6 +171,37 @@ class _CountingLink:
                 self.listing.records(prbm((iblb1 if image == 1 else iblb2)[edge - 1][1:]))
 
 
+def _real(value) -> Real:
+    return value if isinstance(value, Real) else Real.const(str(value))
+
+
+def in_process_rig(left, right, dsep="0.75", dvirt="180", *, debug: int = 0,
+                   listing: Listing | None = None, console: Console | None = None,
+                   options: MaslOptions | None = None, nova=None, matcher=None) -> Eclipse:
+    """The one constructor of the in-process rig: an NSTAR (:class:`nstar.program.Nova`)
+    holding the 120x128 pictures ``left``/``right``, the same bytes handed to it
+    through :class:`estar.link.DirectLink`, and an ESTAR on top.  ``dsep``/``dvirt``
+    are REALs or decimal text; POSIT.DT stays in memory.  ``eclipse.link.nova``
+    is the NSTAR (pass ``nova`` to use one already set up); ``matcher``: an
+    improved matcher of package ``matching`` (None: the 1985 match lists)."""
+    from nstar.program import Nova
+    from .link import DirectLink
+    if nova is None:
+        nova = Nova()
+        nova.load_pair(left, right)
+    return Eclipse(DirectLink(nova), _real(dsep), _real(dvirt), debug, listing, console,
+                   options, matcher=matcher)
+
+
+def file_link_estar(link, dsep="0.75", dvirt="180", *, debug: int = 0,
+                    listing: Listing | None = None, console: Console | None = None,
+                    options: MaslOptions | None = None, matcher=None) -> Eclipse:
+    """The one constructor of an ESTAR on a started :class:`estar.link.FileLink`
+    (see :func:`estar.link.start_file_link`): PNPL publishes POSIT.DT in JHDATA."""
+    return Eclipse(link, _real(dsep), _real(dvirt), debug, listing, console, options,
+                   publish=link.publish_posit, matcher=matcher)
+
+
 def _columns(sl) -> list[list[int]]:
     """IFEAT(50,4) of a slice as four 50-word columns."""
     return [sl.ifbuf[10 + 50 * j:60 + 50 * j] for j in range(4)]

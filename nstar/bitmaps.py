@@ -85,16 +85,21 @@ def scale_factors(ixl: int, iyl: int) -> tuple[Real, Real]:
 @jit
 def edge_map_kernel(frame, ixc, iyc, idn, ixmin, ixmax, iymin, iymax, out):
     """Label 500 on the frame-store array (the RVBLK reads of the listing are
-    slices of ``frame``; every pixel it samples lies inside the frame store).
+    slices of ``frame``; a sample off the frame store reads 0, QUIRKS M8).
     Fills ``out`` with the 16 column words."""
     ixlft = ixc - 7
     iytop = iyc - 7
-    ixm = min(ixc, ixc + idn + idn)
+    # IXC+IDN+IDN in 16-bit INTEGER arithmetic (QUIRKS M5): a wild IDN from a
+    # peer wraps as on the NOVA, and an RVBLK off the frame store reads 0 (M8,
+    # N21) -- the same reply from both kernels, never memory outside ``frame``.
+    ixm = min(ixc, ((ixc + idn + idn + 32768) & 65535) - 32768)
     igmn = 15
     igmx = 0
     for r in range(iyc, iyc + 3):                # RVBLK(ICT,IDAT,IXM,2,IYC,3)
         for c in range(ixm, ixm + 2):
-            v = frame[r, c]
+            v = 0
+            if 0 <= r < frame.shape[0] and 0 <= c < frame.shape[1]:
+                v = frame[r, c]
             igmn = min(igmn, v)
             igmx = max(igmx, v)
     for col in range(16):
@@ -105,7 +110,9 @@ def edge_map_kernel(frame, ixc, iyc, idn, ixmin, ixmax, iymin, iymax, out):
                 iyloc = iytop + k
                 if iyloc < iymin or iymax < iyloc:
                     continue
-                ipix = frame[iyloc, ixloc]
+                ipix = 0
+                if 0 <= iyloc < frame.shape[0] and 0 <= ixloc < frame.shape[1]:
+                    ipix = frame[iyloc, ixloc]
                 if igmn <= ipix <= igmx:
                     iword |= 1 << k
         out[col] = iword - 65536 if iword > 32767 else iword    # 16-bit word

@@ -12,9 +12,11 @@ import sys
 from pathlib import Path
 
 from diskfmt import version
-from diskfmt.layouts import FormatError, decode_bi, read_file, encode_bi
+from diskfmt.layouts import (FormatError, decode_bi, read_file, encode_bi, BI_BYTES,
+                             TERM_TEXT)
 from diskfmt.listing import Console, Listing
-from diskfmt.rdos import JHData, LinkTimeout, LockedError, default_jhdata
+from diskfmt.rdos import (JHData, LinkTimeout, LockedError, NotAProtocolFile, default_jhdata,
+                          describe_os_error, write_atomic, ESTAR_LOCK, NSTAR_BUSY, NSTAR_LOCK)
 from .program import Nova, Options
 
 BANNER = [
@@ -31,9 +33,9 @@ BANNER = [
     "Add up the desired flag values and enter the number.",
 ]
 
-STALE_AT_START = ("NDAT.DT", "TRM.DT", "TERM.DT")
-LOCK_NAME = "NSTAR.LCK"
-BUSY_NAME = "NSTAR.BSY"    # locked from taking a command to publishing its reply (QUIRKS M14)
+STALE_AT_START = ("NDAT.DT", "TRM.DT")
+LOCK_NAME = NSTAR_LOCK
+BUSY_NAME = NSTAR_BUSY     # locked from taking a command to publishing its reply (QUIRKS M14)
 
 
 class Abort(Exception):
@@ -45,31 +47,27 @@ def _ask_int(console: Console, prompt: str) -> int:
 
 
 def load_picture(path: str):
-    """A .BI picture (120x128), or FormatError naming the file."""
-    return decode_bi(read_file(path), str(path))
+    """A .BI picture (120x128), or FormatError naming the file (checked to be a
+    regular file of 30,720 bytes before anything is read)."""
+    return decode_bi(read_file(path, limit=BI_BYTES), str(path))
 
 
-def new_images_dialogue(nova: Nova, console: Console, left: str | None = None,
-                        right: str | None = None) -> None:
+def new_images_dialogue(nova: Nova, console: Console) -> None:
     """Label 800 — "Save the current image?", "Input new images?", then the LEFT
-    and RIGHT file names (flags answer them for scripts)."""
-    scripted = left is not None and right is not None
-    if scripted:
-        pics = [load_picture(left), load_picture(right)]  # FormatError ends a script
-        nova.load_pair(*pics)
-        console.type(" Image loaded.")
-        console.type(" Image loaded.")
-        return
+    and RIGHT file names (``--left``/``--right`` answer them for scripts: main
+    loads those before anything is asked)."""
     try:
         if _ask_int(console, "Save the current image? (0=NO) ") != 0:
+            saved = True
             for side, image in (("LEFT", 1), ("RIGHT", 2)):
                 console.type("Saving the current image to disk.")
                 console.type(f"Input the {side} image filename.")
                 name = console.prompt("")
                 if name is None:
                     raise EOFError
-                _save_new(Path(name), encode_bi(nova.picture(image)), console)
-            console.type(" Saved.")
+                saved = _save_new(name, encode_bi(nova.picture(image)), console) and saved
+            if saved:
+                console.type(" Saved.")
         if _ask_int(console, "Input new images? (0=NO) ") == 0:
             return
         pics = []
@@ -91,13 +89,19 @@ def new_images_dialogue(nova: Nova, console: Console, left: str | None = None,
         console.type(" (no more input: keeping the current images)")
 
 
-def _save_new(path: Path, data: bytes, console: Console) -> None:
-    if path.exists():
-        console.type(f" {path} exists; not overwritten.")
-        return
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_bytes(data)
-    tmp.replace(path)
+def _save_new(name: str, data: bytes, console: Console) -> bool:
+    """Write a new picture file; an existing one is never replaced (the rename
+    itself refuses, so there is no check-then-replace race).  A name that cannot
+    be written is said, and NSTAR goes on serving."""
+    try:
+        write_atomic(Path(name), data, replace=False)
+        return True
+    except FileExistsError:
+        console.type(f" {name} exists; not overwritten.")
+    except (OSError, ValueError) as exc:        # ValueError: a NUL byte in the name
+        why = f"{name!r}: {exc.strerror if isinstance(exc, OSError) else exc}"
+        console.type(f" Cannot save the image: {why}; not saved.")
+    return False
 
 
 def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) -> int:
@@ -111,25 +115,77 @@ def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) ->
                 data = jh.read("NCONT.DT")
             except FileNotFoundError:      # set aside by a starting ESTAR: wait again
                 continue
+            except NotAProtocolFile as exc:
+                if exc.problem.startswith("not a regular file"):   # a FIFO, link, directory
+                    where = jh.set_aside("NCONT.DT", "not a file")
+                    print(f"nstar: {exc} — not a command file; moved it to {where}. Waiting "
+                          f"for the next command.", file=sys.stderr, flush=True)
+                    continue
+                raise Abort(f"{exc} — not a command file; left in place for "
+                            f"inspection") from None
             console.type(" Command file found.")
             try:
                 replies = nova.execute(data)
             except FormatError:
                 raise Abort(f"{jh.path('NCONT.DT')}: {len(data)} bytes, expected 12 — not "
                             f"a command file; left in place for inspection") from None
-            jh.delete("NCONT.DT")
+            try:
+                jh.delete("NCONT.DT")
+            except OSError as exc:         # it would be obeyed again and again
+                _publish(jh, replies, then="")     # the reply is not lost
+                raise Abort(f"cannot delete {jh.path('NCONT.DT')} after carrying it out "
+                            f"({exc.strerror}); stopping, as the same command would be "
+                            f"carried out again") from None
             if data[:2] == b"\x00\x03":
                 new_images_dialogue(nova, console)
-            for reply in replies:
-                try:
-                    jh.publish(reply.temp, reply.name, reply.data)
-                except LinkTimeout as exc:     # nobody takes it: keep serving (QUIRKS M15)
-                    where = jh.set_aside(reply.temp, "unsent", as_name=reply.name)
-                    print(f"nstar: {exc} This {reply.name} reply was not published; kept as "
-                          f"{where}. Waiting for the next command.", file=sys.stderr,
-                          flush=True)
+            _publish(jh, replies)
         if nova.terminated:
             return 0
+
+
+def _publish(jh: JHData, replies, then: str = " Waiting for the next command.") -> None:
+    """Publish each reply; one that cannot be is said, and NSTAR keeps serving."""
+    for reply in replies:
+        try:
+            jh.publish(reply.temp, reply.name, reply.data)
+        except LinkTimeout as exc:     # nobody takes it: keep serving (QUIRKS M15)
+            where = jh.set_aside(reply.temp, "unsent", as_name=reply.name)
+            print(f"nstar: {exc} This {reply.name} reply was not published; kept as "
+                  f"{where}.{then}", file=sys.stderr, flush=True)
+        except OSError as exc:         # disk full, permissions, a directory in the way
+            try:
+                jh.delete(reply.temp)
+            except OSError:
+                pass
+            print(f"nstar: cannot publish {reply.name}: {describe_os_error(exc)}. This "
+                  f"reply is lost.{then}", file=sys.stderr, flush=True)
+
+
+def sweep_at_start(jh: JHData, console: Console) -> None:
+    """What an earlier run left: NSTAR's temporaries, a TERM.DT that is not a
+    clean end's, and a command nobody waits for (no ESTAR holds ESTAR.LCK: a
+    dead ESTAR's, e.g. a terminate) are set aside and said; a clean TERM.DT is
+    just the last run's end, removed without a word."""
+    for name in STALE_AT_START:
+        where = jh.set_aside(name, "stale")
+        if where:
+            console.type(f" Found {name} from an earlier run; moved it to {where}")
+    if jh.exists("TERM.DT"):
+        try:
+            clean = jh.read("TERM.DT") == TERM_TEXT.encode("ascii")
+        except (OSError, NotAProtocolFile):
+            clean = False
+        if clean:
+            jh.delete("TERM.DT")
+        else:
+            where = jh.set_aside("TERM.DT", "stale")
+            if where:
+                console.type(f" Found TERM.DT from an earlier run; moved it to {where}")
+    if jh.exists("NCONT.DT") and not jh.held(ESTAR_LOCK):
+        where = jh.set_aside("NCONT.DT", "stale")
+        if where:
+            console.type(f" Found NCONT.DT from an earlier run and no ESTAR waiting for it "
+                         f"(none holds {ESTAR_LOCK}); moved it to {where}")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -177,9 +233,18 @@ def main(argv=None) -> int:
     listing_stream = None
     jh = None
     try:
+        # Flags, files and the directory first: nothing asked, nothing moved on
+        # a command line that cannot work.
+        pics = None
+        if args.left is not None:
+            pics = [load_picture(args.left), load_picture(args.right)]
         if args.listing:
             listing_stream = open(args.listing, "a", encoding="ascii")
         listing = Listing(listing_stream)
+        jhdir = args.jhdata or default_jhdata()
+        jh = JHData(jhdir, me="NSTAR", peer="ESTAR", timeout=args.timeout)
+        jh.lock(LOCK_NAME)                 # two NSTARs would take each other's commands
+        jh.open_busy(BUSY_NAME)
         for line in BANNER:
             console.type(line)
         debug = args.debug
@@ -191,18 +256,19 @@ def main(argv=None) -> int:
         nova = Nova(debug=debug & 0xFFFF, listing=listing, console=console,
                     options=Options(no_wrap_percent=args.no_wrap_percent,
                                     bitmap_extensions=args.bitmap_extensions))
-        jhdir = args.jhdata or default_jhdata()
-        jh = JHData(jhdir, me="NSTAR", peer="ESTAR", timeout=args.timeout)
-        jh.lock(LOCK_NAME)                 # two NSTARs would take each other's commands
-        jh.open_busy(BUSY_NAME)
-        for name in STALE_AT_START:
-            where = jh.set_aside(name, "stale")
-            if where:
-                console.type(f" Found {name} from an earlier run; moved it to {where}")
-        new_images_dialogue(nova, console, args.left, args.right)
+        sweep_at_start(jh, console)
+        if pics is not None:
+            nova.load_pair(*pics)
+            console.type(" Image loaded.")
+            console.type(" Image loaded.")
+        else:
+            new_images_dialogue(nova, console)
         return run(nova, jh, console, args.idle_timeout)
-    except (FormatError, FileNotFoundError, LinkTimeout, LockedError, Abort) as exc:
+    except (FormatError, LinkTimeout, LockedError, Abort) as exc:
         print(f"nstar: {exc}", file=sys.stderr)
+        return 1
+    except OSError as exc:                 # the file system: one line, no traceback
+        print(f"nstar: {describe_os_error(exc)}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("nstar: interrupted", file=sys.stderr)

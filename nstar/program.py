@@ -124,10 +124,11 @@ class Nova:
         out = np.zeros((len(words), 17), dtype=np.int64)
         corners = np.zeros((len(words), 2), dtype=np.int64)
         edge_map_batch(self.octek.frame, words, out, corners)
-        for k in range(len(words)) if (self.debug & Debug.EDGE_MAPS or not self.console.quiet) else ():
-            geometry = command_geometry(*words[k, 1:4])
-            self.console.type(" Bit map region edge. IYC=", int(geometry[8]),
-                              " IXC=", int(geometry[7]))
+        for k in range(len(words)) if (self.debug & Debug.EDGE_MAPS or self.console.verbose) else ():
+            if self.console.verbose:           # the 1985 TYPE line, one per map (--verbose, N23)
+                geometry = command_geometry(*words[k, 1:4])
+                self.console.type(" Bit map region edge. IYC=", int(geometry[8]),
+                                  " IXC=", int(geometry[7]))
             if self.debug & Debug.EDGE_MAPS:
                 self.listing.records(prbm(out[k, 1:]))
         self.ifbuf[6] = words[-1, 1]                         # IDIR(7) of the last one
@@ -155,7 +156,8 @@ class Nova:
     # --- label 500 -----------------------------------------------------------
     def _edge(self, ixc, iyc, idn, bounds) -> Reply:
         """Label 500 — the 16x16 edge bit map around (IXC, IYC), one side of an edge."""
-        self.console.type(" Bit map region edge. IYC=", iyc, " IXC=", ixc)
+        if self.console.verbose:               # one per map: only with --verbose
+            self.console.type(" Bit map region edge. IYC=", iyc, " IXC=", ixc)
         ibmap, ixlft, iytop = edge_map(self.octek, ixc, iyc, idn, bounds)
         self.octek.boxcur(18, 18)
         self.octek.hctab(ixlft - 1, iytop - 1)

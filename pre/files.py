@@ -10,12 +10,11 @@ leaves nothing behind; an existing output is refused unless the caller says
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from diskfmt.rdos import write_atomic
 from diskfmt.layouts import (BI_BYTES, POSIT_BYTES, VD_BYTES, FormatError, decode_bi,
                              decode_vd, encode_bi, encode_vd, read_file)
 
@@ -115,24 +114,10 @@ def publish(path, data: bytes, force: bool = False) -> Path:
     """Write ``data`` to ``path`` through a temporary file in the same
     directory and ``os.replace``; never leaves a partial file."""
     p = check_output(path, force)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent or ".")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        umask = os.umask(0)                  # mkstemp makes 0600; give the usual 0666 & ~umask
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        if not force and p.exists():        # appeared while we wrote
-            raise PreError(f"{p}: already exists; not overwritten (use --force to replace it)")
-        os.replace(tmp, p)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    try:                                      # the project's one atomic publish: without
+        write_atomic(p, data, replace=force)  # --force the rename itself refuses (no race)
+    except FileExistsError:                   # appeared while we wrote
+        raise PreError(f"{p}: already exists; not overwritten (use --force to replace it)") from None
     return p
 
 

@@ -23,18 +23,16 @@ from pathlib import Path
 
 
 from diskfmt import version
-from diskfmt.dgreal import Real
 from diskfmt.layouts import FormatError, decode_bi, decode_posit, read_file
-from estar.link import DirectLink
+from diskfmt.rdos import LinkTimeout, LockedError, describe_os_error
 from estar.masl import Options as MaslOptions
-from estar.program import Eclipse
-from nstar.program import Nova
+from estar.program import in_process_rig
 from . import scan as scanmod
 from .checks import (PICTURE_SUFFIXES, UsageError, blank_service_warning, check_lines,
                      check_output_dir, check_output_file, impossible_share, load_picture,
                      load_truth, pair_warnings, positive_number)
 from .scene import bundled_path
-from .session import child_env, file_link_eclipse
+from .session import child_env, file_link_eclipse, rig_jhdata, start_nstar, stop_process
 
 DEMO_LINES = (40, 60, 80)
 EXIT_USAGE = 1                   # as estar and pre: 1 for any bad input
@@ -66,24 +64,25 @@ def _warn(message: str) -> None:
 
 def _replay(left, right, lines, ds, dv, options):
     """The same lines over the direct link, in this process: results for pictures."""
-    nova = Nova()
-    nova.load_pair(left, right)
-    ecl = Eclipse(DirectLink(nova), Real.const(ds), Real.const(dv), options=options)
-    return nova, [ecl.lcln(y) for y in lines]
+    ecl = in_process_rig(left, right, ds, dv, options=options)
+    return ecl.link.nova, [ecl.lcln(y) for y in lines]
 
 
 def cmd_demo(args) -> int:
-    from .pictures import line_picture, monitor_picture, save_png, topdown_map
     check_lines(list(args.lines), "--lines")
     lp, rp, left, right = _load_pair(None, None)
-    jhdata = check_output_dir(args.jhdata, "--jhdata")
     out = check_output_dir(args.out, "--out")
+    if args.jhdata is not None:
+        check_output_dir(args.jhdata, "--jhdata")
+    with rig_jhdata(args.jhdata) as jhdata:
+        return _demo(args, jhdata, out, lp, rp, left, right)
+
+
+def _demo(args, jhdata, out, lp, rp, left, right) -> int:
+    from .pictures import line_picture, monitor_picture, save_png, topdown_map
     lines = [str(y) for y in args.lines]
     print(f"== NSTAR (NOVA) starts on {jhdata}/ with the bundled laboratory pair")
-    nstar = subprocess.Popen(
-        [sys.executable, "-m", "nstar.main", "--jhdata", str(jhdata), "--debug", "0",
-         "--quiet", "--left", str(lp), "--right", str(rp), "--idle-timeout", "120"],
-        env=child_env(), stdin=subprocess.DEVNULL)
+    nstar = start_nstar(jhdata, lp, rp, quiet=True, idle_timeout=120)
     try:
         print(f"== ESTAR (Eclipse): ds 0.75 ft, dv 180 px, debug 8 (position lists), "
               f"lines {' '.join(lines)}")
@@ -96,10 +95,11 @@ def cmd_demo(args) -> int:
         if estar.returncode != 0:
             print("rig: estar failed (see above)", file=sys.stderr)
             return 1
-        nstar.wait(timeout=60)
+        stop_process(nstar, 60)
     finally:
-        if nstar.poll() is None:
+        if nstar.poll() is None:          # interrupted: at once
             nstar.kill()
+            nstar.wait()
     posit = (jhdata / "POSIT.DT").read_bytes()
     print(f"\n== {len(lines)} lines in {took:.2f} s over the file link; jhdata/ now holds: "
           + ", ".join(sorted(p.name for p in jhdata.iterdir() if p.is_file())))
@@ -155,7 +155,7 @@ def _check_scan(args):
             check_output_file(path, option, suffixes)
     if args.line_pictures:
         check_output_dir(args.line_pictures, "--line-pictures")
-    if args.link == "file":
+    if args.link == "file" and args.jhdata is not None:
         check_output_dir(args.jhdata, "--jhdata")
     lp, rp, left, right = _load_pair(args.left, args.right)
     truth = _truth_for(args, args.left is None)
@@ -192,9 +192,9 @@ def cmd_scan(args) -> int:
     matcher = _matcher_for(args, lp, rp)
     t0 = time.perf_counter()
     if args.link == "file":
-        with file_link_eclipse(Path(args.jhdata), lp, rp, args.separation,
-                               args.virtual_distance, options) as ecl:
-            ecl.matcher = matcher
+        with rig_jhdata(args.jhdata) as jhdata, \
+                file_link_eclipse(jhdata, lp, rp, args.separation, args.virtual_distance,
+                                  options, matcher=matcher) as ecl:
             result = scanmod.run_lines(ecl, lines, progress=not args.quiet)
     else:
         result = scanmod.scan_pair(left, right, lines, args.separation, args.virtual_distance,
@@ -308,8 +308,9 @@ def build_parser() -> argparse.ArgumentParser:
                                    "for a few lines (position tables on screen), then write "
                                    "pictures: the OCTEK monitor, each line, a top-down map.",
                        epilog=DEMO_EXAMPLES, formatter_class=raw)
-    d.add_argument("--jhdata", default="jhdata", metavar="DIR",
-                   help="shared directory (default: ./jhdata)")
+    d.add_argument("--jhdata", default=None, metavar="DIR",
+                   help="shared directory for the NSTAR demo starts (default: a private "
+                        "temporary one; refused if an nstar already runs there)")
     d.add_argument("--out", default="out", metavar="DIR",
                    help="where the pictures go (default: ./out)")
     d.add_argument("--lines", type=int, nargs="+", default=list(DEMO_LINES), metavar="Y",
@@ -334,8 +335,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--link", choices=("direct", "file"), default="direct",
                    help="direct: NSTAR's handlers in this process (default); file: an nstar "
                         "process over --jhdata, as in 1985")
-    s.add_argument("--jhdata", default="jhdata", metavar="DIR",
-                   help="shared directory for --link file (default: ./jhdata)")
+    s.add_argument("--jhdata", default=None, metavar="DIR",
+                   help="with --link file: the shared directory for the NSTAR rig starts "
+                        "(default: a private temporary one; refused if an nstar already "
+                        "runs there)")
     s.add_argument("--separation", default="0.75", metavar="DS",
                    help="camera separation, any unit > 0; ranges come out in the same unit "
                         "(default: 0.75, feet, the bundled pair's)")
@@ -394,13 +397,19 @@ def main(argv=None) -> int:
     except UsageError as exc:
         print(f"rig: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    except FormatError as exc:
+    except (FormatError, LinkTimeout, LockedError) as exc:
         print(f"rig: {exc}", file=sys.stderr)
         return 1
     except BrokenPipeError:                # e.g. rig posit ... | head
         import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except OSError as exc:
+        print(f"rig: {describe_os_error(exc)}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:               # children stopped, directory tidied on the way
+        print("rig: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

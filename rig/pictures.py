@@ -48,13 +48,13 @@ So the point (dx, dp) is drawn at ``x = 70 + 320 + dx*800/R``,
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
 import numpy as np
+
+from diskfmt.rdos import write_atomic
 
 __all__ = ["line_picture", "topdown_map", "fitted_range", "monitor_picture", "save_png",
            "save_picture", "used_matches", "line_layout",
@@ -620,11 +620,10 @@ def save_picture(path, image) -> Path:
 
 def save_png(path, image, fmt: str = ".png") -> Path:
     """Write ``image`` (BGR or grey uint8) to ``path`` as PNG (or the format
-    ``fmt`` of :data:`PICTURE_FORMATS`): encoded in memory, written to a
-    temporary file in the same directory, flushed, then renamed over ``path``
-    (os.replace) — readers never see a partial file, and on any failure the
-    temporary file is removed and an existing ``path`` is left as it was.
-    Returns the path."""
+    ``fmt`` of :data:`PICTURE_FORMATS`): encoded in memory, then published by
+    the project's one atomic write (diskfmt.rdos.write_atomic) — readers never
+    see a partial file, and on any failure the temporary file is removed and an
+    existing ``path`` is left as it was.  Returns the path."""
     path = Path(path)
     img = np.asarray(image)
     if img.dtype != np.uint8 or img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] not in (1, 3, 4)):
@@ -633,21 +632,7 @@ def save_png(path, image, fmt: str = ".png") -> Path:
     ok, buf = cv2.imencode(ext, img, params)
     if not ok:
         raise ValueError(f"{ext} encoding failed")
-    fd, tmp = tempfile.mkstemp(prefix="." + path.name + ".", suffix=".tmp",
-                               dir=str(path.parent) if str(path.parent) else ".")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(buf.tobytes())
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    write_atomic(path, buf.tobytes())            # the project's one atomic publish
     return path
 
 
@@ -659,11 +644,8 @@ def make_doc_pictures(outdir, iy: int = 60, star=(85, 36, 30)) -> list[Path]:
     """Make docs/img/monitor.png, monitor-parked.png, line-<iy>.png and
     topdown.png from the bundled laboratory pair (``python -m rig.pictures
     [OUTDIR]``)."""
-    from diskfmt.dgreal import Real
     from diskfmt.layouts import decode_bi, Command, encode_ncont, CODE_STAR
-    from estar.link import DirectLink
-    from estar.program import Eclipse
-    from nstar.program import Nova
+    from estar.program import in_process_rig
     from rig.scene import bundled_path, bundled_range
     from rig.truth import true_range_at
 
@@ -671,9 +653,8 @@ def make_doc_pictures(outdir, iy: int = 60, star=(85, 36, 30)) -> list[Path]:
     outdir.mkdir(parents=True, exist_ok=True)
     left = decode_bi(bundled_path("LAB-L.BI").read_bytes())
     right = decode_bi(bundled_path("LAB-R.BI").read_bytes())
-    nova = Nova()
-    nova.load_pair(left, right)
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
+    ecl = in_process_rig(left, right)
+    nova = ecl.link.nova
     res = ecl.lcln(iy)
     written = [save_png(outdir / "monitor-parked.png", monitor_picture(nova.octek, [iy]))]
     written.append(save_png(outdir / f"line-{iy}.png", line_picture(left, right, res)))

@@ -14,18 +14,15 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from diskfmt.dgreal import Real
 from estar.lcsl import Point
-from estar.link import DirectLink
 from estar.masl import Options as MaslOptions
-from estar.program import Eclipse, LineResult
-from nstar.program import Nova
+from diskfmt.rdos import write_atomic as _write_atomic
+from estar.program import Eclipse, LineResult, in_process_rig
 
 DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
 
@@ -64,10 +61,7 @@ def scan_pair(left: np.ndarray, right: np.ndarray, lines=DEFAULT_LINES,
     """Scan the pair over the direct (in-process) link: NSTAR's command handler
     is called with the same NCONT.DT bytes the file link would carry."""
     if eclipse is None:
-        nova = Nova()
-        nova.load_pair(left, right)
-        eclipse = Eclipse(DirectLink(nova), Real.const(ds), Real.const(dv), options=options,
-                          matcher=matcher)
+        eclipse = in_process_rig(left, right, ds, dv, options=options, matcher=matcher)
     return run_lines(eclipse, lines, progress)
 
 
@@ -149,12 +143,8 @@ def ply_text(points: list[Point]) -> str:
 
 
 def write_atomic(path, text: str) -> Path:
-    """Write via a temporary name in the same directory, then rename."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    tmp.write_text(text)
-    os.replace(tmp, path)
-    return path
+    """Write ``text`` by the project's one atomic publish (diskfmt.rdos.write_atomic)."""
+    return _write_atomic(Path(path), text.encode())
 
 
 def read_ply_points(text: str) -> np.ndarray:

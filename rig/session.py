@@ -1,5 +1,10 @@
 """Running the rig as 1985 did: ``nstar`` as its own process on a JHDATA
-directory, ESTAR speaking to it only through files."""
+directory, ESTAR speaking to it only through files.
+
+:func:`start_nstar` is the one way this project starts an ``nstar`` process
+(rig, bench and tests); :func:`file_link_eclipse` pairs it with an ESTAR in
+this process, started by the one start-up protocol
+(:func:`estar.link.start_file_link`)."""
 
 from __future__ import annotations
 
@@ -9,13 +14,12 @@ import subprocess
 import sys
 from pathlib import Path
 
-from diskfmt.dgreal import Real
-from diskfmt.rdos import JHData
-from estar.link import FileLink, ESTAR_STALE
+from estar.link import start_file_link
 from estar.masl import Options as MaslOptions
-from estar.program import Eclipse
+from estar.program import file_link_estar
 
 REPO = Path(__file__).resolve().parent.parent
+_IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT")
 
 
 def child_env() -> dict:
@@ -25,52 +29,113 @@ def child_env() -> dict:
     return env
 
 
-@contextlib.contextmanager
-def nstar_process(jhdata: Path, left: Path, right: Path, *extra: str, quiet: bool = True):
-    """Start ``nstar`` on the pair; stop it (terminate command, then kill) on exit."""
-    jhdata.mkdir(parents=True, exist_ok=True)
-    args = [sys.executable, "-m", "nstar.main", "--jhdata", str(jhdata), "--debug", "0",
-            "--left", str(left), "--right", str(right), "--idle-timeout", "300", *extra]
+def nstar_command(jhdata: Path, left: Path | None, right: Path | None, *extra: str,
+                  debug: int | None = 0, idle_timeout: float | None = 300,
+                  quiet: bool = False) -> list[str]:
+    """The argument list of an ``nstar`` on ``jhdata`` serving the pair."""
+    args = [sys.executable, "-m", "nstar.main", "--jhdata", str(jhdata)]
+    if debug is not None:
+        args += ["--debug", str(debug)]
+    if left is not None:
+        args += ["--left", str(left), "--right", str(right)]
+    if idle_timeout is not None:
+        args += ["--idle-timeout", f"{idle_timeout:g}"]
     if quiet:
         args.append("--quiet")
-    proc = subprocess.Popen(args, env=child_env(), stdin=subprocess.DEVNULL)
+    return args + [str(a) for a in extra]
+
+
+def start_nstar(jhdata: Path, left: Path | None, right: Path | None, *extra: str,
+                debug: int | None = 0, idle_timeout: float | None = 300, quiet: bool = False,
+                stdin=subprocess.DEVNULL, stdout=None, stderr=None, text: bool = True,
+                env: dict | None = None) -> subprocess.Popen:
+    """Start an ``nstar`` process (the one constructor: rig, bench and tests).
+    Its console goes to ``stdout``/``stderr`` (inherited when None)."""
+    if env is None:
+        env = child_env()
+        env.pop("JHDATA", None)        # --jhdata names the directory, always
+    return subprocess.Popen(nstar_command(jhdata, left, right, *extra, debug=debug,
+                                          idle_timeout=idle_timeout, quiet=quiet),
+                            stdin=stdin, stdout=stdout, stderr=stderr, text=text, env=env)
+
+
+def stop_process(proc: subprocess.Popen, grace: float = 10.0) -> None:
+    """Wait up to ``grace`` seconds for ``proc`` to end, then kill it."""
+    if proc.poll() is None:
+        try:
+            proc.wait(timeout=grace)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
+@contextlib.contextmanager
+def nstar_process(jhdata: Path, left: Path, right: Path, *extra: str, quiet: bool = True,
+                  grace: float = 10.0):
+    """An ``nstar`` on the pair for a ``with`` block; on exit it is given
+    ``grace`` seconds to end (after a terminate command), then killed."""
+    jhdata.mkdir(parents=True, exist_ok=True)
+    proc = start_nstar(jhdata, left, right, *extra, quiet=quiet)
     try:
         yield proc
     finally:
-        if proc.poll() is None:
-            try:
-                proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
+        stop_process(proc, grace)
 
 
 @contextlib.contextmanager
 def file_link_eclipse(jhdata: Path, left: Path, right: Path, ds: str = "0.75",
                       dv: str = "180", options: MaslOptions | None = None,
-                      timeout: float = 30.0, say=None):
+                      timeout: float = 30.0, say=None, matcher=None):
     """An ESTAR in this process and an NSTAR process, talking through ``jhdata``;
-    NSTAR is told to terminate at the end."""
+    NSTAR is told to terminate at the end (killed at once when the block ends
+    with an exception: an interrupted scan must not wait)."""
     jhdata.mkdir(parents=True, exist_ok=True)
-    jh = JHData(jhdata, me="ESTAR", peer="NSTAR", timeout=timeout)
+    link = start_file_link(jhdata, timeout=timeout, say=say)
     try:
-        jh.lock("ESTAR.LCK")
-        for name in ESTAR_STALE:
-            where = jh.set_aside(name, "stale")
-            if where and say:
-                say(f" Found {name} from an earlier run; moved it to {where}")
-
-        def publish(data: bytes) -> None:
-            jh.path("EDAT.DT").write_bytes(data)
-            jh.rename("EDAT.DT", "POSIT.DT")
-
-        with nstar_process(jhdata, left, right) as proc:
-            ecl = Eclipse(FileLink(jh), Real.const(ds), Real.const(dv), options=options,
-                          publish=publish)
-            try:
-                yield ecl
-            finally:
-                if proc.poll() is None:
-                    ecl.terminate()
+        proc = start_nstar(jhdata, left, right, quiet=True)
+        ok = False
+        try:
+            ecl = file_link_estar(link, ds, dv, options=options, matcher=matcher)
+            yield ecl
+            ok = True
+        finally:
+            if ok and proc.poll() is None:
+                ecl.terminate()
+                stop_process(proc)
+            else:                          # interrupted or failed: stop now, and tidy
+                if proc.poll() is None:        # the directory (every protocol file in
+                    proc.kill()                # it is ours or our NSTAR's)
+                proc.wait()
+                for name in _IN_FLIGHT:
+                    link.jh.delete(name)
     finally:
-        jh.close()
+        link.close()
+
+
+@contextlib.contextmanager
+def rig_jhdata(given: str | Path | None):
+    """The jhdata/ a ``rig`` command runs its own NSTAR on: a private temporary
+    directory, removed afterwards, unless one is ``given`` (issue 8.12) — and
+    then only if no NSTAR runs there already: rig never talks to an NSTAR it
+    did not start."""
+    import shutil
+    import tempfile
+    from diskfmt.rdos import JHData, LockedError, NSTAR_LOCK
+    if given is None:
+        d = Path(tempfile.mkdtemp(prefix="rig-jhdata-"))
+        try:
+            yield d
+        finally:
+            shutil.rmtree(d, ignore_errors=True)
+        return
+    d = Path(given)
+    d.mkdir(parents=True, exist_ok=True)
+    probe = JHData(d, me="rig", peer="NSTAR", use_events=False)
+    try:
+        if probe.held(NSTAR_LOCK):
+            raise LockedError(f"an nstar is already running on {d}; rig starts its own "
+                              f"NSTAR — stop that one, or leave out --jhdata (rig then uses "
+                              f"a private temporary directory)")
+    finally:
+        probe.close()
+    yield d

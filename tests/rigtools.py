@@ -1,14 +1,26 @@
-"""Helpers for tests that run the rig: a small synthetic stereo pair with known
-disparities, and the nstar/estar programs as real processes."""
+"""The one set of helpers for tests that run the rig: a small synthetic stereo
+pair with known disparities, the in-process reference, ``nstar``/``estar`` as
+real processes (through :func:`rig.session.start_nstar`, the project's one way
+to start an nstar), waiting until something holds, and playing a peer's part
+in the JHDATA protocol.  Fixtures built on them are in conftest.py."""
 
+from __future__ import annotations
+
+import os
+import signal
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
 
-from diskfmt.layouts import encode_bi
-from rig.session import child_env
+from diskfmt.layouts import decode_bi, encode_bi, encode_ncont, decode_ncont, Command, FormatError
+from diskfmt.rdos import JHData, LinkTimeout, ESTAR_LOCK
+from estar.program import in_process_rig
+from nstar.program import Nova
+from rig.session import child_env, start_nstar as _start_nstar
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -16,6 +28,9 @@ REPO = Path(__file__).resolve().parent.parent
 # the left picture shows each box `disparity` pixels further right.
 BOXES = [(20, 15, 2, 10), (50, 20, 13, 6), (90, 12, 4, 3)]
 BACKGROUND = 8
+# lines crossing the boxes, each with edge maps to ask for: enough round trips
+# for a poll to catch a given moment
+BOX_LINES = [str(y) for y in range(30, 90, 3)]
 
 
 def make_pair(directory: Path) -> tuple[Path, Path]:
@@ -39,16 +54,170 @@ def env() -> dict:
     return e
 
 
+def wait_until(cond, timeout=15.0, what="condition"):
+    deadline = time.monotonic() + timeout
+    while not cond():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.002)
+
+
+# --- the programs as processes, console through pipes ------------------------------
+
 def start_nstar(jhdata: Path, left: Path, right: Path, *extra) -> subprocess.Popen:
-    return subprocess.Popen(
-        [sys.executable, "-m", "nstar.main", "--jhdata", str(jhdata), "--debug", "0",
-         "--left", str(left), "--right", str(right), "--idle-timeout", "60", *extra],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env(),
-        stdin=subprocess.DEVNULL)
+    return _start_nstar(jhdata, left, right, *extra, idle_timeout=60,
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env())
 
 
-def run_estar(jhdata: Path, *extra, timeout=120) -> subprocess.CompletedProcess:
+def run_estar(jhdata: Path, *extra, timeout=120, **kw) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-m", "estar.main", "--jhdata", str(jhdata), "--separation", "0.75",
-         "--virtual-distance", "180", "--debug", "0", *extra],
-        capture_output=True, text=True, env=env(), timeout=timeout, stdin=subprocess.DEVNULL)
+         "--virtual-distance", "180", "--debug", "0", *map(str, extra)],
+        capture_output=True, text=True, env=env(), timeout=timeout, stdin=subprocess.DEVNULL,
+        **kw)
+
+
+# --- the programs as processes, console into files ---------------------------------
+
+def spawn(module: str, out: Path, *args, **kw) -> subprocess.Popen:
+    """A program as a real process; its console goes to ``out``.stdout/.stderr
+    files (a pipe nobody reads could block it)."""
+    return subprocess.Popen([sys.executable, "-m", module, *map(str, args)],
+                            stdout=open(f"{out}.stdout", "w"), stderr=open(f"{out}.stderr", "w"),
+                            stdin=subprocess.DEVNULL, env=env(), text=True, **kw)
+
+
+def nstar(tmp: Path, jh: Path, tag: str, *extra, **kw) -> subprocess.Popen:
+    kw.setdefault("env", env())
+    return _start_nstar(jh, tmp / "L.BI", tmp / "R.BI", *map(str, extra), idle_timeout=60,
+                        stdout=open(tmp / f"{tag}.stdout", "w"),
+                        stderr=open(tmp / f"{tag}.stderr", "w"), **kw)
+
+
+def estar(tmp: Path, jh: Path, tag: str, *extra, **kw) -> subprocess.Popen:
+    return spawn("estar.main", tmp / tag, "--jhdata", jh, "--separation", "0.75",
+                 "--virtual-distance", "180", "--debug", "0", *extra, **kw)
+
+
+def output(tmp: Path, tag: str) -> tuple[str, str]:
+    return ((tmp / f"{tag}.stdout").read_text(), (tmp / f"{tag}.stderr").read_text())
+
+
+def nstar_ready(tmp: Path, tag: str, timeout=60.0) -> None:
+    """Wait until the nstar started as ``tag`` serves (its start-up sweep done)."""
+    wait_until(lambda: "Ready for the ECLIPSE" in output(tmp, tag)[0], timeout,
+               f"{tag} to serve")
+
+
+def finish(p: subprocess.Popen, timeout=20) -> int:
+    return p.wait(timeout=timeout)
+
+
+def cleanup(*procs) -> None:
+    for p in procs:
+        if p is not None and p.poll() is None:
+            p.kill()                      # SIGKILL also ends a stopped process
+            p.wait(timeout=10)
+
+
+def stopped(pid: int) -> bool:
+    with open(f"/proc/{pid}/stat") as fh:
+        return fh.read().rsplit(")", 1)[1].split()[0] in "tT"
+
+
+def freeze(p: subprocess.Popen) -> None:
+    os.kill(p.pid, signal.SIGSTOP)
+    wait_until(lambda: stopped(p.pid), 5, "SIGSTOP to take effect")
+
+
+def freeze_when(p: subprocess.Popen, cond, timeout=15.0, recheck=True) -> None:
+    """Stop ``p`` at a moment when ``cond()`` holds (with ``recheck``, checked
+    again while it is stopped, so the state cannot move on under us)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if cond():
+            freeze(p)
+            if not recheck or cond():
+                return
+            os.kill(p.pid, signal.SIGCONT)
+        time.sleep(0.0005)
+    raise AssertionError("the wanted moment never came")
+
+
+# --- the reference and the protocol by hand ----------------------------------------
+
+def load_pair(tmp: Path):
+    return decode_bi((tmp / "L.BI").read_bytes()), decode_bi((tmp / "R.BI").read_bytes())
+
+
+def reference(tmp: Path, lines) -> bytes:
+    """POSIT.DT of one clean ESTAR run over ``lines`` (the in-process rig)."""
+    ecl = in_process_rig(*load_pair(tmp))
+    return [ecl.lcln(int(y)) for y in lines][-1].posit
+
+
+def command_in(jh: Path) -> Command | None:
+    try:
+        return decode_ncont((jh / "NCONT.DT").read_bytes())
+    except (FileNotFoundError, FormatError):
+        return None
+
+
+def send_raw(jh: Path, cmd: Command) -> None:
+    """Publish one NCONT.DT as ESTAR does: temp name, wait for the name, link."""
+    wait_until(lambda: not (jh / "NCONT.DT").exists(), 10, "NSTAR to take NCONT.DT")
+    tmp = jh / "XCONT.DT"
+    tmp.write_bytes(encode_ncont(cmd))
+    os.link(tmp, jh / "NCONT.DT")
+    tmp.unlink()
+
+
+def stale(jh: Path) -> list[str]:
+    d = jh / "STALE"
+    return sorted(p.name for p in d.iterdir()) if d.is_dir() else []
+
+
+def hold_estar_lock(jhdata: Path):
+    """Play a live ESTAR's part in the protocol: hold ESTAR.LCK (NSTAR obeys a
+    command found at its start only while an ESTAR holds it, issue 9.7).
+    ``.close()`` the result to die."""
+    jh = JHData(jhdata, me="ESTAR", peer="NSTAR", use_events=False)
+    jh.lock(ESTAR_LOCK)
+    return jh
+
+
+class FakeNova(threading.Thread):
+    """NSTAR's loop in this process (the real program's replies from
+    nstar.program.Nova), with one reply replaced by ``damage(bytes)``; a damage
+    may also put the reply in place itself (returning None: nothing to publish)."""
+
+    def __init__(self, tmp: Path, jh: Path, name: str, damage):
+        super().__init__(daemon=True)
+        self.nova = Nova()
+        self.nova.load_pair(*load_pair(tmp))
+        self.jh = JHData(jh, me="NSTAR", peer="ESTAR", timeout=5)
+        self.name, self.damage, self.sent = name, damage, None
+        self.running = True
+
+    def run(self):
+        while self.running:
+            try:
+                self.jh.wait_for("NCONT.DT", timeout=0.2)
+            except LinkTimeout:
+                continue
+            for reply in self.nova.execute(self.jh.take("NCONT.DT")):
+                data = reply.data
+                if reply.name == self.name and self.sent is None:
+                    data = self.sent = self.damage(data)
+                    if data is None:
+                        self.sent = b""
+                        continue
+                try:
+                    self.jh.publish(reply.temp, reply.name, data)
+                except LinkTimeout:
+                    return
+
+    def stop(self):
+        self.running = False
+        self.join(5)
+        self.jh.close()

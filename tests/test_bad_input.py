@@ -2,12 +2,16 @@
 nothing lost."""
 
 import subprocess
+
+import pytest
 import sys
 import time
 
 from diskfmt.layouts import Command, encode_ncont, encode_slice, Slice, decode_posit
 
-from rigtools import make_pair, start_nstar, run_estar, env
+from rigtools import make_pair, start_nstar, run_estar, env, hold_estar_lock
+
+pytestmark = pytest.mark.processes
 
 
 def test_bi_of_wrong_size_is_refused_by_nstar(tmp_path):
@@ -32,11 +36,13 @@ def test_ncont_of_11_bytes_stops_nstar_and_is_kept(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
     left, right = make_pair(tmp_path)
+    live = hold_estar_lock(jh)
     p = start_nstar(jh, left, right)
     bad = encode_ncont(Command(2, 1, 0, 60, 128, 0))[:11]
     (jh / "X.DT").write_bytes(bad)
     (jh / "X.DT").rename(jh / "NCONT.DT")
     rc, out, err = _wait_exit(p)
+    live.close()
     assert rc == 1
     assert "NCONT.DT: 11 bytes, expected 12" in err
     assert (jh / "NCONT.DT").read_bytes() == bad          # left for inspection
@@ -46,6 +52,7 @@ def test_unknown_code_is_ignored_and_nstar_keeps_serving(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
     left, right = make_pair(tmp_path)
+    live = hold_estar_lock(jh)
     p = start_nstar(jh, left, right)
     try:
         for code in (7, 2):
@@ -62,6 +69,7 @@ def test_unknown_code_is_ignored_and_nstar_keeps_serving(tmp_path):
     finally:
         p.kill()
         out, err = p.communicate()
+        live.close()
     assert "Ignored command code 7" in out
 
 

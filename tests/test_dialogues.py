@@ -3,18 +3,20 @@ each flag turns on (FORTRAN unit 12)."""
 
 import io
 import subprocess
+
+import pytest
 import sys
 
-from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi, decode_posit, Command, encode_ncont
 from diskfmt.listing import Listing
-from estar.link import DirectLink
-from estar.program import Eclipse
+from estar.program import in_process_rig
 from nstar.program import Nova
 
-from rigtools import make_pair, env, start_nstar
+from rig.session import start_nstar as start_nstar_process
+from rigtools import make_pair, env, start_nstar, hold_estar_lock
 
 
+@pytest.mark.processes
 def test_estar_asks_as_in_1985_and_stops_on_a_line_outside_0_119(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
@@ -39,6 +41,7 @@ def test_estar_asks_as_in_1985_and_stops_on_a_line_outside_0_119(tmp_path):
     assert decode_posit((jh / "POSIT.DT").read_bytes()).np_ == 6
 
 
+@pytest.mark.processes
 def test_estar_asks_again_after_an_answer_that_is_not_a_number(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
@@ -50,14 +53,14 @@ def test_estar_asks_again_after_an_answer_that_is_not_a_number(tmp_path):
     assert done.stdout.count(" Camera seperation = ") == 2
 
 
+@pytest.mark.processes
 def test_nstar_dialogue_loads_the_pair_from_typed_file_names(tmp_path):
     jh = tmp_path / "jh"
     jh.mkdir()
     left, right = make_pair(tmp_path)
-    p = subprocess.Popen([sys.executable, "-m", "nstar.main", "--jhdata", str(jh),
-                          "--idle-timeout", "30"],
-                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, env=env())
+    live = hold_estar_lock(jh)                     # the test plays the ESTAR
+    p = start_nstar_process(jh, None, None, debug=None, idle_timeout=30, stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env())
     try:
         # debug flags, save? no, new images? yes, a missing file (asked again), L, R
         p.stdin.write(f"0\n0\n1\nNOSUCH.BI\n{left}\n{right}\n")
@@ -68,6 +71,7 @@ def test_nstar_dialogue_loads_the_pair_from_typed_file_names(tmp_path):
     finally:
         if p.poll() is None:
             p.kill()
+        live.close()
     assert p.returncode == 0, err
     for text in (" NOVA half of stereo vision system", " 16-Edge bit map.",
                  " Input the debug flags. (=0 for no flags.) ", "Save the current image? (0=NO) ",
@@ -84,8 +88,7 @@ def _eclipse(tmp_path, debug, nova_debug=0):
     nova_listing, listing = io.StringIO(), io.StringIO()
     nova = Nova(debug=nova_debug, listing=Listing(nova_listing))
     nova.load_pair(decode_bi(left.read_bytes()), decode_bi(right.read_bytes()))
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"), debug=debug,
-                  listing=Listing(listing))
+    ecl = in_process_rig(None, None, nova=nova, debug=debug, listing=Listing(listing))
     return nova, ecl, listing, nova_listing
 
 

@@ -169,6 +169,9 @@ def test_slice_nfeat_50_and_0_are_fine():
     for n in (0, 50):
         buf = _hand_slice()
         _put(buf, 512 + 14, n)
+        for k in range(3, 51):          # features 3..50 as NSTAR could write them
+            for j, v in enumerate((2 * k, 2 * k + 1, 3, 4)):
+                _put(buf, 512 + 2 * L.ifeat_word(k, j + 1), v)
         assert L.decode_slice(bytes(buf)).nfeat == n
 
 

@@ -12,11 +12,9 @@ import pytest
 from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi, decode_posit
 from estar.lcsl import locate
-from estar.link import DirectLink
-from estar.program import Eclipse
+from estar.program import in_process_rig
 from matching import Constraints, match_lines
 from matching.mode import ImprovedMatcher
-from nstar.program import Nova
 from rig import main as rigmain
 from rig import scan as scanmod
 from rig.scene import bundled_path, bundled_range
@@ -30,9 +28,7 @@ def bundled_pair():
 
 
 def eclipse(matcher=None):
-    nova = Nova()
-    nova.load_pair(*bundled_pair())
-    return Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"), matcher=matcher)
+    return in_process_rig(*bundled_pair(), matcher=matcher)
 
 
 def test_match_1985_csv_is_byte_identical_to_no_flag(tmp_path):
@@ -94,8 +90,7 @@ def test_improved_over_the_file_link_equals_the_direct_link(tmp_path):
     lines = [30, 31, 60]
     direct = scanmod.run_lines(eclipse(ImprovedMatcher()), lines)
     with file_link_eclipse(tmp_path / "jhdata", bundled_path("LAB-L.BI"),
-                           bundled_path("LAB-R.BI")) as ecl:
-        ecl.matcher = ImprovedMatcher()
+                           bundled_path("LAB-R.BI"), matcher=ImprovedMatcher()) as ecl:
         files = scanmod.run_lines(ecl, lines)
     assert [r.posit for r in files.results] == [r.posit for r in direct.results]
     assert (tmp_path / "jhdata" / "POSIT.DT").read_bytes() == direct.last_posit
@@ -134,10 +129,8 @@ def test_estar_refuses_subpixel_and_unknown_constraints(tmp_path, capsys):
 def test_debug_4_lists_the_verdicts_after_the_match_lists():
     from diskfmt.listing import Listing
     buf = io.StringIO()
-    nova = Nova()
-    nova.load_pair(*bundled_pair())
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"), debug=4,
-                  listing=Listing(buf), matcher=ImprovedMatcher())
+    ecl = in_process_rig(*bundled_pair(), debug=4, listing=Listing(buf),
+                         matcher=ImprovedMatcher())
     r = ecl.lcln(60)
     text = buf.getvalue()
     assert "Improved matcher (not 1985), constraints: order,lr,neighbours,region" in text

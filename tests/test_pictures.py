@@ -13,11 +13,8 @@ import cv2
 import numpy as np
 import pytest
 
-from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi
-from estar.link import DirectLink
-from estar.program import Eclipse
-from nstar.program import Nova
+from estar.program import in_process_rig
 from octek_sim import Octek
 from octek_sim.monitor import render_monitor, CURSOR_COLOUR
 from rig.pictures import (line_picture, topdown_map, save_png, used_matches, MATCH_PALETTE,
@@ -37,10 +34,9 @@ def _pair():
 @pytest.fixture(scope="module")
 def lab():
     left, right = _pair()
-    nova = Nova()
-    nova.load_pair(left, right)
-    res = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180")).lcln(60)
-    return left, right, nova, res
+    ecl = in_process_rig(left, right)
+    res = ecl.lcln(60)
+    return left, right, ecl.link.nova, res
 
 
 # --- monitor -----------------------------------------------------------------
@@ -206,9 +202,7 @@ def test_line_picture_joins_the_recorded_entry_at_separation_025(lab):
     # Line 20 at ds 0.25: edge 58's range came from entry (128, 110), not from
     # the first entry with disparity > 1, (128, 30).
     left, right = lab[0], lab[1]
-    nova = Nova()
-    nova.load_pair(left, right)
-    res = Eclipse(DirectLink(nova), Real.const("0.25"), Real.const("180")).lcln(20)
+    res = in_process_rig(left, right, "0.25", "180").lcln(20)
     assert res.matches[58][0][2:] == (128, 30)
     assert (58, 128, 110) in used_matches(res)
     s = 4
@@ -385,9 +379,7 @@ def test_fitted_range_is_a_nice_value_above_the_bulk_of_the_ranges():
     assert fitted_range([0.2] * 99 + [50.0]) == 0.25    # one far point is an arrow
     assert fitted_range([]) == 1
     left, right = _pair()
-    nova = Nova()
-    nova.load_pair(left, right)
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
+    ecl = in_process_rig(left, right)
     dps = [p[0] for y in range(8, 113) for p in ecl.lcln(y).positions.values() if p]
     assert fitted_range(dps) == 25
 

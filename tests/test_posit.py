@@ -9,16 +9,13 @@ import pytest
 from rig import main as rigmain
 from rig import scan as scanmod
 from rig.scene import bundled_path
-from rig.session import child_env
+from rig.session import child_env, start_nstar
 from diskfmt.layouts import decode_bi
 
 
 def _two_terminal_run(jh, ds, lines):
-    nstar = subprocess.Popen([sys.executable, "-m", "nstar.main", "--jhdata", str(jh),
-                              "--debug", "0", "--quiet", "--idle-timeout", "60",
-                              "--left", str(bundled_path("LAB-L.BI")),
-                              "--right", str(bundled_path("LAB-R.BI"))],
-                             env=child_env(), stdin=subprocess.DEVNULL)
+    nstar = start_nstar(jh, bundled_path("LAB-L.BI"), bundled_path("LAB-R.BI"), quiet=True,
+                        idle_timeout=60)
     try:
         done = subprocess.run([sys.executable, "-m", "estar.main", "--jhdata", str(jh),
                                "--separation", ds, "--virtual-distance", "180", "--debug", "0",

@@ -133,6 +133,7 @@ def test_bad_option_values(tmp_path):
     assert e.value.code == 2
 
 
+@pytest.mark.processes
 def test_menu_as_a_process(tmp_path):
     vd = _vd(tmp_path)
     bi = tmp_path / "M.BI"

@@ -13,7 +13,7 @@ from diskfmt.layouts import encode_bi
 from rig import main as rigmain
 from rig import scan as scanmod
 from rig.scene import bundled_path
-from rig.session import child_env
+from rig.session import child_env, start_nstar
 
 
 @pytest.fixture
@@ -188,10 +188,8 @@ def test_estar_warns_when_nstar_serves_blank_pictures(tmp_path):
     # frame store; ESTAR finds no feature in any slice and says why.
     jh = tmp_path / "jh"
     jh.mkdir()
-    nstar = subprocess.Popen([sys.executable, "-m", "nstar.main", "--jhdata", str(jh),
-                              "--debug", "0", "--quiet", "--idle-timeout", "60"],
-                             env=child_env(), stdin=subprocess.DEVNULL,
-                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    nstar = start_nstar(jh, None, None, quiet=True, idle_timeout=60,
+                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         done = subprocess.run([sys.executable, "-m", "estar.main", "--jhdata", str(jh),
                                "--separation", "0.75", "--virtual-distance", "180", "--debug",

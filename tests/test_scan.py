@@ -21,6 +21,7 @@ def bundled_pair():
             decode_bi(bundled_path("LAB-R.BI").read_bytes()))
 
 
+@pytest.mark.processes
 def test_file_link_and_direct_link_give_identical_posit_for_lines_8_to_112(tmp_path):
     left, right = bundled_pair()
     direct = scanmod.scan_pair(left, right)
@@ -120,6 +121,7 @@ def test_accuracy_table_is_computed_from_the_truth_file():
     assert rows[0].share_within_bound == pytest.approx(inside / len(edges))
 
 
+@pytest.mark.processes
 def test_rig_scan_command_writes_csv_and_ply(tmp_path):
     csv_path, ply_path = tmp_path / "s.csv", tmp_path / "s.ply"
     done = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--lines", "50", "60",
@@ -132,6 +134,7 @@ def test_rig_scan_command_writes_csv_and_ply(tmp_path):
     assert "median |error|" in done.stdout
 
 
+@pytest.mark.processes
 def test_rig_demo_runs_two_processes_and_makes_pictures(tmp_path):
     done = subprocess.run([sys.executable, "-m", "rig.main", "demo", "--lines", "60",
                            "--jhdata", str(tmp_path / "jh"), "--out", str(tmp_path / "out")],
@@ -144,6 +147,7 @@ def test_rig_demo_runs_two_processes_and_makes_pictures(tmp_path):
     assert (tmp_path / "jh" / "POSIT.DT").stat().st_size == 2560
 
 
+@pytest.mark.processes
 def test_rig_scan_takes_any_set_of_lines_and_refuses_lines_outside_the_picture():
     done = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--line", "60", "40",
                            "--quiet"], capture_output=True, text=True, env=child_env(),

@@ -2,21 +2,18 @@
 
 import pytest
 
-from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi, decode_posit, TERM_TEXT
-from estar.link import DirectLink
-from estar.program import Eclipse
-from nstar.program import Nova
+from estar.program import in_process_rig
 
 from rigtools import make_pair, start_nstar, run_estar, BOXES
+
+pytestmark = pytest.mark.processes
 
 LINES = [20, 60, 45, 90]
 
 
 def direct_posit(left, right, lines):
-    nova = Nova()
-    nova.load_pair(decode_bi(left.read_bytes()), decode_bi(right.read_bytes()))
-    ecl = Eclipse(DirectLink(nova), Real.const("0.75"), Real.const("180"))
+    ecl = in_process_rig(decode_bi(left.read_bytes()), decode_bi(right.read_bytes()))
     return [ecl.lcln(y) for y in lines]
 
 

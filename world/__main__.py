@@ -12,25 +12,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
-
-def _publish(path: Path, data: bytes) -> None:
-    """Write by temporary name and rename (readers never see half a file)."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=str(path.parent))
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+from diskfmt.rdos import write_atomic
 
 
 def _pose(text: str):
@@ -88,7 +75,7 @@ def cmd_look(args) -> int:
                            (f"{args.prefix}-L.BI", encode_bi(look.left_bi)),
                            (f"{args.prefix}-R.BI", encode_bi(look.right_bi)),
                            (f"{args.prefix}-RANGE.npy", range_npy_bytes(look.range_left))):
-            _publish(out / name, data)
+            write_atomic(out / name, data)
             written.append(str(out / name))
     if args.png:
         save_png(args.png, look_strip([look], per_row=1))

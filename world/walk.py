@@ -18,13 +18,12 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
-import tempfile
 from collections import deque
 from pathlib import Path
 
 import numpy as np
 
+from diskfmt.rdos import write_atomic
 from world.pose import Pose, wrap_deg
 from world.room import Room, bundled_lab
 
@@ -213,19 +212,8 @@ def walk_csv(poses) -> str:
 
 
 def write_walk(path, poses) -> Path:
-    """Write a walk CSV atomically (temporary name in the same directory, then rename)."""
-    path = Path(path)
-    text = walk_csv(poses)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "w", newline="") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    """Write a walk CSV by the project's one atomic publish (diskfmt.rdos.write_atomic)."""
+    return write_atomic(Path(path), walk_csv(poses).encode())
 
 
 def parse_walk(text: str, name: str = "walk") -> list[Pose]:

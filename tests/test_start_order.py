@@ -1,0 +1,215 @@
+"""The two programs and ``rig`` as a person meets them (issue 8, items 9-14):
+start order, ending, quiet consoles, private jhdata for rig, Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import pty
+import select
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from diskfmt.layouts import TERM_TEXT
+
+from rigtools import (cleanup, env, finish, hold_estar_lock, nstar, nstar_ready, output,
+                      reference, run_estar, wait_until)
+
+pytestmark = pytest.mark.processes
+
+
+class Terminal:
+    """A program on a pseudo-terminal, as a person at a terminal runs it."""
+
+    def __init__(self, argv, cwd=None):
+        self.master, slave = pty.openpty()
+        self.proc = subprocess.Popen(argv, stdin=slave, stdout=slave, stderr=slave, env=env(),
+                                     cwd=cwd, close_fds=True)
+        os.close(slave)
+        self.text = ""
+
+    def read(self, seconds=0.2):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            r, _, _ = select.select([self.master], [], [], 0.05)
+            if r:
+                try:
+                    self.text += os.read(self.master, 65536).decode(errors="replace")
+                except OSError:
+                    break
+        return self.text
+
+    def wait_for(self, text, timeout=60):
+        wait_until(lambda: text in self.read(0.05), timeout, repr(text))
+
+    def type(self, line):
+        os.write(self.master, line.encode() + b"\n")
+
+    def close(self):
+        cleanup(self.proc)
+        os.close(self.master)
+
+
+def estar_terminal(jh, *extra):
+    return Terminal([sys.executable, "-m", "estar.main", "--jhdata", str(jh), "--separation",
+                     "0.75", "--virtual-distance", "180", "--debug", "0", *extra])
+
+
+# --- 9, 10: start order, and ending at a terminal -------------------------------------------
+
+def test_estar_at_a_terminal_waits_for_nstar_then_says_nstar_still_runs(rig):
+    """Before: "NCONT.DT not taken by NSTAR" after 30 s, and NSTAR later obeyed
+    the orphaned command; ending, nothing was said about the NSTAR left behind."""
+    tmp, jh = rig
+    t = estar_terminal(jh)
+    n = None
+    try:
+        t.wait_for(f"waiting for NSTAR on {jh}…")
+        t.read(1.0)
+        assert t.proc.poll() is None                     # still waiting, no timeout
+        assert "Which horizontal line" not in t.text
+        n = nstar(tmp, jh, "nstar")
+        t.wait_for("NSTAR is running.")
+        t.wait_for("Which horizontal line?")
+        t.type("45")
+        t.wait_for("Storing positions.")
+        t.type("-1")
+        assert t.proc.wait(timeout=30) == 0
+        t.read(0.3)
+        assert (f"NSTAR is still running on {jh}, waiting for commands. Stop it with Ctrl-C in "
+                f"its window, or with: estar --jhdata {jh}") in t.text.replace("\r\n", " ") \
+            .replace("\n", " ")
+        assert n.poll() is None
+        # ... and the command it names does stop it
+        done = run_estar(jh, "--separation", "1", "--virtual-distance", "1", "--line", "-1",
+                         "--terminate")
+        assert done.returncode == 0, done.stderr
+        assert finish(n, 30) == 0
+    finally:
+        t.close()
+        cleanup(n)
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])
+
+
+def test_estar_at_a_terminal_with_timeout_gives_up_and_leaves_no_command(rig):
+    tmp, jh = rig
+    t = estar_terminal(jh, "--timeout", "1")
+    try:
+        t.wait_for(f"waiting for NSTAR on {jh}…")
+        assert t.proc.wait(timeout=30) == 1
+        t.read(0.3)
+        assert f"estar: no NSTAR on {jh} after 1 s — start nstar on this jhdata directory" in t.text
+    finally:
+        t.close()
+    assert sorted(p.name for p in jh.iterdir()) == ["ESTAR.LCK"]
+
+
+# --- 11: quiet consoles, clean ends, checks first -----------------------------------------------
+
+def test_a_clean_end_is_not_stale_and_edge_map_lines_need_verbose(rig):
+    tmp, jh = rig
+    for run, extra in (("first", ()), ("second", ("--verbose",))):
+        n = nstar(tmp, jh, run, *extra)
+        try:
+            done = run_estar(jh, "--line", "45", "--terminate")      # 24 edge maps
+            assert done.returncode == 0, done.stderr
+            assert finish(n, 30) == 0
+        finally:
+            cleanup(n)
+        assert (jh / "TERM.DT").read_bytes() == TERM_TEXT.encode()
+    first, second = output(tmp, "first")[0], output(tmp, "second")[0]
+    assert "Bit map region edge" not in first
+    assert second.count(" Bit map region edge. IYC=") == 24    # the 1985 TYPE lines, asked for
+    assert "TERM.DT" not in second                             # a clean end is not stale
+    assert not (jh / "STALE").exists()
+
+
+@pytest.mark.parametrize("program", ["estar", "nstar"])
+def test_a_missing_jhdata_is_said_before_any_question(tmp_path, program):
+    missing = tmp_path / "nope"
+    t = Terminal([sys.executable, "-m", f"{program}.main", "--jhdata", str(missing)])
+    try:
+        assert t.proc.wait(timeout=60) == 1
+        t.read(0.3)
+    finally:
+        t.close()
+    assert t.text.strip() == (f"{program}: jhdata directory {missing} does not exist (create "
+                              f"it, or give --jhdata DIR)")
+
+
+# --- 12: rig uses its own NSTAR on a private jhdata ----------------------------------------------
+
+def test_rig_demo_and_file_scan_leave_a_users_nstar_alone(rig):
+    """Before: `rig demo` used the user's nstar on ./jhdata (wrong pictures,
+    "DIFFERS") and stopped it; `rig scan --link file` did the same silently."""
+    tmp, jh = rig
+    live = hold_estar_lock(jh)          # the user's own session, mid-work
+    n = nstar(tmp, jh, "users")
+    try:
+        nstar_ready(tmp, "users")
+        before = sorted(p.name for p in jh.iterdir())
+        demo = subprocess.run([sys.executable, "-m", "rig.main", "demo", "--lines", "60",
+                               "--out", str(tmp / "out")], cwd=tmp, capture_output=True,
+                              text=True, env=env(), timeout=300)
+        assert demo.returncode == 0, demo.stderr
+        assert "matches an in-process replay" in demo.stdout
+        scan = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--link", "file",
+                               "--line", "60", "--quiet"], cwd=tmp, capture_output=True,
+                              text=True, env=env(), timeout=300)
+        assert scan.returncode == 0, scan.stderr
+        refused = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--link", "file",
+                                  "--jhdata", str(jh), "--line", "60"], capture_output=True,
+                                 text=True, env=env(), timeout=120)
+        assert refused.returncode == 1
+        assert refused.stderr == (f"rig: an nstar is already running on {jh}; rig starts its "
+                                  f"own NSTAR — stop that one, or leave out --jhdata (rig then "
+                                  f"uses a private temporary directory)\n")
+        assert n.poll() is None                                  # still the user's
+        assert sorted(p.name for p in jh.iterdir()) == before
+    finally:
+        cleanup(n)
+        live.close()
+
+
+def test_rig_file_scan_on_a_locked_jhdata_is_one_line(rig):
+    tmp, jh = rig
+    other = hold_estar_lock(jh)
+    try:
+        done = subprocess.run([sys.executable, "-m", "rig.main", "scan", "--link", "file",
+                               "--jhdata", str(jh), "--line", "60"], capture_output=True,
+                              text=True, env=env(), timeout=120)
+    finally:
+        other.close()
+    assert done.returncode == 1
+    assert done.stderr == (f"rig: another ESTAR is already running on {jh} (it holds "
+                           f"ESTAR.LCK); stop it first\n")
+
+
+# --- 13: Ctrl-C in rig scan ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("link", ["file", "direct"])
+def test_ctrl_c_in_rig_scan_stops_at_once_and_tidily(tmp_path, link):
+    """Before: up to 30 s, chained tracebacks, command files left in jhdata/."""
+    jh = tmp_path / "jh"
+    many = [str(y) for y in range(120)] * (1 if link == "file" else 20)   # long enough
+    p = subprocess.Popen([sys.executable, "-m", "rig.main", "scan", "--link", link, "--jhdata",
+                          str(jh), "--quiet", "--line", *many], cwd=tmp_path, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=env(), start_new_session=True)
+    try:
+        if link == "file":
+            wait_until(lambda: (jh / "POSIT.DT").exists(), 120, "the first line")
+        else:
+            time.sleep(3)
+        os.killpg(p.pid, signal.SIGINT)                # Ctrl-C: the whole foreground group
+        out, err = p.communicate(timeout=25)           # before: up to the 30 s link timeout
+    finally:
+        cleanup(p)
+    assert p.returncode == 130
+    assert "Traceback" not in err
+    assert err.strip().splitlines()[-1] == "rig: interrupted"
+    if link == "file":
+        left = sorted(x.name for x in jh.iterdir())
+        assert set(left) <= {"ESTAR.LCK", "NSTAR.LCK", "NSTAR.BSY", "POSIT.DT"}, left
