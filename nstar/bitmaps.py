@@ -91,7 +91,7 @@ def edge_map_kernel(frame, ixc, iyc, idn, ixmin, ixmax, iymin, iymax, out):
     iytop = iyc - 7
     # IXC+IDN+IDN in 16-bit INTEGER arithmetic (QUIRKS M5): a wild IDN from a
     # peer wraps as on the NOVA, and an RVBLK off the frame store reads 0 (M8,
-    # N21) -- the same reply from both kernels, never memory outside ``frame``.
+    # N22) -- the same reply from both kernels, never memory outside ``frame``.
     ixm = min(ixc, ((ixc + idn + idn + 32768) & 65535) - 32768)
     igmn = 15
     igmx = 0
