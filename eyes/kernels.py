@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from diskfmt.jit import jit, jit_inline
-from estar.masl import NPIX1, NPIX2, _insert_kernel, _search_bounds_kernel
+from estar.masl import NPIX1, NPIX2, _insert_kernel, _search_bounds_kernel, masl_requests
 from nstar.exqvfl import exqvfl_kernel
 from .dgint import dg_add, dg_div, dg_from_int, dg_gt, dg_mul, dg_word
 
@@ -97,71 +97,91 @@ def _window(m0, m1, top):
     return ((m0 >> top) | (m1 << (60 - top))) & 0xFFFF
 
 
-@jit_inline
-def nblob(frame, masks, image, x, iyloc, ies, limbs, prefix, row):
-    """NBLOB(IMAGE, X, IYLOC, IES): NSTAR label 100's geometry and label 500's
-    edge bit map (:func:`nstar.bitmaps.edge_map_kernel`), from the level masks.
-    The 16 column words go into row ``row`` of ``limbs`` (four per 64-bit
-    word, column 1 lowest), the running sums of their bit counts into that
-    row of ``prefix``."""
-    ixctr = min(max(x, 0), 127)                    # command_geometry's clamps
-    iyc = min(max(iyloc, 0), 119)
-    ixc = ixctr + (26 if image == 1 else 166)
-    ixm = min(ixc, ixc + ies + ies)
-    igmn = 15
-    igmx = 0
-    for r in range(iyc, iyc + 3):                  # RVBLK(ICT,IDAT,IXM,2,IYC,3)
-        for c in range(ixm, ixm + 2):
-            v = frame[r, c]
-            igmn = min(igmn, v)
-            igmx = max(igmx, v)
-    top = iyc - 7
-    img = 0 if image == 1 else 1
-    for i in range(4):
-        limbs[row, i] = 0
-    prefix[row, 0] = 0
-    for col in range(16):
-        pc = ixctr - 7 + col                        # picture column; outside stays 0
-        w = 0
-        if 0 <= pc <= 127:
-            w = (_window(masks[img, pc, igmx + 1, 0], masks[img, pc, igmx + 1, 1], top)
-                 & ~_window(masks[img, pc, igmn, 0], masks[img, pc, igmn, 1], top))
-        limbs[row, col >> 2] |= np.uint64(w) << np.uint64(16 * (col & 3))
-        prefix[row, col + 1] = prefix[row, col] + popcount64(np.uint64(w))
+@jit
+def nblob_many(frame, masks, iyloc, requests, count, maps):
+    """NBLOB(IMAGE, X, IYLOC, IES) for the first ``count`` rows (image, edge,
+    X, IES) of ``requests`` (:func:`estar.masl.masl_requests`' rows): NSTAR
+    label 100's geometry and label 500's edge bit map
+    (:func:`nstar.bitmaps.edge_map_kernel`), from the level masks.  Map
+    ``maps[image-1, edge-1]`` gets the 16 column words, four to a 64-bit word,
+    column 1 lowest.  (Written out in one loop: a helper taking arrays would
+    cost a reference count per call.)"""
+    for k in range(count):
+        image = requests[k, 0]
+        row = requests[k, 1] - 1
+        ies = requests[k, 3]
+        ixctr = min(max(requests[k, 2], 0), 127)   # command_geometry's clamps
+        iyc = min(max(iyloc, 0), 119)
+        ixc = ixctr + (26 if image == 1 else 166)
+        ixm = min(ixc, ixc + ies + ies)
+        igmn = 15
+        igmx = 0
+        for r in range(iyc, iyc + 3):              # RVBLK(ICT,IDAT,IXM,2,IYC,3)
+            for c in range(ixm, ixm + 2):
+                v = frame[r, c]
+                igmn = min(igmn, v)
+                igmx = max(igmx, v)
+        top = iyc - 7
+        img = image - 1
+        for i in range(4):
+            maps[img, row, i] = 0
+        for col in range(16):
+            pc = ixctr - 7 + col                    # picture column; outside stays 0
+            if 0 <= pc <= 127:
+                w = (_window(masks[img, pc, igmx + 1, 0], masks[img, pc, igmx + 1, 1], top)
+                     & ~_window(masks[img, pc, igmn, 0], masks[img, pc, igmn, 1], top))
+                maps[img, row, col >> 2] |= np.uint64(w) << np.uint64(16 * (col & 3))
 
 
 @jit_inline
-def _limb(maps, row, j):
-    return maps[row, j] if j < 4 else np.uint64(0)
+def _pick(a0, a1, a2, a3, j):
+    if j == 0:
+        return a0
+    if j == 1:
+        return a1
+    if j == 2:
+        return a2
+    if j == 3:
+        return a3
+    return np.uint64(0)
 
 
 @jit_inline
-def _xor_count(a, ra, b, rb, s):
-    """Bits differing between map ``a[ra]`` moved down ``s`` columns and map
-    ``b[rb]`` (maps as four 64-bit words, four columns each)."""
+def _down(a0, a1, a2, a3, s):
+    """A 256-bit map moved down ``s`` columns (column s becomes column 0)."""
     q = s >> 2
-    n = 0
-    if s & 3 == 0:
-        for i in range(4):
-            n += popcount64(_limb(a, ra, i + q) ^ b[rb, i])
-    else:
-        r = np.uint64(16 * (s & 3))
-        rr = np.uint64(64) - r
-        for i in range(4):
-            w = (_limb(a, ra, i + q) >> r) | (_limb(a, ra, i + q + 1) << rr)
-            n += popcount64(w ^ b[rb, i])
-    return n
+    r = np.uint64(16 * (s & 3))
+    if r == 0:
+        return (_pick(a0, a1, a2, a3, q), _pick(a0, a1, a2, a3, q + 1),
+                _pick(a0, a1, a2, a3, q + 2), _pick(a0, a1, a2, a3, q + 3))
+    rr = np.uint64(64) - r
+    x0 = _pick(a0, a1, a2, a3, q)
+    x1 = _pick(a0, a1, a2, a3, q + 1)
+    x2 = _pick(a0, a1, a2, a3, q + 2)
+    x3 = _pick(a0, a1, a2, a3, q + 3)
+    return ((x0 >> r) | (x1 << rr), (x1 >> r) | (x2 << rr), (x2 >> r) | (x3 << rr), x3 >> r)
 
 
 @jit_inline
-def marf_best_shift(m1, p1, r1, m2, p2, r2, iwst):
-    """MARF labels 70-200 (as :func:`estar.masl.marf_kernel`) on map ``r1`` of
-    slice 1 and map ``r2`` of slice 2: the best shift in -IWST..IWST and its
+def _mask(k, i):
+    """Limb ``i`` of the mask of the first ``k`` columns."""
+    n = k - 4 * i
+    if n >= 4:
+        return np.uint64(0xFFFFFFFFFFFFFFFF)
+    if n <= 0:
+        return np.uint64(0)
+    return (np.uint64(1) << np.uint64(16 * n)) - np.uint64(1)
+
+
+@jit_inline
+def marf_best_shift(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
+    """MARF labels 70-200 (as :func:`estar.masl.marf_kernel`) on map 1 (limbs
+    ``a``) and map 2 (limbs ``b``): the best shift in -IWST..IWST and its
     quality (ND*256)/NTOT, 256 without bits or when ND >= 128; ties go to the
     shift nearest zero, the earlier when equally near.  For IPOS >= 0 map-1
-    column c+IPOS meets map-2 column c (else map-1 c meets map-2 c+|IPOS|):
-    with the maps as 256-bit words that is one shift and one XOR, less the
-    bits of the columns left unpaired."""
+    column c+IPOS meets map-2 column c for c < 16-IPOS (else map-1 c meets
+    map-2 c+|IPOS|): with the maps as 256-bit words, one shift, one mask and
+    three bit counts."""
     mnval = 256
     mloc = 0
     for ipos in range(-iwst, iwst + 1):
@@ -170,11 +190,17 @@ def marf_best_shift(m1, p1, r1, m2, p2, r2, iwst):
         ival = 256
         if inum > 0:
             if ipos < 0:
-                ntot = p1[r1, inum] + p2[r2, 16] - p2[r2, ioff]
-                nd = _xor_count(m2, r2, m1, r1, ioff) - (p1[r1, 16] - p1[r1, inum])
+                x0, x1, x2, x3 = (a0 & _mask(inum, 0), a1 & _mask(inum, 1),
+                                  a2 & _mask(inum, 2), a3 & _mask(inum, 3))
+                y0, y1, y2, y3 = _down(b0, b1, b2, b3, ioff)
             else:
-                ntot = p1[r1, 16] - p1[r1, ioff] + p2[r2, inum]
-                nd = _xor_count(m1, r1, m2, r2, ioff) - (p2[r2, 16] - p2[r2, inum])
+                x0, x1, x2, x3 = _down(a0, a1, a2, a3, ioff)
+                y0, y1, y2, y3 = (b0 & _mask(inum, 0), b1 & _mask(inum, 1),
+                                  b2 & _mask(inum, 2), b3 & _mask(inum, 3))
+            ntot = (popcount64(x0) + popcount64(x1) + popcount64(x2) + popcount64(x3)
+                    + popcount64(y0) + popcount64(y1) + popcount64(y2) + popcount64(y3))
+            nd = (popcount64(x0 ^ y0) + popcount64(x1 ^ y1) + popcount64(x2 ^ y2)
+                  + popcount64(x3 ^ y3))
             if ntot != 0 and nd < 128:               # ND*256 would overflow 16 bits
                 ival = (nd * 256) // ntot
         if mnval < ival:
@@ -257,13 +283,10 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     pix = np.zeros(128, dtype=np.int64)
     masks = np.zeros((2, 128, 17, 2), dtype=np.int64)
     level_masks(frame, masks)
-    maps1 = np.zeros((100, 4), dtype=np.uint64)
-    maps2 = np.zeros((100, 4), dtype=np.uint64)
-    pre1 = np.zeros((100, 17), dtype=np.int64)
-    pre2 = np.zeros((100, 17), dtype=np.int64)
+    maps = np.zeros((2, 100, 4), dtype=np.uint64)
+    requests = np.zeros((200, 4), dtype=np.int64)
     have1 = np.zeros(100, dtype=np.bool_)
     have2 = np.zeros(100, dtype=np.bool_)
-    bounds1 = np.zeros((50, 2), dtype=np.int64)
     bounds2 = np.zeros((50, 2), dtype=np.int64)
     lmatch = np.zeros(4, dtype=np.int64)
     inum_side = np.zeros(2, dtype=np.int64)
@@ -286,7 +309,8 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
         # MASL (IBLB1/IBLB2 empty at the start of every line).
         have1[:] = False
         have2[:] = False
-        nreq = 0
+        nreq = masl_requests(nfeat1, ifeat1, nfeat2, ifeat2, have1, have2, requests)
+        nblob_many(frame, masks, iyloc, requests, nreq, maps)
         for j in range(1, nfeat2 + 1):
             b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
             bounds2[j - 1, 0] = b[0]
@@ -303,18 +327,11 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
                     e2 = jndx + 50 * side
                     x1 = ifeat1[side, indx - 1]
                     x2 = ifeat2[side, jndx - 1]
-                    ies = -1 if side == 0 else 1
-                    if not have1[e1 - 1]:
-                        have1[e1 - 1] = True
-                        nblob(frame, masks, 1, x1, iyloc, ies, maps1, pre1, e1 - 1)
-                        nreq += 1
-                    if not have2[e2 - 1]:
-                        have2[e2 - 1] = True
-                        nblob(frame, masks, 2, x2, iyloc, ies, maps2, pre2, e2 - 1)
-                        nreq += 1
                     iwst = min(irgd[side], bounds2[jndx - 1, side])
-                    mloc, mnval = marf_best_shift(maps1, pre1, e1 - 1, maps2, pre2, e2 - 1,
-                                                  iwst)
+                    mloc, mnval = marf_best_shift(
+                        maps[0, e1 - 1, 0], maps[0, e1 - 1, 1], maps[0, e1 - 1, 2],
+                        maps[0, e1 - 1, 3], maps[1, e2 - 1, 0], maps[1, e2 - 1, 1],
+                        maps[1, e2 - 1, 2], maps[1, e2 - 1, 3], iwst)
                     loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
                     if x1 <= loc2:
                         continue                       # LOC1 must lie right of LOC2
