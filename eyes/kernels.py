@@ -8,9 +8,9 @@ the same routines in the same order:
 * NBLOB: NSTAR label 500's edge bit map (:func:`nstar.bitmaps.edge_map_kernel`
   after label 100's :func:`~nstar.bitmaps.command_geometry`), fetched the
   first time MASL's loop needs an edge's map on this line, as MARF does;
-* MASL with MARF inlined (:func:`marf_best_shift`), inserting with MASL's own
-  kernel (:func:`estar.masl._insert_kernel`) into COMMON /MATCH/, which
-  persists across lines as in 1985;
+* MASL with MARF inlined (:func:`marf_best_shift`), inserting into COMMON
+  /MATCH/ (which persists across lines as in 1985) as
+  :func:`estar.masl._insert_kernel` does;
 * LCSL in DG truncating arithmetic on integers (:mod:`eyes.dgint`), its terms
   memoised in tables: they depend only on the disparity and one offset;
 * PNPL: COMMON /POSIT/ kept as its 640 storage words; the POSIT.DT image of a
@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from diskfmt.jit import jit, jit_inline
-from estar.masl import NPIX1, NPIX2, _insert_kernel, _search_bounds_kernel, masl_requests
+from estar.masl import NPIX1, NPIX2, _search_bounds_kernel, masl_requests
 from nstar.exqvfl import exqvfl_kernel
 from .dgint import dg_add, dg_div, dg_from_int, dg_gt, dg_mul, dg_word
 
@@ -288,7 +288,6 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     have1 = np.zeros(100, dtype=np.bool_)
     have2 = np.zeros(100, dtype=np.bool_)
     bounds2 = np.zeros((50, 2), dtype=np.int64)
-    lmatch = np.zeros(4, dtype=np.int64)
     inum_side = np.zeros(2, dtype=np.int64)
     nrow = 0
     npt = 0
@@ -335,11 +334,36 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
                     loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
                     if x1 <= loc2:
                         continue                       # LOC1 must lie right of LOC2
-                    lmatch[0] = e2
-                    lmatch[1] = mnval
-                    lmatch[2] = x1
-                    lmatch[3] = loc2
-                    inum_side[side] = _insert_kernel(imatch[e1 - 1], inum_side[side], lmatch)
+                    # MASL labels 100-210 (600-710), as estar.masl._insert_kernel, written
+                    # out here: a call taking the table would cost a reference count.
+                    row = e1 - 1
+                    count = inum_side[side]
+                    if count < 1:
+                        count = 1
+                        ispt = 1
+                    elif mnval >= imatch[row, count - 1, 1]:
+                        if count >= 10:
+                            continue                   # worse than a full list's bottom
+                        count += 1
+                        ispt = count
+                    else:
+                        inum = count
+                        if count < 10:
+                            count += 1
+                        ispt = 1
+                        for i in range(1, inum + 1):
+                            ispt = inum - i + 1
+                            if ispt != 10:
+                                for j in range(4):     # move the entry down
+                                    imatch[row, ispt, j] = imatch[row, ispt - 1, j]
+                            if ispt >= 2 and mnval >= imatch[row, ispt - 2, 1]:
+                                break                  # equal quality goes after (QUIRKS E19)
+                            ispt = 1
+                    imatch[row, ispt - 1, 0] = e2
+                    imatch[row, ispt - 1, 1] = mnval
+                    imatch[row, ispt - 1, 2] = x1
+                    imatch[row, ispt - 1, 3] = loc2
+                    inum_side[side] = count
             nmatch[indx - 1] = inum_side[0]
             nmatch[indx + 49] = inum_side[1]
         requests_out[k] = nreq
