@@ -10,7 +10,6 @@ which is how the tests compare the two paths value for value."""
 
 from __future__ import annotations
 
-import io
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,17 +101,35 @@ class FrameScan:
 
     def csv_text(self) -> str:
         """The located edges as :func:`rig.scan.csv_text` writes them, from the
-        arrays (no Python object per point)."""
+        arrays.  A POS value is one of few storage words (LCSL's terms), so
+        each word's text is made once per process."""
         from rig.scan import CSV_COLUMNS
-        v = self.point_values
-        r = self.point_rows
-        buf = io.StringIO()
-        buf.write(",".join(CSV_COLUMNS) + "\n")
-        var = (v[:, 3:6] / 2) ** 2
-        for (line, edge, loc1, loc2), vals, vv in zip(r.tolist(), v.tolist(), var.tolist()):
-            buf.write(f"{line},{edge},{loc1},{loc2},{loc1 - loc2},"
-                      + ",".join(repr(x) for x in vals + vv) + "\n")
-        return buf.getvalue()
+        value = _word_text(self.point_words)
+        variance = _word_text(self.point_words[:, 3:6], squared_half=True)
+        lines = [",".join(CSV_COLUMNS)]
+        for (line, edge, loc1, loc2), vals, var in zip(self.point_rows.tolist(), value,
+                                                        variance):
+            lines.append(f"{line},{edge},{loc1},{loc2},{loc1 - loc2},{vals},{var}")
+        return "\n".join(lines) + "\n"
+
+
+_TEXT: dict[int, str] = {}
+_TEXT_VAR: dict[int, str] = {}
+
+
+def _word_text(words: np.ndarray, squared_half: bool = False) -> list[str]:
+    """Each row of storage words as ``repr`` of its floats (or of the A-20
+    variance ``(v/2)**2``), comma-joined."""
+    memo = _TEXT_VAR if squared_half else _TEXT
+    flat = words.ravel().tolist()
+    missing = [w for w in set(flat) if w not in memo]
+    if missing:
+        values = words_to_float(np.array(missing, dtype=np.int64)).tolist()
+        for w, v in zip(missing, values):
+            memo[w] = repr((v / 2) ** 2) if squared_half else repr(v)
+    texts = [memo[w] for w in flat]
+    n = words.shape[1] if words.ndim == 2 else 1
+    return [",".join(texts[i:i + n]) for i in range(0, len(texts), n)]
 
 
 class Eyes:

@@ -24,7 +24,7 @@ from estar.link import DirectLink
 from estar.masl import Options as MaslOptions
 from estar.program import Eclipse
 from nstar.program import Nova
-from . import scan as scanmod
+from . import batch, scan as scanmod
 from .scene import bundled_path
 from .session import child_env, file_link_eclipse
 
@@ -114,18 +114,24 @@ def _topdown(points, truth, topdown_map, title):
 
 
 def cmd_scan(args) -> int:
-    lp, rp, left, right = _load_pair(args.left, args.right)
-    bundled = args.left is None
     lines = list(args.line) if args.line else list(range(args.lines[0], args.lines[1] + 1))
     bad = [y for y in lines if not 0 <= y <= 119]
     if not lines or bad:
         raise SystemExit(f"rig: lines must lie within 0..119 (got {bad or 'none'})")
+    if batch.wants_batch(args):
+        return batch.cmd_batch(args, lines)
+    lp, rp, left, right = _load_pair(args.left, args.right)
+    bundled = args.left is None
     options = MaslOptions(marf_sign_fix=args.marf_sign_fix)
     t0 = time.perf_counter()
     if args.link == "file":
         with file_link_eclipse(Path(args.jhdata), lp, rp, args.separation,
                                args.virtual_distance, options) as ecl:
             result = scanmod.run_lines(ecl, lines, progress=not args.quiet)
+    elif args.engine == "eyes":           # the compiled frame scan, bit for bit the same
+        from eyes import scan_pair as eyes_scan_pair
+        result = eyes_scan_pair(left, right, lines, args.separation, args.virtual_distance,
+                                options)
     else:
         result = scanmod.scan_pair(left, right, lines, args.separation, args.virtual_distance,
                                    options, progress=not args.quiet)
@@ -188,7 +194,11 @@ def build_parser() -> argparse.ArgumentParser:
                                    "pair's is used automatically")
     s.add_argument("--marf-sign-fix", action="store_true",
                    help="FIX (not 1985): MARF's refined location with the geometric sign")
+    s.add_argument("--engine", choices=("eyes", "reference"), default="eyes",
+                   help="direct link: eyes = the compiled frame scan (default; identical "
+                        "results), reference = ESTAR's Eclipse calling NSTAR's handlers")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
+    batch.add_arguments(s)
     s.set_defaults(func=cmd_scan)
     return p
 
