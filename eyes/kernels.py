@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from diskfmt.jit import jit, jit_inline
-from estar.masl import NPIX1, NPIX2, _search_bounds_kernel, masl_requests
+from diskfmt.jit import jit
+from estar.masl import NPIX1, NPIX2, _search_bounds_kernel
 from nstar.exqvfl import exqvfl_kernel
 from .dgint import dg_add, dg_div, dg_from_int, dg_gt, dg_mul, dg_word
 
@@ -59,7 +59,7 @@ def build_frame(left, right) -> np.ndarray:
 U16 = np.uint64(16)
 
 
-@jit_inline
+@jit
 def popcount64(x):
     x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
     x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
@@ -85,7 +85,7 @@ def level_masks(frame, masks):
                 masks[i, x, g, 1] |= masks[i, x, g - 1, 1]
 
 
-@jit_inline
+@jit
 def _window(m0, m1, top):
     """Rows top..top+15 of a 120-row mask held as two 60-bit words."""
     if top < 0:
@@ -133,7 +133,7 @@ def nblob_many(frame, masks, iyloc, requests, count, maps):
                 maps[img, row, col >> 2] |= np.uint64(w) << np.uint64(16 * (col & 3))
 
 
-@jit_inline
+@jit
 def _pick(a0, a1, a2, a3, j):
     if j == 0:
         return a0
@@ -146,7 +146,7 @@ def _pick(a0, a1, a2, a3, j):
     return np.uint64(0)
 
 
-@jit_inline
+@jit
 def _down(a0, a1, a2, a3, s):
     """A 256-bit map moved down ``s`` columns (column s becomes column 0)."""
     q = s >> 2
@@ -162,7 +162,7 @@ def _down(a0, a1, a2, a3, s):
     return ((x0 >> r) | (x1 << rr), (x1 >> r) | (x2 << rr), (x2 >> r) | (x3 << rr), x3 >> r)
 
 
-@jit_inline
+@jit
 def _mask(k, i):
     """Limb ``i`` of the mask of the first ``k`` columns."""
     n = k - 4 * i
@@ -173,7 +173,7 @@ def _mask(k, i):
     return (np.uint64(1) << np.uint64(16 * n)) - np.uint64(1)
 
 
-@jit_inline
+@jit
 def marf_best_shift(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
     """MARF labels 70-200 (as :func:`estar.masl.marf_kernel`) on map 1 (limbs
     ``a``) and map 2 (limbs ``b``): the best shift in -IWST..IWST and its
@@ -262,11 +262,201 @@ def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
 
 
 @jit
+def cfeat(frame, iyloc, pix, ifeat1, ifeat2):
+    """CFEAT: NSTAR label 600's slice of line IYLOC of image 1, then image 2,
+    through EXQVFL (threshold 2).  Returns (NFEAT1, NFEAT2)."""
+    for c in range(128):
+        pix[c] = frame[iyloc, LEFT_X + c]
+    nfeat1, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat1)
+    for c in range(128):
+        pix[c] = frame[iyloc, RIGHT_X + c]
+    nfeat2, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat2)
+    return nfeat1, nfeat2
+
+
+@jit
+def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
+              maps, requests, partners, bounds2):
+    """MASL for one line (IBLB1/IBLB2 empty at its start).  MASL tries every
+    slice-2 feature JNDX for every slice-1 feature INDX, both sides, and
+    compares the pairs whose grey levels differ by at most 1; a side's match
+    list only depends on the order of JNDX within that side, so here each
+    side visits just its partners, in increasing JNDX, from a bit set per
+    grey level.  NBLOB fetches the map of every edge that has a partner (the
+    requests MASL makes, :func:`estar.masl.masl_requests`, in another order:
+    the maps depend only on the pictures), then each pair goes through MARF
+    (:func:`marf_best_shift`) into COMMON /MATCH/.  Returns the number of
+    NBLOB round trips."""
+    # partners[side, g + 1]: bit JNDX-1 set when slice-2 feature JNDX's grey on
+    # that side is within 1 of g
+    partners[:] = 0
+    for side in range(2):
+        for jndx in range(1, nfeat2 + 1):
+            g = ifeat2[2 + side, jndx - 1]
+            for d in range(3):
+                partners[side, g + d] |= 1 << (jndx - 1)
+    nreq = 0
+    wanted2 = np.zeros(2, dtype=np.int64)
+    for side in range(2):
+        for indx in range(1, nfeat1 + 1):
+            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            if m:
+                requests[nreq, 0] = 1
+                requests[nreq, 1] = indx + 50 * side
+                requests[nreq, 2] = ifeat1[side, indx - 1]
+                requests[nreq, 3] = -1 if side == 0 else 1
+                nreq += 1
+                wanted2[side] |= m
+    for side in range(2):
+        for jndx in range(1, nfeat2 + 1):
+            if wanted2[side] & (1 << (jndx - 1)):
+                requests[nreq, 0] = 2
+                requests[nreq, 1] = jndx + 50 * side
+                requests[nreq, 2] = ifeat2[side, jndx - 1]
+                requests[nreq, 3] = -1 if side == 0 else 1
+                nreq += 1
+    nblob_many(frame, masks, iyloc, requests, nreq, maps)
+    for j in range(1, nfeat2 + 1):
+        b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
+        bounds2[j - 1, 0] = b[0]
+        bounds2[j - 1, 1] = b[1]
+    for indx in range(1, nfeat1 + 1):
+        irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
+        for side in range(2):
+            e1 = indx + 50 * side
+            row = e1 - 1
+            x1 = ifeat1[side, indx - 1]
+            a0 = maps[0, row, 0]
+            a1 = maps[0, row, 1]
+            a2 = maps[0, row, 2]
+            a3 = maps[0, row, 3]
+            count = 0
+            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            while m:
+                low = m & -m
+                m ^= low
+                jndx = 1 + popcount64(np.uint64(low - 1))
+                e2 = jndx + 50 * side
+                x2 = ifeat2[side, jndx - 1]
+                iwst = min(irgd[side], bounds2[jndx - 1, side])
+                mloc, mnval = marf_best_shift(a0, a1, a2, a3, maps[1, e2 - 1, 0],
+                                              maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                              maps[1, e2 - 1, 3], iwst)
+                loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
+                if x1 <= loc2:
+                    continue                           # LOC1 must lie right of LOC2
+                # MASL labels 100-210 (600-710), as estar.masl._insert_kernel, written
+                # out here: a call taking the table would cost a reference count.
+                if count < 1:
+                    count = 1
+                    ispt = 1
+                elif mnval >= imatch[row, count - 1, 1]:
+                    if count >= 10:
+                        continue                       # worse than a full list's bottom
+                    count += 1
+                    ispt = count
+                else:
+                    inum = count
+                    if count < 10:
+                        count += 1
+                    ispt = 1
+                    for i in range(1, inum + 1):
+                        ispt = inum - i + 1
+                        if ispt != 10:
+                            for j in range(4):         # move the entry down
+                                imatch[row, ispt, j] = imatch[row, ispt - 1, j]
+                        if ispt >= 2 and mnval >= imatch[row, ispt - 2, 1]:
+                            break                      # equal quality goes after (QUIRKS E19)
+                        ispt = 1
+                imatch[row, ispt - 1, 0] = e2
+                imatch[row, ispt - 1, 1] = mnval
+                imatch[row, ispt - 1, 2] = x1
+                imatch[row, ispt - 1, 3] = loc2
+            nmatch[row] = count
+    return nreq
+
+
+@jit
+def match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow):
+    """Append the match lists of edges 1..NFEAT1, then 51..50+NFEAT1, as rows
+    (edge, INDX, QUAL, LOC1, LOC2); returns the new row count."""
+    for half in range(2):
+        for indx in range(1, nfeat1 + 1):
+            edge = indx + 50 * half
+            for i in range(nmatch[edge - 1]):
+                match_rows[nrow, 0] = edge
+                for j in range(4):
+                    match_rows[nrow, 1 + j] = imatch[edge - 1, i, j]
+                nrow += 1
+    return nrow
+
+
+@jit
+def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offset_done,
+              offset_mq, pos, point_rows, point_words, npt):
+    """LCSL: for each edge the first match entry with a disparity above EDISP
+    (until one puts the range past 1.0), its six POS values from the memo
+    tables as storage words in ``pos``; each located edge appended as a
+    point (line, edge, LOC1, LOC2 of that first usable entry; POS words).
+    Returns the new point count, or -1 when a value does not fit a DG REAL."""
+    for half in range(2):                      # edge order, as rig.scan lists points
+        for indx in range(1, nfeat1 + 1):
+            edge = indx + 50 * half
+            base = (edge - 1) * 6
+            pos[base] = 0xC1100000                  # -1.0: no data point
+            dpm = -1
+            dpq = 0
+            used = -1
+            for i in range(nmatch[edge - 1]):
+                loc1 = imatch[edge - 1, i, 2]
+                disp = loc1 - imatch[edge - 1, i, 3]
+                if disp <= 1:                       # IF (EDISP .GE. DISP1)
+                    continue
+                if used < 0:
+                    used = i
+                if not range_done[disp]:
+                    lcsl_range(disp, consts, range_done, range_mq)
+                dpm = range_mq[disp, 0]
+                dpq = range_mq[disp, 1]
+                epm = range_mq[disp, 2]
+                epq = range_mq[disp, 3]
+                kx = loc1 - 60 + OFFSET0
+                ky = iyloc - 60 + OFFSET0
+                if not offset_done[kx, disp]:
+                    lcsl_offset(loc1 - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
+                                offset_mq)
+                if not offset_done[ky, disp]:
+                    lcsl_offset(iyloc - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
+                                offset_mq)
+                pos[base] = range_mq[disp, 4]
+                pos[base + 1] = offset_mq[kx, disp, 4]
+                pos[base + 2] = offset_mq[ky, disp, 4]
+                pos[base + 3] = range_mq[disp, 5]
+                pos[base + 4] = offset_mq[kx, disp, 5]
+                pos[base + 5] = offset_mq[ky, disp, 5]
+                for j in range(6):
+                    if pos[base + j] < 0:
+                        return -1
+                if dg_gt(dpm, dpq, 0x100000, -20):  # IF (POS(1,INDX) .GT. 1.0)
+                    break
+            if dpm > 0:
+                point_rows[npt, P_LINE] = iyloc
+                point_rows[npt, P_EDGE] = edge
+                point_rows[npt, P_LOC1] = imatch[edge - 1, used, 2]
+                point_rows[npt, P_LOC2] = imatch[edge - 1, used, 3]
+                for j in range(6):
+                    point_words[npt, j] = pos[base + j]
+                npt += 1
+    return npt
+
+
+@jit
 def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offset_done,
                       offset_mq, nmatch, imatch, pos, nfeat_out, ifeat_out, requests_out,
                       match_start, match_rows, point_start, point_rows, point_words,
                       posit_out):
-    """LCLN for each line of ``lines`` on the frame store ``frame``.
+    """LCLN for each line of ``lines`` on the frame store ``frame``: CFEAT,
+    MASL, LCSL, PNPL.
 
     State carried from line to line, as in ESTAR's COMMON: ``nmatch``,
     ``imatch`` (/MATCH/) and ``pos`` (/POSIT/ as 640 storage words).
@@ -285,148 +475,29 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     level_masks(frame, masks)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     requests = np.zeros((200, 4), dtype=np.int64)
-    have1 = np.zeros(100, dtype=np.bool_)
-    have2 = np.zeros(100, dtype=np.bool_)
+    partners = np.zeros((2, 18), dtype=np.int64)
     bounds2 = np.zeros((50, 2), dtype=np.int64)
-    inum_side = np.zeros(2, dtype=np.int64)
     nrow = 0
     npt = 0
     record_posit = posit_out.shape[0] == lines.shape[0]
     for k in range(lines.shape[0]):
         iyloc = lines[k]
-        # CFEAT: label 600 for image 1, then image 2.
-        for c in range(128):
-            pix[c] = frame[iyloc, LEFT_X + c]
-        nfeat1, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat1)
-        for c in range(128):
-            pix[c] = frame[iyloc, RIGHT_X + c]
-        nfeat2, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat2)
+        nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2)
         nfeat_out[k, 0] = nfeat1
         nfeat_out[k, 1] = nfeat2
         ifeat_out[k, 0] = ifeat1
         ifeat_out[k, 1] = ifeat2
-        # MASL (IBLB1/IBLB2 empty at the start of every line).
-        have1[:] = False
-        have2[:] = False
-        nreq = masl_requests(nfeat1, ifeat1, nfeat2, ifeat2, have1, have2, requests)
-        nblob_many(frame, masks, iyloc, requests, nreq, maps)
-        for j in range(1, nfeat2 + 1):
-            b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
-            bounds2[j - 1, 0] = b[0]
-            bounds2[j - 1, 1] = b[1]
-        for indx in range(1, nfeat1 + 1):
-            inum_side[0] = 0
-            inum_side[1] = 0
-            irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
-            for jndx in range(1, nfeat2 + 1):
-                for side in range(2):
-                    if abs(ifeat1[2 + side, indx - 1] - ifeat2[2 + side, jndx - 1]) > 1:
-                        continue
-                    e1 = indx + 50 * side
-                    e2 = jndx + 50 * side
-                    x1 = ifeat1[side, indx - 1]
-                    x2 = ifeat2[side, jndx - 1]
-                    iwst = min(irgd[side], bounds2[jndx - 1, side])
-                    mloc, mnval = marf_best_shift(
-                        maps[0, e1 - 1, 0], maps[0, e1 - 1, 1], maps[0, e1 - 1, 2],
-                        maps[0, e1 - 1, 3], maps[1, e2 - 1, 0], maps[1, e2 - 1, 1],
-                        maps[1, e2 - 1, 2], maps[1, e2 - 1, 3], iwst)
-                    loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
-                    if x1 <= loc2:
-                        continue                       # LOC1 must lie right of LOC2
-                    # MASL labels 100-210 (600-710), as estar.masl._insert_kernel, written
-                    # out here: a call taking the table would cost a reference count.
-                    row = e1 - 1
-                    count = inum_side[side]
-                    if count < 1:
-                        count = 1
-                        ispt = 1
-                    elif mnval >= imatch[row, count - 1, 1]:
-                        if count >= 10:
-                            continue                   # worse than a full list's bottom
-                        count += 1
-                        ispt = count
-                    else:
-                        inum = count
-                        if count < 10:
-                            count += 1
-                        ispt = 1
-                        for i in range(1, inum + 1):
-                            ispt = inum - i + 1
-                            if ispt != 10:
-                                for j in range(4):     # move the entry down
-                                    imatch[row, ispt, j] = imatch[row, ispt - 1, j]
-                            if ispt >= 2 and mnval >= imatch[row, ispt - 2, 1]:
-                                break                  # equal quality goes after (QUIRKS E19)
-                            ispt = 1
-                    imatch[row, ispt - 1, 0] = e2
-                    imatch[row, ispt - 1, 1] = mnval
-                    imatch[row, ispt - 1, 2] = x1
-                    imatch[row, ispt - 1, 3] = loc2
-                    inum_side[side] = count
-            nmatch[indx - 1] = inum_side[0]
-            nmatch[indx + 49] = inum_side[1]
-        requests_out[k] = nreq
-        # LCSL, and the rows of this line's match lists and located edges.
+        requests_out[k] = masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
+                                    sign_fix, nmatch, imatch, maps, requests, partners,
+                                    bounds2)
         match_start[k] = nrow
         point_start[k] = npt
-        for half in range(2):
-            for indx in range(1, nfeat1 + 1):
-                edge = indx + 50 * half
-                for i in range(nmatch[edge - 1]):
-                    match_rows[nrow, 0] = edge
-                    for j in range(4):
-                        match_rows[nrow, 1 + j] = imatch[edge - 1, i, j]
-                    nrow += 1
-        for half in range(2):                  # edge order, as rig.scan lists points
-            for indx in range(1, nfeat1 + 1):
-                edge = indx + 50 * half
-                base = (edge - 1) * 6
-                pos[base] = 0xC1100000                    # -1.0: no data point
-                dpm = -1
-                dpq = 0
-                used = -1
-                for i in range(nmatch[edge - 1]):
-                    loc1 = imatch[edge - 1, i, 2]
-                    disp = loc1 - imatch[edge - 1, i, 3]
-                    if disp <= 1:                       # IF (EDISP .GE. DISP1)
-                        continue
-                    if used < 0:
-                        used = i
-                    if not range_done[disp]:
-                        lcsl_range(disp, consts, range_done, range_mq)
-                    dpm = range_mq[disp, 0]
-                    dpq = range_mq[disp, 1]
-                    epm = range_mq[disp, 2]
-                    epq = range_mq[disp, 3]
-                    kx = loc1 - 60 + OFFSET0
-                    ky = iyloc - 60 + OFFSET0
-                    if not offset_done[kx, disp]:
-                        lcsl_offset(loc1 - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
-                                    offset_mq)
-                    if not offset_done[ky, disp]:
-                        lcsl_offset(iyloc - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
-                                    offset_mq)
-                    pos[base] = range_mq[disp, 4]
-                    pos[base + 1] = offset_mq[kx, disp, 4]
-                    pos[base + 2] = offset_mq[ky, disp, 4]
-                    pos[base + 3] = range_mq[disp, 5]
-                    pos[base + 4] = offset_mq[kx, disp, 5]
-                    pos[base + 5] = offset_mq[ky, disp, 5]
-                    for j in range(6):
-                        if pos[base + j] < 0:
-                            return -1
-                    if dg_gt(dpm, dpq, 0x100000, -20):  # IF (POS(1,INDX) .GT. 1.0)
-                        break
-                if dpm > 0:
-                    point_rows[npt, P_LINE] = iyloc
-                    point_rows[npt, P_EDGE] = edge
-                    point_rows[npt, P_LOC1] = imatch[edge - 1, used, 2]
-                    point_rows[npt, P_LOC2] = imatch[edge - 1, used, 3]
-                    for j in range(6):
-                        point_words[npt, j] = pos[base + j]
-                    npt += 1
-        if record_posit:
+        nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
+        npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
+                        offset_done, offset_mq, pos, point_rows, point_words, npt)
+        if npt < 0:
+            return -1
+        if record_posit:                        # PNPL: the image of /POSIT/ after the line
             posit_out[k] = pos
     match_start[lines.shape[0]] = nrow
     point_start[lines.shape[0]] = npt
