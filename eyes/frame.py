@@ -102,34 +102,37 @@ class FrameScan:
     def csv_text(self) -> str:
         """The located edges as :func:`rig.scan.csv_text` writes them, from the
         arrays.  A POS value is one of few storage words (LCSL's terms), so
-        each word's text is made once per process."""
+        each word's text is made once per process; the rows are formatted in
+        one operation."""
         from rig.scan import CSV_COLUMNS
-        value = _word_text(self.point_words)
-        variance = _word_text(self.point_words[:, 3:6], squared_half=True)
-        lines = [",".join(CSV_COLUMNS)]
-        for (line, edge, loc1, loc2), vals, var in zip(self.point_rows.tolist(), value,
-                                                        variance):
-            lines.append(f"{line},{edge},{loc1},{loc2},{loc1 - loc2},{vals},{var}")
-        return "\n".join(lines) + "\n"
+        n = len(self.point_rows)
+        table = np.empty((n, 14), dtype=object)
+        rows = self.point_rows
+        table[:, 0:4] = rows
+        table[:, 4] = rows[:, 2] - rows[:, 3]
+        table[:, 5:11] = _word_texts(self.point_words)
+        table[:, 11:14] = _word_texts(self.point_words[:, 3:6], squared_half=True)
+        head = ",".join(CSV_COLUMNS) + "\n"
+        return head + ("%d,%d,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s\n" * n) % tuple(
+            table.ravel().tolist())
 
 
 _TEXT: dict[int, str] = {}
 _TEXT_VAR: dict[int, str] = {}
 
 
-def _word_text(words: np.ndarray, squared_half: bool = False) -> list[str]:
-    """Each row of storage words as ``repr`` of its floats (or of the A-20
-    variance ``(v/2)**2``), comma-joined."""
+def _word_texts(words: np.ndarray, squared_half: bool = False) -> np.ndarray:
+    """``repr`` of the float of each storage word (or of the A-20 variance
+    ``(v/2)**2``), as an object array of the same shape; memoised."""
     memo = _TEXT_VAR if squared_half else _TEXT
-    flat = words.ravel().tolist()
-    missing = [w for w in set(flat) if w not in memo]
+    unique, inverse = np.unique(words, return_inverse=True)
+    missing = [w for w in unique.tolist() if w not in memo]
     if missing:
         values = words_to_float(np.array(missing, dtype=np.int64)).tolist()
         for w, v in zip(missing, values):
             memo[w] = repr((v / 2) ** 2) if squared_half else repr(v)
-    texts = [memo[w] for w in flat]
-    n = words.shape[1] if words.ndim == 2 else 1
-    return [",".join(texts[i:i + n]) for i in range(0, len(texts), n)]
+    texts = np.array([memo[w] for w in unique.tolist()] + [""], dtype=object)
+    return texts[inverse.reshape(words.shape)] if len(unique) else np.empty(words.shape, object)
 
 
 class Eyes:

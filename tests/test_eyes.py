@@ -219,3 +219,10 @@ def test_lcsl_terms_equal_dg_real_locate(ds, dv):
             row_y = t["offset_mq"][iy - 60 + OFFSET0, disp]
             got = [dpw, row_x[4], row_y[4], epw, row_x[5], row_y[5]]
             assert [int.from_bytes(r.to_bytes(), "big") for r in want] == got, (disp, loc1, iy)
+
+
+def test_a_flat_pair_locates_nothing_and_writes_just_the_header():
+    flat = np.full((120, 128), 7, dtype=np.uint8)
+    fast = Eyes().scan(flat, flat)
+    assert len(fast.point_rows) == 0
+    assert fast.csv_text() == scanmod.csv_text([]) == ",".join(scanmod.CSV_COLUMNS) + "\n"
