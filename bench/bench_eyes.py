@@ -16,6 +16,7 @@
   p90 per line, jhdata on the disk.
 
 Run:  python bench/bench_eyes.py [--rounds 200] [--frames 200] [--skip-file-link]
+      [--only warm|cold|sequence|file-link]
 """
 
 from __future__ import annotations
@@ -183,20 +184,28 @@ def main(argv=None) -> int:
     ap.add_argument("--rounds", type=int, default=200)
     ap.add_argument("--frames", type=int, default=200)
     ap.add_argument("--skip-file-link", action="store_true")
+    ap.add_argument("--only", choices=("warm", "cold", "sequence", "file-link"),
+                    help="run one part")
     args = ap.parse_args(argv)
+    parts = {args.only} if args.only else {"warm", "cold", "sequence", "file-link"}
+    if args.skip_file_link:
+        parts.discard("file-link")
     print(f"machine: {os.cpu_count()} cores; load average "
           f"{' '.join(f'{v:.2f}' for v in os.getloadavg())}")
-    print("warm whole-picture scan, lines 8..112, one thread:")
-    for line in warm(args.rounds):
-        print(line, flush=True)
-    print("cold first scan in a fresh process:")
-    for line in cold():
-        print(line, flush=True)
-    print(f"{args.frames}-frame side-by-side video through `rig scan --video` (digitizer, "
-          f"scan, per-frame CSV):")
-    for line in sequence(args.frames):
-        print(line, flush=True)
-    if not args.skip_file_link:
+    if "warm" in parts:
+        print("warm whole-picture scan, lines 8..112, one thread:")
+        for line in warm(args.rounds):
+            print(line, flush=True)
+    if "cold" in parts:
+        print("cold first scan in a fresh process:")
+        for line in cold():
+            print(line, flush=True)
+    if "sequence" in parts:
+        print(f"{args.frames}-frame side-by-side video through `rig scan --video` "
+              f"(digitizer, scan, per-frame CSV):")
+        for line in sequence(args.frames):
+            print(line, flush=True)
+    if "file-link" in parts:
         for line in file_link():
             print(line, flush=True)
     return 0

@@ -152,6 +152,7 @@ class Eyes:
         dvi = ONE / self.dvirt
         self.consts = np.array([*mq(dcons), *mq(dvi), *mq(EDISP), *mq(ELMAX)], dtype=np.int64)
         self.tables = new_tables()
+        self._rows = None
 
     def scan(self, left, right, lines=DEFAULT_LINES, keep_posit: bool = False) -> FrameScan:
         """Scan the 120x128 pair over ``lines`` (0..119, any order) as one fresh
@@ -172,10 +173,13 @@ class Eyes:
         ifeat = np.zeros((n, 2, 4, 50), dtype=np.int32)
         requests = np.zeros(n, dtype=np.int64)
         match_start = np.zeros(n + 1, dtype=np.int64)
-        match_rows = np.empty((n * 1000, 5), dtype=np.int64)
         point_start = np.zeros(n + 1, dtype=np.int64)
-        point_rows = np.empty((n * 100, 4), dtype=np.int64)
-        point_words = np.empty((n * 100, 6), dtype=np.int64)
+        if self._rows is None or len(self._rows[1]) < n * 100:
+            # work space for the rows, kept between scans (its pages stay mapped)
+            self._rows = (np.empty((n * 1000, 5), dtype=np.int64),
+                          np.empty((n * 100, 4), dtype=np.int64),
+                          np.empty((n * 100, 6), dtype=np.int64))
+        match_rows, point_rows, point_words = self._rows
         posit_words = np.zeros((n if keep_posit else 0, 640), dtype=np.int64)
         t = self.tables
         status = scan_frame_kernel(

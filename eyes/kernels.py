@@ -77,9 +77,9 @@ def level_masks(frame, masks):
     for i in range(2):
         x0 = 26 + 140 * i
         for x in range(128):
-            for y in range(120):
-                v = frame[y, x0 + x]
-                masks[i, x, v + 1, y // 60] |= 1 << (y % 60)
+            for half in range(2):
+                for b in range(60):
+                    masks[i, x, frame[60 * half + b, x0 + x] + 1, half] |= 1 << b
             for g in range(1, 17):
                 masks[i, x, g, 0] |= masks[i, x, g - 1, 0]
                 masks[i, x, g, 1] |= masks[i, x, g - 1, 1]
