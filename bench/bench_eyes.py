@@ -156,8 +156,7 @@ def sequence(frames: int) -> list[str]:
         vw.release()
         settings = batch.Settings(str(Path(tmp) / "out"), tuple(range(8, 113)))
         for workers in (1, 2):
-            items = ((k, a, b, ("", ""), True) for k, a, b in
-                     batch.video_frames(str(video), None))
+            items = batch.digitized(batch.video_frames(str(video), None), (str(video),) * 2)
             res = batch.run(items, settings, workers=workers, chunk=16, total=frames,
                             progress=False)
             assert res.ok == frames, res.rows[:3]

@@ -120,6 +120,17 @@ def video_frames(left: str, right: str | None, fit: str = "crop", limit: int | N
             cap.release()
 
 
+def digitized(frames, names, fit: str = "crop"):
+    """Items of video frames digitized here, in the reading process: a worker
+    then gets two 120x128 pictures (30 kB) instead of a raw frame.  A frame
+    the digitizer refuses becomes an item carrying its error."""
+    for k, left, right in frames:
+        try:
+            yield k, picture_128(left, fit), picture_128(right, fit), names, False
+        except Exception as exc:          # reported in the summary, the others go on
+            yield k, exc, exc, names, False
+
+
 def video_length(left: str) -> int | None:
     import cv2
     cap = cv2.VideoCapture(left)
@@ -164,6 +175,8 @@ def scan_one(k: int, left, right, names, raw: bool, s: Settings) -> dict:
     row = {"frame": k, "left": names[0], "right": names[1], "status": "ok", "points": 0,
            "requests": 0, "scan_ms": "", "error": ""}
     try:
+        if isinstance(left, Exception):         # the frame could not be digitized
+            raise left
         if isinstance(left, str):
             left = load_picture(left, s.fit)
         if isinstance(right, str):
@@ -367,9 +380,8 @@ def cmd_batch(args, lines) -> int:
             if args.frames is not None:
                 total = min(total or args.frames, args.frames)
             names = (args.video[0], right or args.video[0])
-            # the frames are digitized in the workers: they get the raw pictures
-            items = ((k, l, r, names, True) for k, l, r in
-                     video_frames(args.video[0], right, args.fit, args.frames))
+            items = digitized(video_frames(args.video[0], right, args.fit, args.frames),
+                              names, args.fit)
         else:
             pairs = (pairs_from_globs(*args.pairs) if args.pairs
                      else pairs_from_list(args.pair_list))
