@@ -162,7 +162,9 @@ def sequence(frames: int) -> list[str]:
             assert res.ok == frames, res.rows[:3]
             scan_ms = statistics.median(float(r["scan_ms"]) for r in res.rows)
             out.append(f"  --workers {workers}: {frames} frames in {res.seconds:.2f} s = "
-                       f"{frames / res.seconds:.1f} frames/s (pool start included; median "
+                       f"{frames / res.seconds:.1f} frames/s with the start "
+                       f"({res.first_seconds:.2f} s to the first chunk), "
+                       f"{res.steady_fps:.1f} frames/s after it; median "
                        f"scan {scan_ms:.2f} ms a frame; RSS parent "
                        f"{res.parent_rss_kb / 1024:.0f} MB, per worker "
                        f"{max(res.worker_rss_kb) / 1024:.0f} MB)")

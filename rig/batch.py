@@ -216,8 +216,11 @@ def rss_kb(pid: int | str = "self") -> int:
     return 0
 
 
-def _ignore_sigint() -> None:
+def _start_worker() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)     # the parent handles Ctrl-C
+    from eyes import Eyes                            # load the compiled kernels now
+    flat = np.zeros((120, 128), dtype=np.uint8)
+    Eyes().scan(flat, flat, [60])
 
 
 # --- the run ------------------------------------------------------------------------
@@ -227,8 +230,17 @@ class BatchResult:
     rows: list[dict]
     seconds: float
     interrupted: bool
+    first_seconds: float          # until the first chunk came back (pool start included)
+    first_frames: int
     worker_rss_kb: list[int]
     parent_rss_kb: int
+
+    @property
+    def steady_fps(self) -> float:
+        """Frames per second after the first chunk (the pool running)."""
+        n = len(self.rows) - self.first_frames
+        t = self.seconds - self.first_seconds
+        return n / t if n > 0 and t > 0 else float("nan")
 
     @property
     def ok(self) -> int:
@@ -263,40 +275,45 @@ def run(items, s: Settings, workers: int = 1, chunk: int = 16, total: int | None
         bar = tqdm(total=total, desc="scanning frames", unit="frame", file=sys.stderr)
     t0 = time.perf_counter()
     interrupted = False
+    first_chunk: list = []
     try:
         if workers <= 1:
             for item in items:
                 rows.append(scan_one(*item, s))
+                if len(rows) == min(chunk, total or chunk):
+                    first_chunk[:] = [time.perf_counter(), len(rows)]
                 if bar:
                     bar.update(1)
             rss.append(rss_kb())
         else:
-            interrupted = _run_pool(items, s, workers, chunk, rows, rss, bar)
+            interrupted = _run_pool(items, s, workers, chunk, rows, rss, bar, first_chunk)
     except KeyboardInterrupt:
         interrupted = True
     finally:
         if bar:
             bar.close()
     seconds = time.perf_counter() - t0
+    first = first_chunk[0] - t0 if first_chunk else seconds
+    nfirst = first_chunk[1] if first_chunk else len(rows)
     rows.sort(key=lambda r: r["frame"])
-    result = BatchResult(rows, seconds, interrupted, rss, rss_kb())
+    result = BatchResult(rows, seconds, interrupted, first, nfirst, rss, rss_kb())
     write_summary(Path(s.out) / "summary.csv", rows)
     return result
 
 
-def _run_pool(items, s, workers, chunk, rows, rss, bar) -> bool:
+def _run_pool(items, s, workers, chunk, rows, rss, bar, first_chunk) -> bool:
     """Chunks to a pool of ``workers`` processes, at most two chunks a worker
     queued (a video is read as it goes).  Returns True when interrupted: the
     chunks not started are cancelled, those running are finished and kept."""
-    with ProcessPoolExecutor(max_workers=workers, initializer=_ignore_sigint) as pool:
+    with ProcessPoolExecutor(max_workers=workers, initializer=_start_worker) as pool:
         pending = set()
         try:
             for part in chunks(items, chunk):
                 pending.add(pool.submit(scan_chunk, part, s))
                 while len(pending) >= 2 * workers:
-                    pending = _collect(pending, rows, rss, bar)
+                    pending = _collect(pending, rows, rss, bar, first_chunk)
             while pending:
-                pending = _collect(pending, rows, rss, bar)
+                pending = _collect(pending, rows, rss, bar, first_chunk)
             return False
         except KeyboardInterrupt:
             for f in pending:
@@ -312,11 +329,13 @@ def _run_pool(items, s, workers, chunk, rows, rss, bar) -> bool:
             return True
 
 
-def _collect(pending, rows, rss, bar):
+def _collect(pending, rows, rss, bar, first_chunk):
     done, pending = wait(pending, return_when=FIRST_COMPLETED)
     for f in done:
         got, kb = f.result()
         rows.extend(got)
+        if not first_chunk:
+            first_chunk[:] = [time.perf_counter(), len(rows)]
         rss.append(kb)
         if bar:
             bar.update(len(got))
