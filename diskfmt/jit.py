@@ -14,15 +14,9 @@ try:
     def jit(fn):
         return _njit(cache=True, nogil=True)(fn)
 
-    def jit_inline(fn):
-        """A small kernel inlined into its compiled callers (no call, no
-        reference counting of its array arguments in a hot loop)."""
-        return _njit(cache=True, nogil=True, inline="always")(fn)
-
     ENABLED = True
 except ImportError:                       # pragma: no cover - exercised without numba
     def jit(fn):
         return fn
 
-    jit_inline = jit
     ENABLED = False

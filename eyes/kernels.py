@@ -6,8 +6,8 @@ the same routines in the same order:
 * CFEAT: NSTAR label 600's slices of both pictures through EXQVFL
   (:func:`nstar.exqvfl.exqvfl_kernel`, threshold 2);
 * NBLOB: NSTAR label 500's edge bit map (:func:`nstar.bitmaps.edge_map_kernel`
-  after label 100's :func:`~nstar.bitmaps.command_geometry`), fetched the
-  first time MASL's loop needs an edge's map on this line, as MARF does;
+  after label 100's :func:`~nstar.bitmaps.command_geometry`) of every edge
+  MARF will compare on this line, each once, as MARF's cache does;
 * MASL with MARF inlined (:func:`marf_best_shift`), inserting into COMMON
   /MATCH/ (which persists across lines as in 1985) as
   :func:`estar.masl._insert_kernel` does;
