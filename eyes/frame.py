@@ -10,7 +10,7 @@ which is how the tests compare the two paths value for value."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -18,10 +18,13 @@ from diskfmt.dgreal import DGRealError, Real
 from diskfmt.layouts import POSIT_BYTES
 from estar.lcsl import EDISP, EDMAX, ELMAX, ONE
 from estar.masl import Options as MaslOptions
+from estar.program import LineResult
 from .dgint import mq
 from .kernels import build_frame, new_tables, scan_frame_kernel
 
 DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
+# The entry LCSL took, where LineResult records it ("used")
+LINE_RESULT_FIELDS = {f.name for f in fields(LineResult)}
 assert ELMAX == EDMAX                  # one offset table serves DX/EXMAX and DY/EYMAX
 
 
@@ -45,7 +48,7 @@ class FrameScan:
     match_start: np.ndarray      # (n+1,)
     match_rows: np.ndarray       # (M, 5) edge, INDX, QUAL, LOC1, LOC2
     point_start: np.ndarray      # (n+1,)
-    point_rows: np.ndarray       # (P, 4) line, edge, LOC1, LOC2
+    point_rows: np.ndarray       # (P, 6) line, edge, LOC1, LOC2, INDX, QUAL of the entry taken
     point_words: np.ndarray      # (P, 6) POS(1..6) storage words
     posit_words: np.ndarray      # (n, 640) /POSIT/ after each line, or (1, 640) after the last
 
@@ -73,7 +76,6 @@ class FrameScan:
 
     def line_results(self) -> list:
         """The reference path's ``LineResult`` of every line."""
-        from estar.program import LineResult
         out = []
         values = self.point_values
         for k, iy in enumerate(self.lines.tolist()):
@@ -83,12 +85,16 @@ class FrameScan:
             for row in self.match_rows[self.match_start[k]:self.match_start[k + 1]].tolist():
                 matches[row[0]].append(tuple(row[1:]))
             positions = {e: None for e in edges}
+            used = {}
             for p in range(self.point_start[k], self.point_start[k + 1]):
-                positions[int(self.point_rows[p, 1])] = tuple(float(v) for v in values[p])
+                line, edge, loc1, loc2, indx, qual = self.point_rows[p].tolist()
+                positions[edge] = tuple(float(v) for v in values[p])
+                used[edge] = (indx, qual, loc1, loc2)
             posit = self.posit(k) if self.posit_words.shape[0] == len(self.lines) else (
                 self.posit() if k == len(self.lines) - 1 else b"")
+            extra = {"used": used} if "used" in LINE_RESULT_FIELDS else {}
             out.append(LineResult(iy, self.features(k, 1), self.features(k, 2), matches,
-                                  positions, posit, int(self.requests[k])))
+                                  positions, posit, int(self.requests[k]), **extra))
         return out
 
     def scan_result(self):
@@ -108,7 +114,7 @@ class FrameScan:
         n = len(self.point_rows)
         table = np.empty((n, 14), dtype=object)
         rows = self.point_rows
-        table[:, 0:4] = rows
+        table[:, 0:4] = rows[:, 0:4]
         table[:, 4] = rows[:, 2] - rows[:, 3]
         table[:, 5:11] = _word_texts(self.point_words)
         table[:, 11:14] = _word_texts(self.point_words[:, 3:6], squared_half=True)
@@ -177,7 +183,7 @@ class Eyes:
         if self._rows is None or len(self._rows[1]) < n * 100:
             # work space for the rows, kept between scans (its pages stay mapped)
             self._rows = (np.empty((n * 1000, 5), dtype=np.int64),
-                          np.empty((n * 100, 4), dtype=np.int64),
+                          np.empty((n * 100, 6), dtype=np.int64),
                           np.empty((n * 100, 6), dtype=np.int64))
         match_rows, point_rows, point_words = self._rows
         posit_words = np.zeros((n if keep_posit else 0, 640), dtype=np.int64)

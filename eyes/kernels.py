@@ -24,7 +24,11 @@ from __future__ import annotations
 import numpy as np
 
 from diskfmt.jit import jit
-from estar.masl import NPIX1, NPIX2, _search_bounds_kernel
+from estar.masl import NPIX1, NPIX2
+try:                                   # MASL's shift bounds (named search_bounds since)
+    from estar.masl import search_bounds as _search_bounds_kernel
+except ImportError:                    # pragma: no cover - the older name
+    from estar.masl import _search_bounds_kernel
 from nstar.exqvfl import exqvfl_kernel
 from .dgint import dg_add, dg_div, dg_from_int, dg_gt, dg_mul, dg_word
 
@@ -34,7 +38,7 @@ MAX_DISP = 256                     # LOC1 <= 128 and LOC2 >= 1 - 64 (MARF moves 
 OFFSET0 = 64                       # table index of offset 0 (offsets -60..68 occur)
 NOFFSETS = 192
 # Columns of a point row.
-P_LINE, P_EDGE, P_LOC1, P_LOC2 = range(4)
+P_LINE, P_EDGE, P_LOC1, P_LOC2, P_INDX, P_QUAL = range(6)
 
 
 def new_tables() -> dict[str, np.ndarray]:
@@ -394,10 +398,11 @@ def match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow):
 @jit
 def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offset_done,
               offset_mq, pos, point_rows, point_words, npt):
-    """LCSL: for each edge the first match entry with a disparity above EDISP
-    (until one puts the range past 1.0), its six POS values from the memo
-    tables as storage words in ``pos``; each located edge appended as a
-    point (line, edge, LOC1, LOC2 of that first usable entry; POS words).
+    """LCSL: for each edge the match entries with a disparity above EDISP in
+    order, until one puts the range past 1.0, their six POS values from the
+    memo tables as storage words in ``pos``; each located edge appended as a
+    point (line, edge, then LOC1, LOC2, INDX, QUAL of the entry whose values
+    ended in POS; the POS words).
     Returns the new point count, or -1 when a value does not fit a DG REAL."""
     for half in range(2):                      # edge order, as rig.scan lists points
         for indx in range(1, nfeat1 + 1):
@@ -412,8 +417,7 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
                 disp = loc1 - imatch[edge - 1, i, 3]
                 if disp <= 1:                       # IF (EDISP .GE. DISP1)
                     continue
-                if used < 0:
-                    used = i
+                used = i                            # the entry whose values are in POS
                 if not range_done[disp]:
                     lcsl_range(disp, consts, range_done, range_mq)
                 dpm = range_mq[disp, 0]
@@ -444,6 +448,8 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
                 point_rows[npt, P_EDGE] = edge
                 point_rows[npt, P_LOC1] = imatch[edge - 1, used, 2]
                 point_rows[npt, P_LOC2] = imatch[edge - 1, used, 3]
+                point_rows[npt, P_INDX] = imatch[edge - 1, used, 0]
+                point_rows[npt, P_QUAL] = imatch[edge - 1, used, 1]
                 for j in range(6):
                     point_words[npt, j] = pos[base + j]
                 npt += 1
@@ -464,8 +470,8 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     tables; ``requests_out[k]`` NBLOB round trips; match-list rows
     ``match_rows[match_start[k]:match_start[k+1]]`` = (edge, INDX, QUAL, LOC1,
     LOC2) for edges 1..NFEAT1 then 51..50+NFEAT1; located edges
-    ``point_rows[point_start[k]:point_start[k+1]]`` = (line, edge, LOC1, LOC2
-    of the entry LCSL used first) with their six POS words; ``posit_out[k]``
+    ``point_rows[point_start[k]:point_start[k+1]]`` = (line, edge, LOC1, LOC2,
+    INDX, QUAL of the entry LCSL took) with their six POS words; ``posit_out[k]``
     the 640 POS words after the line (when ``posit_out`` has a row per line).
     Returns 0, or -1 when a POS value does not fit a DG REAL."""
     ifeat1 = np.zeros((4, 50), dtype=np.int32)

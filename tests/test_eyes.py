@@ -10,7 +10,11 @@ import pytest
 from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi
 from estar.lcsl import locate
-from estar.masl import Options, marf_kernel
+from estar.masl import Options
+try:
+    from estar.marf import marf_kernel
+except ImportError:                    # before MARF had its own module
+    from estar.masl import marf_kernel
 from eyes import Eyes, scan_pair as eyes_scan_pair
 from eyes.kernels import (OFFSET0, build_frame, level_masks, lcsl_offset, lcsl_range,
                           marf_best_shift, nblob_many, new_tables)
