@@ -122,3 +122,33 @@ def test_bad_batch_input_is_one_clear_error(tmp_path, capsys):
     assert "none.avi: no such video file" in capsys.readouterr().err
     with pytest.raises(SystemExit, match="one of"):
         rig_main(["scan", "--video", "a", "--pair-list", "b"])
+
+
+def test_ctrl_c_stops_cleanly_and_keeps_every_finished_frame(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
+    shutil.copy(bundled_path("LAB-L.BI"), tmp_path / "L.BI")
+    shutil.copy(bundled_path("LAB-R.BI"), tmp_path / "R.BI")
+    (tmp_path / "list.txt").write_text("L.BI R.BI\n" * 5000)
+    out = tmp_path / "out"
+    p = subprocess.Popen([sys.executable, "-m", "rig.main", "scan", "--pair-list",
+                          str(tmp_path / "list.txt"), "--out", str(out), "--workers", "2",
+                          "--chunk", "8", "--quiet"], env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(list(out.glob("frame-*.csv"))) < 20:
+        time.sleep(0.05)
+    p.send_signal(signal.SIGINT)
+    stdout, stderr = p.communicate(timeout=60)
+    assert p.returncode == 130, stderr
+    assert "interrupted" in stdout
+    rows = summary(out)
+    assert 20 <= len(rows) < 5000
+    assert all(r["status"] == "ok" for r in rows)
+    done = {int(r["frame"]) for r in rows}
+    assert {int(f.stem.split("-")[1]) for f in out.glob("frame-*.csv")} >= done
