@@ -27,7 +27,7 @@ from diskfmt.layouts import FormatError, decode_bi, decode_posit, read_file
 from diskfmt.rdos import LinkTimeout, LockedError, describe_os_error
 from estar.masl import Options as MaslOptions
 from estar.program import in_process_rig
-from . import scan as scanmod
+from . import batch, scan as scanmod
 from .checks import (PICTURE_SUFFIXES, UsageError, blank_service_warning, check_lines,
                      check_output_dir, check_output_file, impossible_share, load_picture,
                      load_truth, pair_warnings, positive_number)
@@ -132,6 +132,17 @@ def _topdown(points, truth, topdown_map, title, unit, ds, dv, max_range=None,
                        virtual_distance=float(dv))
 
 
+def _scan_lines(args) -> list[int]:
+    """``--line`` or ``--lines``, checked."""
+    if args.line:
+        return check_lines(list(args.line), "--line")
+    first, last = args.lines
+    if first > last:
+        raise UsageError(f"--lines {first} {last}: no lines (FIRST must not exceed LAST)")
+    check_lines([first, last], "--lines")
+    return list(range(first, last + 1))
+
+
 def _check_scan(args):
     """Everything ``rig scan`` is given, checked before any work: returns the
     lines, the pair and the truth."""
@@ -141,14 +152,7 @@ def _check_scan(args):
                                             "pixels at the 128-px picture width")
     if args.max_range is not None:
         positive_number(args.max_range, "--max-range", "the top of the picture's range axis")
-    if args.line:
-        lines = check_lines(list(args.line), "--line")
-    else:
-        first, last = args.lines
-        if first > last:
-            raise UsageError(f"--lines {first} {last}: no lines (FIRST must not exceed LAST)")
-        check_lines([first, last], "--lines")
-        lines = list(range(first, last + 1))
+    lines = _scan_lines(args)
     for option, path, suffixes in (("--csv", args.csv, None), ("--ply", args.ply, None),
                                    ("--picture", args.picture, PICTURE_SUFFIXES)):
         if path:
@@ -183,6 +187,8 @@ def _matcher_for(args, lp: Path, rp: Path):
 
 
 def cmd_scan(args) -> int:
+    if batch.wants_batch(args):
+        return batch.cmd_batch(args, _scan_lines(args))
     lines, lp, rp, left, right, truth = _check_scan(args)
     bundled = args.left is None
     unit = args.unit or (BUNDLED_UNIT if bundled else "units")
@@ -196,6 +202,10 @@ def cmd_scan(args) -> int:
                 file_link_eclipse(jhdata, lp, rp, args.separation, args.virtual_distance,
                                   options, matcher=matcher) as ecl:
             result = scanmod.run_lines(ecl, lines, progress=not args.quiet)
+    elif args.engine == "eyes" and matcher is None:   # the compiled 1985 frame scan, bit for bit
+        from eyes import scan_pair as eyes_scan_pair
+        result = eyes_scan_pair(left, right, lines, args.separation, args.virtual_distance,
+                                options)
     else:
         result = scanmod.scan_pair(left, right, lines, args.separation, args.virtual_distance,
                                    options, progress=not args.quiet, matcher=matcher)
@@ -367,9 +377,13 @@ def build_parser() -> argparse.ArgumentParser:
                         "unit) for the accuracy table (default: the bundled pair's own)")
     s.add_argument("--marf-sign-fix", action="store_true",
                    help="FIX (not 1985): MARF's refined location with the geometric sign")
+    s.add_argument("--engine", choices=("eyes", "reference"), default="eyes",
+                   help="direct link: eyes = the compiled frame scan (default; identical "
+                        "results), reference = ESTAR's Eclipse calling NSTAR's handlers")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     from matching.mode import add_arguments as add_match_arguments   # issue 13
     add_match_arguments(s)
+    batch.add_arguments(s)
     s.set_defaults(func=cmd_scan)
     q = sub.add_parser("posit", help="the located edges of a POSIT.DT as a table and CSV",
                        description="Read the POSIT.DT an ESTAR run left in its JHDATA (the "

@@ -1,0 +1,216 @@
+"""Benchmark: the eyes (the rig as one compiled frame scan) against OpenCV.
+
+* warm whole-picture scan (lines 8..112) of the eyes, OpenCV's StereoBM and
+  StereoSGBM (docs/accuracy.md's settings: 16 disparities, BM block 9, SGBM
+  block 5 with P1/P2 = 8/32 * 5^2, MODE_HH), one thread each
+  (``cv2.setNumThreads(1)``), timed interleaved round after round on the same
+  pictures, ratios of medians; the bundled pair and (with scikit-image) the
+  Middlebury motorcycle pair; the reference path (ESTAR's Eclipse + NSTAR's
+  Nova in process) a few times for its ratio;
+* cold first scan in a fresh process, with the compile cache (numba
+  ``cache=True``, as installed) and without (an empty cache directory);
+* a 200-frame stereo sequence (side-by-side video of the bundled pair moving
+  one column a frame) through ``rig scan --video``: frames per second at
+  ``--workers`` 1 and 2, and the resident memory of each process;
+* one slice pair over the file link (nstar as a second process): median and
+  p90 per line, jhdata on the disk.
+
+Run:  python bench/bench_eyes.py [--rounds 200] [--frames 200] [--skip-file-link]
+      [--only warm|cold|sequence|file-link]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+
+from diskfmt.layouts import decode_bi          # noqa: E402
+from rig.scene import bundled_path             # noqa: E402
+
+
+def bundled():
+    return (decode_bi(bundled_path("LAB-L.BI").read_bytes()),
+            decode_bi(bundled_path("LAB-R.BI").read_bytes()))
+
+
+def pictures():
+    out = {"bundled pair": bundled()}
+    try:
+        from bench.accuracy import motorcycle
+        left, right, *_ = motorcycle()
+        out["motorcycle (Middlebury, 128x120)"] = (left, right)
+    except ImportError:
+        print("(scikit-image not installed: no motorcycle pair)")
+    return out
+
+
+def warm(rounds: int) -> list[str]:
+    import cv2
+    from bench.accuracy import make_bm, make_sgbm
+    from eyes import Eyes
+    from rig.scan import scan_pair
+    cv2.setNumThreads(1)
+    lines = []
+    for name, (left, right) in pictures().items():
+        eyes = Eyes()
+        l8, r8 = (left.astype(np.uint8) * 17), (right.astype(np.uint8) * 17)
+        bm, sgbm = make_bm(), make_sgbm()
+        runs = {"eyes": lambda: eyes.scan(left, right), "StereoBM": lambda: bm.compute(l8, r8),
+                "StereoSGBM": lambda: sgbm.compute(l8, r8)}
+        times = {k: [] for k in runs}
+        for fn in runs.values():
+            fn()
+        for _ in range(rounds):                       # interleaved
+            for k, fn in runs.items():
+                t = time.perf_counter()
+                fn()
+                times[k].append(time.perf_counter() - t)
+        ref = []
+        for _ in range(3):
+            t = time.perf_counter()
+            scan_pair(left, right)
+            ref.append(time.perf_counter() - t)
+        med = {k: statistics.median(v) for k, v in times.items()}
+        lines.append(f"{name}: {len(eyes.scan(left, right).point_rows)} located edges")
+        for k, v in times.items():
+            lines.append(f"  {k:10s} median {med[k] * 1e3:6.3f} ms  min {min(v) * 1e3:6.3f} ms  "
+                         f"p90 {sorted(v)[int(0.9 * len(v))] * 1e3:6.3f} ms")
+        lines.append(f"  eyes / StereoSGBM = {med['eyes'] / med['StereoSGBM']:.2f}, "
+                     f"eyes / StereoBM = {med['eyes'] / med['StereoBM']:.2f} (medians, "
+                     f"{rounds} interleaved rounds); eyes = {1 / med['eyes']:.0f} frames/s")
+        lines.append(f"  reference path (Eclipse + Nova in process) median "
+                     f"{statistics.median(ref) * 1e3:.1f} ms = "
+                     f"{statistics.median(ref) / med['eyes']:.0f}x the eyes")
+    return lines
+
+
+COLD = """
+import time
+t0 = time.perf_counter()
+from eyes import Eyes
+from diskfmt.layouts import decode_bi
+from rig.scene import bundled_path
+t1 = time.perf_counter()
+l = decode_bi(bundled_path("LAB-L.BI").read_bytes())
+r = decode_bi(bundled_path("LAB-R.BI").read_bytes())
+e = Eyes()
+t2 = time.perf_counter()
+e.scan(l, r)
+t3 = time.perf_counter()
+e.scan(l, r)
+t4 = time.perf_counter()
+print(t1 - t0, t3 - t2, t4 - t3)
+"""
+
+
+def cold() -> list[str]:
+    env = dict(os.environ, PYTHONPATH=str(REPO))
+    out = []
+    with tempfile.TemporaryDirectory() as empty:
+        for label, extra in (("compile cache warm", {}),
+                             ("no compile cache (empty NUMBA_CACHE_DIR)",
+                              {"NUMBA_CACHE_DIR": empty})):
+            if not extra:                    # make sure the cache is there
+                subprocess.run([sys.executable, "-c", COLD], env=env, capture_output=True)
+            res = subprocess.run([sys.executable, "-c", COLD], env=dict(env, **extra),
+                                 capture_output=True, text=True, check=True)
+            imp, first, second = (float(v) for v in res.stdout.split())
+            out.append(f"  {label}: import {imp:.2f} s, first scan {first:.2f} s, "
+                       f"second {second * 1e3:.2f} ms")
+    t = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "rig.main", "scan", "--quiet"], env=env,
+                   capture_output=True, check=True)
+    out.append(f"  whole `rig scan --quiet` process (bundled pair, accuracy table): "
+               f"{time.perf_counter() - t:.2f} s")
+    t = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "rig.main", "scan", "--quiet", "--engine",
+                    "reference"], env=env, capture_output=True, check=True)
+    out.append(f"  the same with --engine reference: {time.perf_counter() - t:.2f} s")
+    return out
+
+
+def sequence(frames: int) -> list[str]:
+    import cv2
+    from rig import batch
+    from rig.scan import write_atomic   # noqa: F401  (import cost outside the timing)
+    left, right = bundled()
+    out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        video = Path(tmp) / "sbs.avi"
+        vw = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"FFV1"), 30, (512, 240))
+        for k in range(frames):
+            pair = [np.kron(np.roll(p, k % 16, axis=1).astype(np.uint8) * 16 + 8,
+                            np.ones((2, 2), dtype=np.uint8)) for p in (left, right)]
+            vw.write(cv2.cvtColor(np.hstack(pair), cv2.COLOR_GRAY2BGR))
+        vw.release()
+        settings = batch.Settings(str(Path(tmp) / "out"), tuple(range(8, 113)))
+        for workers in (1, 2):
+            items = batch.digitized(batch.video_frames(str(video), None), (str(video),) * 2)
+            res = batch.run(items, settings, workers=workers, chunk=16, total=frames,
+                            progress=False)
+            assert res.ok == frames, res.rows[:3]
+            scan_ms = statistics.median(float(r["scan_ms"]) for r in res.rows)
+            out.append(f"  --workers {workers}: {frames} frames in {res.seconds:.2f} s = "
+                       f"{frames / res.seconds:.1f} frames/s with the start "
+                       f"({res.first_seconds:.2f} s to the first chunk), "
+                       f"{res.steady_fps:.1f} frames/s after it; median "
+                       f"scan {scan_ms:.2f} ms a frame; RSS parent "
+                       f"{res.parent_rss_kb / 1024:.0f} MB, per worker "
+                       f"{max(res.worker_rss_kb) / 1024:.0f} MB)")
+    return out
+
+
+def file_link() -> list[str]:
+    from bench.bench_rig import file_link_times
+    times, _ = file_link_times(list(range(8, 113)))
+    s = sorted(times)
+    return [f"  one slice pair, file link, jhdata on the disk: median "
+            f"{statistics.median(times) * 1e3:.1f} ms, p90 {s[int(0.9 * len(s))] * 1e3:.1f} ms, "
+            f"min {s[0] * 1e3:.1f} ms, max {s[-1] * 1e3:.1f} ms over {len(s)} lines"]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=200)
+    ap.add_argument("--frames", type=int, default=200)
+    ap.add_argument("--skip-file-link", action="store_true")
+    ap.add_argument("--only", choices=("warm", "cold", "sequence", "file-link"),
+                    help="run one part")
+    args = ap.parse_args(argv)
+    parts = {args.only} if args.only else {"warm", "cold", "sequence", "file-link"}
+    if args.skip_file_link:
+        parts.discard("file-link")
+    print(f"machine: {os.cpu_count()} cores; load average "
+          f"{' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    if "warm" in parts:
+        print("warm whole-picture scan, lines 8..112, one thread:")
+        for line in warm(args.rounds):
+            print(line, flush=True)
+    if "cold" in parts:
+        print("cold first scan in a fresh process:")
+        for line in cold():
+            print(line, flush=True)
+    if "sequence" in parts:
+        print(f"{args.frames}-frame side-by-side video through `rig scan --video` "
+              f"(digitizer, scan, per-frame CSV):")
+        for line in sequence(args.frames):
+            print(line, flush=True)
+    if "file-link" in parts:
+        for line in file_link():
+            print(line, flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

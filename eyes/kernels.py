@@ -1,0 +1,510 @@
+"""The 1985 rig's line loop as one compiled pass over a frame.
+
+Per line, what ESTAR's LCLN does through the NOVA (estar/program.py), with
+the same routines in the same order:
+
+* CFEAT: NSTAR label 600's slices of both pictures through EXQVFL
+  (:func:`nstar.exqvfl.exqvfl_kernel`, threshold 2);
+* NBLOB: NSTAR label 500's edge bit map (:func:`nstar.bitmaps.edge_map_kernel`
+  after label 100's :func:`~nstar.bitmaps.command_geometry`) of every edge
+  MARF will compare on this line, each once, as MARF's cache does;
+* MASL with MARF inlined (:func:`marf_best_shift`), inserting into COMMON
+  /MATCH/ (which persists across lines as in 1985) as
+  :func:`estar.masl._insert_kernel` does;
+* LCSL in DG truncating arithmetic on integers (:mod:`eyes.dgint`), its terms
+  memoised in tables: they depend only on the disparity and one offset;
+* PNPL: COMMON /POSIT/ kept as its 640 storage words; the POSIT.DT image of a
+  line is NP and those words.
+
+No Python object is made per line or per feature.  ``tests/test_eyes.py``
+compares every output with the reference path (Eclipse + DirectLink + Nova)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from diskfmt.jit import jit
+from estar.masl import NPIX1, NPIX2
+try:                                   # MASL's shift bounds (named search_bounds since)
+    from estar.masl import search_bounds as _search_bounds_kernel
+except ImportError:                    # pragma: no cover - the older name
+    from estar.masl import _search_bounds_kernel
+from nstar.exqvfl import exqvfl_kernel
+from .dgint import dg_add, dg_div, dg_from_int, dg_gt, dg_mul, dg_word
+
+LEFT_X, RIGHT_X = 26, 166          # nstar.program: where label 800 loads the pair
+SLICE_THRESHOLD = 2                # NSTAR label 600: EXQVFL(..., ITHR=2)
+MAX_DISP = 256                     # LOC1 <= 128 and LOC2 >= 1 - 64 (MARF moves it by <= 64)
+OFFSET0 = 64                       # table index of offset 0 (offsets -60..68 occur)
+NOFFSETS = 192
+# Columns of a point row.
+P_LINE, P_EDGE, P_LOC1, P_LOC2, P_INDX, P_QUAL = range(6)
+
+
+def new_tables() -> dict[str, np.ndarray]:
+    """Empty memo tables of LCSL's terms (filled on first use, per calibration)."""
+    return {"range_done": np.zeros(MAX_DISP, dtype=np.bool_),
+            # dp m,q; ep m,q; their storage words
+            "range_mq": np.zeros((MAX_DISP, 6), dtype=np.int64),
+            "offset_done": np.zeros((NOFFSETS, MAX_DISP), dtype=np.bool_),
+            # value m,q; error m,q; their storage words
+            "offset_mq": np.zeros((NOFFSETS, MAX_DISP, 6), dtype=np.int64)}
+
+
+def build_frame(left, right) -> np.ndarray:
+    """The OCTEK frame store after NSTAR label 800: white (15) everywhere, the
+    left picture at x 26 and the right at x 166, rows 0..119, low 4 bits."""
+    frame = np.full((240, 320), 15, dtype=np.uint8)
+    frame[0:120, LEFT_X:LEFT_X + 128] = np.asarray(left).astype(np.int64) & 15
+    frame[0:120, RIGHT_X:RIGHT_X + 128] = np.asarray(right).astype(np.int64) & 15
+    return frame
+
+
+U16 = np.uint64(16)
+
+
+@jit
+def popcount64(x):
+    x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
+    x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
+    x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
+    return np.int64((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
+
+
+@jit
+def level_masks(frame, masks):
+    """For each picture (0 left, 1 right), column and grey level g, the rows
+    0..119 whose pixel is at most g, as two 60-bit words: ``masks[i, x, g+1]``
+    (``masks[i, x, 0]`` is empty).  NSTAR label 500 sets a bit when the pixel
+    lies in IGMN..IGMX: ``masks[.., IGMX+1] & ~masks[.., IGMN]``."""
+    masks[:] = 0
+    for i in range(2):
+        x0 = 26 + 140 * i
+        for x in range(128):
+            for half in range(2):
+                for b in range(60):
+                    masks[i, x, frame[60 * half + b, x0 + x] + 1, half] |= 1 << b
+            for g in range(1, 17):
+                masks[i, x, g, 0] |= masks[i, x, g - 1, 0]
+                masks[i, x, g, 1] |= masks[i, x, g - 1, 1]
+
+
+@jit
+def _window(m0, m1, top):
+    """Rows top..top+15 of a 120-row mask held as two 60-bit words."""
+    if top < 0:
+        return (m0 << -top) & 0xFFFF
+    if top + 16 <= 60:
+        return (m0 >> top) & 0xFFFF
+    if top >= 60:
+        return (m1 >> (top - 60)) & 0xFFFF
+    return ((m0 >> top) | (m1 << (60 - top))) & 0xFFFF
+
+
+@jit
+def nblob_many(frame, masks, iyloc, requests, count, maps):
+    """NBLOB(IMAGE, X, IYLOC, IES) for the first ``count`` rows (image, edge,
+    X, IES) of ``requests`` (:func:`estar.masl.masl_requests`' rows): NSTAR
+    label 100's geometry and label 500's edge bit map
+    (:func:`nstar.bitmaps.edge_map_kernel`), from the level masks.  Map
+    ``maps[image-1, edge-1]`` gets the 16 column words, four to a 64-bit word,
+    column 1 lowest.  (Written out in one loop: a helper taking arrays would
+    cost a reference count per call.)"""
+    for k in range(count):
+        image = requests[k, 0]
+        row = requests[k, 1] - 1
+        ies = requests[k, 3]
+        ixctr = min(max(requests[k, 2], 0), 127)   # command_geometry's clamps
+        iyc = min(max(iyloc, 0), 119)
+        ixc = ixctr + (26 if image == 1 else 166)
+        ixm = min(ixc, ixc + ies + ies)
+        igmn = 15
+        igmx = 0
+        for r in range(iyc, iyc + 3):              # RVBLK(ICT,IDAT,IXM,2,IYC,3)
+            for c in range(ixm, ixm + 2):
+                v = frame[r, c]
+                igmn = min(igmn, v)
+                igmx = max(igmx, v)
+        top = iyc - 7
+        img = image - 1
+        for i in range(4):
+            maps[img, row, i] = 0
+        for col in range(16):
+            pc = ixctr - 7 + col                    # picture column; outside stays 0
+            if 0 <= pc <= 127:
+                w = (_window(masks[img, pc, igmx + 1, 0], masks[img, pc, igmx + 1, 1], top)
+                     & ~_window(masks[img, pc, igmn, 0], masks[img, pc, igmn, 1], top))
+                maps[img, row, col >> 2] |= np.uint64(w) << np.uint64(16 * (col & 3))
+
+
+@jit
+def _pick(a0, a1, a2, a3, j):
+    if j == 0:
+        return a0
+    if j == 1:
+        return a1
+    if j == 2:
+        return a2
+    if j == 3:
+        return a3
+    return np.uint64(0)
+
+
+@jit
+def _down(a0, a1, a2, a3, s):
+    """A 256-bit map moved down ``s`` columns (column s becomes column 0)."""
+    q = s >> 2
+    r = np.uint64(16 * (s & 3))
+    if r == 0:
+        return (_pick(a0, a1, a2, a3, q), _pick(a0, a1, a2, a3, q + 1),
+                _pick(a0, a1, a2, a3, q + 2), _pick(a0, a1, a2, a3, q + 3))
+    rr = np.uint64(64) - r
+    x0 = _pick(a0, a1, a2, a3, q)
+    x1 = _pick(a0, a1, a2, a3, q + 1)
+    x2 = _pick(a0, a1, a2, a3, q + 2)
+    x3 = _pick(a0, a1, a2, a3, q + 3)
+    return ((x0 >> r) | (x1 << rr), (x1 >> r) | (x2 << rr), (x2 >> r) | (x3 << rr), x3 >> r)
+
+
+@jit
+def _mask(k, i):
+    """Limb ``i`` of the mask of the first ``k`` columns."""
+    n = k - 4 * i
+    if n >= 4:
+        return np.uint64(0xFFFFFFFFFFFFFFFF)
+    if n <= 0:
+        return np.uint64(0)
+    return (np.uint64(1) << np.uint64(16 * n)) - np.uint64(1)
+
+
+@jit
+def marf_best_shift(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
+    """MARF labels 70-200 (as :func:`estar.masl.marf_kernel`) on map 1 (limbs
+    ``a``) and map 2 (limbs ``b``): the best shift in -IWST..IWST and its
+    quality (ND*256)/NTOT, 256 without bits or when ND >= 128; ties go to the
+    shift nearest zero, the earlier when equally near.  For IPOS >= 0 map-1
+    column c+IPOS meets map-2 column c for c < 16-IPOS (else map-1 c meets
+    map-2 c+|IPOS|): with the maps as 256-bit words, one shift, one mask and
+    three bit counts."""
+    mnval = 256
+    mloc = 0
+    for ipos in range(-iwst, iwst + 1):
+        ioff = abs(ipos)
+        inum = 16 - ioff
+        ival = 256
+        if inum > 0:
+            if ipos < 0:
+                x0, x1, x2, x3 = (a0 & _mask(inum, 0), a1 & _mask(inum, 1),
+                                  a2 & _mask(inum, 2), a3 & _mask(inum, 3))
+                y0, y1, y2, y3 = _down(b0, b1, b2, b3, ioff)
+            else:
+                x0, x1, x2, x3 = _down(a0, a1, a2, a3, ioff)
+                y0, y1, y2, y3 = (b0 & _mask(inum, 0), b1 & _mask(inum, 1),
+                                  b2 & _mask(inum, 2), b3 & _mask(inum, 3))
+            ntot = (popcount64(x0) + popcount64(x1) + popcount64(x2) + popcount64(x3)
+                    + popcount64(y0) + popcount64(y1) + popcount64(y2) + popcount64(y3))
+            nd = (popcount64(x0 ^ y0) + popcount64(x1 ^ y1) + popcount64(x2 ^ y2)
+                  + popcount64(x3 ^ y3))
+            if ntot != 0 and nd < 128:               # ND*256 would overflow 16 bits
+                ival = (nd * 256) // ntot
+        if mnval < ival:
+            continue
+        if mnval == ival and abs(mloc) <= abs(ipos):
+            continue
+        mnval = ival
+        mloc = ipos
+    return mloc, mnval
+
+
+@jit
+def lcsl_range(disp, consts, tables_done, tables):
+    """DP=DCONS/DISP; DENOM=DISP*DISP-DISP*EDISP; EPMAX=DCONS*EDISP/DENOM,
+    into row ``disp`` of the memo table (once)."""
+    if not tables_done[disp]:
+        dcm, dcq, _, _, edm, edq, _, _ = consts
+        dm, dq = dg_from_int(disp)
+        am, aq = dg_mul(dm, dq, dm, dq)
+        bm, bq = dg_mul(dm, dq, edm, edq)
+        denm, denq = dg_add(am, aq, -bm, bq)
+        dpm, dpq = dg_div(dcm, dcq, dm, dq)
+        nm, nq = dg_mul(dcm, dcq, edm, edq)
+        epm, epq = dg_div(nm, nq, denm, denq)
+        tables[disp, 0] = dpm
+        tables[disp, 1] = dpq
+        tables[disp, 2] = epm
+        tables[disp, 3] = epq
+        tables[disp, 4] = dg_word(dpm, dpq)
+        tables[disp, 5] = dg_word(epm, epq)
+        tables_done[disp] = True
+
+
+@jit
+def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
+    """DX=DL*DP*DVI; EXMAX=(ABS(DL)*EPMAX+DP*ELMAX+EPMAX*ELMAX)*DVI, left to
+    right (the same for DY, EYMAX with DD and EDMAX = ELMAX), into the memo
+    table (once)."""
+    k = offset + OFFSET0
+    if not done[k, disp]:
+        _, _, dvm, dvq, _, _, emm, emq = consts
+        om, oq = dg_from_int(offset)
+        am, aq = dg_mul(om, oq, dpm, dpq)
+        vm, vq = dg_mul(am, aq, dvm, dvq)
+        um, uq = dg_from_int(abs(offset))
+        sm, sq = dg_mul(um, uq, epm, epq)
+        tm, tq = dg_mul(dpm, dpq, emm, emq)
+        sm, sq = dg_add(sm, sq, tm, tq)
+        tm, tq = dg_mul(epm, epq, emm, emq)
+        sm, sq = dg_add(sm, sq, tm, tq)
+        em, eq = dg_mul(sm, sq, dvm, dvq)
+        tables[k, disp, 0] = vm
+        tables[k, disp, 1] = vq
+        tables[k, disp, 2] = em
+        tables[k, disp, 3] = eq
+        tables[k, disp, 4] = dg_word(vm, vq)
+        tables[k, disp, 5] = dg_word(em, eq)
+        done[k, disp] = True
+
+
+@jit
+def cfeat(frame, iyloc, pix, ifeat1, ifeat2):
+    """CFEAT: NSTAR label 600's slice of line IYLOC of image 1, then image 2,
+    through EXQVFL (threshold 2).  Returns (NFEAT1, NFEAT2)."""
+    for c in range(128):
+        pix[c] = frame[iyloc, LEFT_X + c]
+    nfeat1, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat1)
+    for c in range(128):
+        pix[c] = frame[iyloc, RIGHT_X + c]
+    nfeat2, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat2)
+    return nfeat1, nfeat2
+
+
+@jit
+def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
+              maps, requests, partners, bounds2):
+    """MASL for one line (IBLB1/IBLB2 empty at its start).  MASL tries every
+    slice-2 feature JNDX for every slice-1 feature INDX, both sides, and
+    compares the pairs whose grey levels differ by at most 1; a side's match
+    list only depends on the order of JNDX within that side, so here each
+    side visits just its partners, in increasing JNDX, from a bit set per
+    grey level.  NBLOB fetches the map of every edge that has a partner (the
+    requests MASL makes, :func:`estar.masl.masl_requests`, in another order:
+    the maps depend only on the pictures), then each pair goes through MARF
+    (:func:`marf_best_shift`) into COMMON /MATCH/.  Returns the number of
+    NBLOB round trips."""
+    # partners[side, g + 1]: bit JNDX-1 set when slice-2 feature JNDX's grey on
+    # that side is within 1 of g
+    partners[:] = 0
+    for side in range(2):
+        for jndx in range(1, nfeat2 + 1):
+            g = ifeat2[2 + side, jndx - 1]
+            for d in range(3):
+                partners[side, g + d] |= 1 << (jndx - 1)
+    nreq = 0
+    wanted2 = np.zeros(2, dtype=np.int64)
+    for side in range(2):
+        for indx in range(1, nfeat1 + 1):
+            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            if m:
+                requests[nreq, 0] = 1
+                requests[nreq, 1] = indx + 50 * side
+                requests[nreq, 2] = ifeat1[side, indx - 1]
+                requests[nreq, 3] = -1 if side == 0 else 1
+                nreq += 1
+                wanted2[side] |= m
+    for side in range(2):
+        for jndx in range(1, nfeat2 + 1):
+            if wanted2[side] & (1 << (jndx - 1)):
+                requests[nreq, 0] = 2
+                requests[nreq, 1] = jndx + 50 * side
+                requests[nreq, 2] = ifeat2[side, jndx - 1]
+                requests[nreq, 3] = -1 if side == 0 else 1
+                nreq += 1
+    nblob_many(frame, masks, iyloc, requests, nreq, maps)
+    for j in range(1, nfeat2 + 1):
+        b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
+        bounds2[j - 1, 0] = b[0]
+        bounds2[j - 1, 1] = b[1]
+    for indx in range(1, nfeat1 + 1):
+        irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
+        for side in range(2):
+            e1 = indx + 50 * side
+            row = e1 - 1
+            x1 = ifeat1[side, indx - 1]
+            a0 = maps[0, row, 0]
+            a1 = maps[0, row, 1]
+            a2 = maps[0, row, 2]
+            a3 = maps[0, row, 3]
+            count = 0
+            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            while m:
+                low = m & -m
+                m ^= low
+                jndx = 1 + popcount64(np.uint64(low - 1))
+                e2 = jndx + 50 * side
+                x2 = ifeat2[side, jndx - 1]
+                iwst = min(irgd[side], bounds2[jndx - 1, side])
+                mloc, mnval = marf_best_shift(a0, a1, a2, a3, maps[1, e2 - 1, 0],
+                                              maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                              maps[1, e2 - 1, 3], iwst)
+                loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
+                if x1 <= loc2:
+                    continue                           # LOC1 must lie right of LOC2
+                # MASL labels 100-210 (600-710), as estar.masl._insert_kernel, written
+                # out here: a call taking the table would cost a reference count.
+                if count < 1:
+                    count = 1
+                    ispt = 1
+                elif mnval >= imatch[row, count - 1, 1]:
+                    if count >= 10:
+                        continue                       # worse than a full list's bottom
+                    count += 1
+                    ispt = count
+                else:
+                    inum = count
+                    if count < 10:
+                        count += 1
+                    ispt = 1
+                    for i in range(1, inum + 1):
+                        ispt = inum - i + 1
+                        if ispt != 10:
+                            for j in range(4):         # move the entry down
+                                imatch[row, ispt, j] = imatch[row, ispt - 1, j]
+                        if ispt >= 2 and mnval >= imatch[row, ispt - 2, 1]:
+                            break                      # equal quality goes after (QUIRKS E19)
+                        ispt = 1
+                imatch[row, ispt - 1, 0] = e2
+                imatch[row, ispt - 1, 1] = mnval
+                imatch[row, ispt - 1, 2] = x1
+                imatch[row, ispt - 1, 3] = loc2
+            nmatch[row] = count
+    return nreq
+
+
+@jit
+def match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow):
+    """Append the match lists of edges 1..NFEAT1, then 51..50+NFEAT1, as rows
+    (edge, INDX, QUAL, LOC1, LOC2); returns the new row count."""
+    for half in range(2):
+        for indx in range(1, nfeat1 + 1):
+            edge = indx + 50 * half
+            for i in range(nmatch[edge - 1]):
+                match_rows[nrow, 0] = edge
+                for j in range(4):
+                    match_rows[nrow, 1 + j] = imatch[edge - 1, i, j]
+                nrow += 1
+    return nrow
+
+
+@jit
+def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offset_done,
+              offset_mq, pos, point_rows, point_words, npt):
+    """LCSL: for each edge the match entries with a disparity above EDISP in
+    order, until one puts the range past 1.0, their six POS values from the
+    memo tables as storage words in ``pos``; each located edge appended as a
+    point (line, edge, then LOC1, LOC2, INDX, QUAL of the entry whose values
+    ended in POS; the POS words).
+    Returns the new point count, or -1 when a value does not fit a DG REAL."""
+    for half in range(2):                      # edge order, as rig.scan lists points
+        for indx in range(1, nfeat1 + 1):
+            edge = indx + 50 * half
+            base = (edge - 1) * 6
+            pos[base] = 0xC1100000                  # -1.0: no data point
+            dpm = -1
+            dpq = 0
+            used = -1
+            for i in range(nmatch[edge - 1]):
+                loc1 = imatch[edge - 1, i, 2]
+                disp = loc1 - imatch[edge - 1, i, 3]
+                if disp <= 1:                       # IF (EDISP .GE. DISP1)
+                    continue
+                used = i                            # the entry whose values are in POS
+                if not range_done[disp]:
+                    lcsl_range(disp, consts, range_done, range_mq)
+                dpm = range_mq[disp, 0]
+                dpq = range_mq[disp, 1]
+                epm = range_mq[disp, 2]
+                epq = range_mq[disp, 3]
+                kx = loc1 - 60 + OFFSET0
+                ky = iyloc - 60 + OFFSET0
+                if not offset_done[kx, disp]:
+                    lcsl_offset(loc1 - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
+                                offset_mq)
+                if not offset_done[ky, disp]:
+                    lcsl_offset(iyloc - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
+                                offset_mq)
+                pos[base] = range_mq[disp, 4]
+                pos[base + 1] = offset_mq[kx, disp, 4]
+                pos[base + 2] = offset_mq[ky, disp, 4]
+                pos[base + 3] = range_mq[disp, 5]
+                pos[base + 4] = offset_mq[kx, disp, 5]
+                pos[base + 5] = offset_mq[ky, disp, 5]
+                for j in range(6):
+                    if pos[base + j] < 0:
+                        return -1
+                if dg_gt(dpm, dpq, 0x100000, -20):  # IF (POS(1,INDX) .GT. 1.0)
+                    break
+            if dpm > 0:
+                point_rows[npt, P_LINE] = iyloc
+                point_rows[npt, P_EDGE] = edge
+                point_rows[npt, P_LOC1] = imatch[edge - 1, used, 2]
+                point_rows[npt, P_LOC2] = imatch[edge - 1, used, 3]
+                point_rows[npt, P_INDX] = imatch[edge - 1, used, 0]
+                point_rows[npt, P_QUAL] = imatch[edge - 1, used, 1]
+                for j in range(6):
+                    point_words[npt, j] = pos[base + j]
+                npt += 1
+    return npt
+
+
+@jit
+def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offset_done,
+                      offset_mq, nmatch, imatch, pos, nfeat_out, ifeat_out, requests_out,
+                      match_start, match_rows, point_start, point_rows, point_words,
+                      posit_out):
+    """LCLN for each line of ``lines`` on the frame store ``frame``: CFEAT,
+    MASL, LCSL, PNPL.
+
+    State carried from line to line, as in ESTAR's COMMON: ``nmatch``,
+    ``imatch`` (/MATCH/) and ``pos`` (/POSIT/ as 640 storage words).
+    Per line k: ``nfeat_out[k]``/``ifeat_out[k]`` the two slices' feature
+    tables; ``requests_out[k]`` NBLOB round trips; match-list rows
+    ``match_rows[match_start[k]:match_start[k+1]]`` = (edge, INDX, QUAL, LOC1,
+    LOC2) for edges 1..NFEAT1 then 51..50+NFEAT1; located edges
+    ``point_rows[point_start[k]:point_start[k+1]]`` = (line, edge, LOC1, LOC2,
+    INDX, QUAL of the entry LCSL took) with their six POS words; ``posit_out[k]``
+    the 640 POS words after the line (when ``posit_out`` has a row per line).
+    Returns 0, or -1 when a POS value does not fit a DG REAL."""
+    ifeat1 = np.zeros((4, 50), dtype=np.int32)
+    ifeat2 = np.zeros((4, 50), dtype=np.int32)
+    pix = np.zeros(128, dtype=np.int64)
+    masks = np.zeros((2, 128, 17, 2), dtype=np.int64)
+    level_masks(frame, masks)
+    maps = np.zeros((2, 100, 4), dtype=np.uint64)
+    requests = np.zeros((200, 4), dtype=np.int64)
+    partners = np.zeros((2, 18), dtype=np.int64)
+    bounds2 = np.zeros((50, 2), dtype=np.int64)
+    nrow = 0
+    npt = 0
+    record_posit = posit_out.shape[0] == lines.shape[0]
+    for k in range(lines.shape[0]):
+        iyloc = lines[k]
+        nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2)
+        nfeat_out[k, 0] = nfeat1
+        nfeat_out[k, 1] = nfeat2
+        ifeat_out[k, 0] = ifeat1
+        ifeat_out[k, 1] = ifeat2
+        requests_out[k] = masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
+                                    sign_fix, nmatch, imatch, maps, requests, partners,
+                                    bounds2)
+        match_start[k] = nrow
+        point_start[k] = npt
+        nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
+        npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
+                        offset_done, offset_mq, pos, point_rows, point_words, npt)
+        if npt < 0:
+            return -1
+        if record_posit:                        # PNPL: the image of /POSIT/ after the line
+            posit_out[k] = pos
+    match_start[lines.shape[0]] = nrow
+    point_start[lines.shape[0]] = npt
+    return 0
