@@ -1,0 +1,411 @@
+"""The walk: look after look into one symbolic model (Chapter III, "Three
+Dimensional Models and Model Updates", "Stochastic Updates", "Camera
+Position Estimation").
+
+For every look:
+
+1. the rig scans the pair (ESTAR over the direct link, every line of the
+   scanned range) and its located edges are grouped into vertical edges and
+   vertex observations (:mod:`model.edges`);
+2. the prior pose is the last estimate moved by the odometry's step (dead
+   reckoning between looks);
+3. the observations are matched to the model (:mod:`model.matching`);
+4. every pose method runs on the SAME correspondences (:mod:`model.pose`);
+5. the pose of the *driving* method (``robust`` unless chosen otherwise) is
+   used to update the matched vertices by the static Kalman filter
+   (:mod:`model.kalman`, A-30 or A-29) and to add the unmatched ones as new
+   vertices; vertices out of view are kept as they are;
+6. the velocity follows from the driving method's successive positions.
+
+The first look's pose is given (the model's frame is the room's, anchored
+where the robot starts); every later pose is estimated.  A look whose pose
+the driving method refuses (too few matches, colinear points ...) keeps the
+prior, changes nothing in the model, and says why.
+
+The world's truth (the renderer's range per pixel, the room's true corners) is
+used only for scoring: which correspondences are wrong, how far each feature
+is from its true place, whether the truth is inside 2 sigma.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .edges import Camera, group_vertical_edges, vertex_observations
+from .geometry import axes_matrix, heading_deg, left_centre, wrap_deg
+from .kalman import measurement_covariance_a29, measurement_covariance_a30, static_update
+from .matching import MATCHERS, MatchResult
+from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
+from .symbolic import SymbolicModel
+from .velocity import Velocity, velocity
+
+CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
+TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
+WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
+
+
+@dataclass
+class WalkConfig:
+    methods: tuple[str, ...] = ESTIMATORS
+    driver: str = "robust"
+    kalman: str = "a30"                 # "a30" as written, "a29" camera error propagated
+    match: str = "text"
+    lines: tuple[int, ...] = tuple(range(8, 113))
+    look_interval_s: float = 1.0
+    odometry_distance_fraction: float = 0.02
+    odometry_turn_deg: float = 1.0
+    camera: Camera = Camera()
+
+
+@dataclass
+class LookRecord:
+    look: int
+    true_pose: object
+    dead_reckoned: object
+    prior_xzh: tuple[float, float, float]
+    estimates: dict[str, tuple[float, float, float] | None]
+    refusals: dict[str, str]
+    seen: int
+    matched: int
+    wrong: int
+    used: int
+    used_wrong: int
+    added: int
+    model_size: int
+    predicted_in_view: int
+    times_ms: dict[str, float]
+    velocity: Velocity | None = None
+    driver_refused: str | None = None
+
+    def errors(self, name: str) -> tuple[float, float] | None:
+        est = self.estimates.get(name)
+        if est is None:
+            return None
+        t = self.true_pose
+        return (float(np.hypot(est[0] - t.x, est[1] - t.z)),
+                float(abs(wrap_deg(est[2] - t.heading_deg))))
+
+
+@dataclass
+class WalkResult:
+    config: WalkConfig
+    records: list[LookRecord]
+    model: SymbolicModel
+    error_history: dict[int, list[float]] = field(default_factory=dict)   # vertex -> error after each look
+
+    def feature_scores(self) -> dict:
+        """RMS error (ft) and share of truths inside 2 sigma over the vertices
+        with a truth; the Mahalanobis-2 radius share too."""
+        errs, inside, inside_r2 = [], [], []
+        for v in self.model.vertices.values():
+            if v.truth is None:
+                continue
+            d = v.mean - v.truth
+            errs.append(float(d @ d))
+            m2 = float(d @ np.linalg.solve(v.cov, d))
+            inside.append(m2 <= CHI2_3DOF_2SIGMA)
+            inside_r2.append(m2 <= 4.0)
+        if not errs:
+            return {"features": len(self.model.vertices), "scored": 0, "rms_error_ft": None,
+                    "inside_2sigma": None, "inside_mahalanobis_2": None}
+        return {"features": len(self.model.vertices), "scored": len(errs),
+                "rms_error_ft": float(np.sqrt(np.mean(errs))),
+                "inside_2sigma": float(np.mean(inside)),
+                "inside_mahalanobis_2": float(np.mean(inside_r2))}
+
+    def rms_by_looks(self, max_looks: int = 20) -> list[tuple[int, int, float]]:
+        """(n, features seen at least n times, RMS error after their n-th look)."""
+        out = []
+        for n in range(1, max_looks + 1):
+            e = [h[n - 1] for h in self.error_history.values() if len(h) >= n]
+            if e:
+                out.append((n, len(e), float(np.sqrt(np.mean(np.square(e))))))
+        return out
+
+
+# --- truth, for scoring only ------------------------------------------------------
+
+def truth_points(room) -> np.ndarray:
+    pts = [np.asarray(room.vertices, float).reshape(-1, 3)]
+    ve = np.asarray(room.vertical_edges, float)
+    if ve.size:
+        pts.append(ve.reshape(-1, 3))
+    return np.concatenate(pts) if pts else np.zeros((0, 3))
+
+
+def observed_truth(obs, range_left, true_left, true_R, corners, camera: Camera):
+    """The world's true location of each observation: the pixel the rig named,
+    at the renderer's range on the last scanned line that saw the edge (the
+    nearer of the columns either side, as rig.truth scores an edge), in room
+    axes; snapped to a true corner when one lies within TRUTH_SNAP_FT.
+    Returns (points (N,3), corner index or -1 (N,))."""
+    h, w = range_left.shape
+    pts, idx = [], []
+    for o in obs:
+        r = int(np.clip(o.line if o.line >= 0 else np.floor(o.row), 0, h - 1))
+        c = int(np.clip(np.floor(o.col), 0, w - 1))
+        z = float(np.min(range_left[r, max(c - 1, 0):c + 2]))
+        v = np.array([z * (o.col - camera.centre_col) / camera.dv,
+                      z * (o.row - camera.centre_row) / camera.dv, z])
+        p = true_left + true_R @ v
+        k = -1
+        if len(corners):
+            d = np.linalg.norm(corners - p, axis=1)
+            j = int(np.argmin(d))
+            if d[j] <= TRUTH_SNAP_FT:
+                p, k = corners[j].copy(), j
+        pts.append(p)
+        idx.append(k)
+    return np.array(pts).reshape(-1, 3), np.array(idx, dtype=int)
+
+
+# --- the loop ------------------------------------------------------------------------
+
+def _compose_step(prev_est_xzh, dr_prev, dr_now):
+    """The prior: the previous estimate moved by the odometry's step, i.e. the
+    dead-reckoned motion from dr_prev to dr_now expressed in the vehicle frame."""
+    h0 = np.radians(dr_prev.heading_deg)
+    dx, dz = dr_now.x - dr_prev.x, dr_now.z - dr_prev.z
+    fwd = dx * np.sin(h0) + dz * np.cos(h0)          # along the old heading
+    side = dx * np.cos(h0) - dz * np.sin(h0)         # to its right
+    turn = float(wrap_deg(dr_now.heading_deg - dr_prev.heading_deg))
+    x, z, h = prev_est_xzh
+    hr = np.radians(h)
+    return (x + fwd * np.sin(hr) + side * np.cos(hr), z + fwd * np.cos(hr) - side * np.sin(hr),
+            float(wrap_deg(h + turn))), float(np.hypot(dx, dz)), abs(turn)
+
+
+def _rotation(heading, pitch=0.0, roll=0.0):
+    from .geometry import rotation_from_angles
+    return rotation_from_angles(heading, pitch, roll)
+
+
+def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = WalkConfig(),
+             progress: Callable[[int], None] | None = None, seed: int = 0) -> WalkResult:
+    """Walk the poses: ``render(room, pose, look_index)`` gives the world's Look
+    (``left_bi``, ``right_bi``, ``range_left``, ``pose``)."""
+    from rig.scan import scan_pair
+    if config.driver not in ESTIMATORS:
+        raise ValueError(f"unknown driving method {config.driver!r}; one of {', '.join(ESTIMATORS)}")
+    methods = tuple(dict.fromkeys((*config.methods, config.driver)))
+    for m in methods:
+        if m not in ESTIMATORS:
+            raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
+    if config.kalman not in ("a30", "a29"):
+        raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30 or a29")
+    matcher = MATCHERS.get(config.match)
+    if matcher is None:
+        raise ValueError(f"unknown matcher {config.match!r}; one of {', '.join(MATCHERS)}")
+    model = SymbolicModel()
+    corners = truth_points(room)
+    history: dict[int, list[float]] = {}
+    records: list[LookRecord] = []
+    lines = list(config.lines)
+    rows = (min(lines), max(lines) + 1)
+    prev_xzh = None
+    prev_cov = None
+    sig_pos2, sig_rot2 = 0.0, 0.0                    # prior uncertainty carried between looks
+    for k, true_pose in enumerate(poses):
+        look = render(room, true_pose, k)
+        t_start = time.perf_counter()
+        scan = scan_pair(look.left_bi, look.right_bi, lines)
+        t_scan = time.perf_counter()
+        edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera)
+        obs = vertex_observations(edges)
+        t_group = time.perf_counter()
+        R_true = np.asarray(true_pose.rotation(), float)
+        true_left = left_centre((true_pose.x, getattr(true_pose, "y", 0.0), true_pose.z), R_true)
+        obs_truth, obs_truth_id = observed_truth(obs, np.asarray(look.range_left, float),
+                                                 true_left, R_true, corners, config.camera)
+        times = {"scan": (t_scan - t_start) * 1e3, "group": (t_group - t_scan) * 1e3}
+        estimates: dict[str, tuple | None] = {}
+        refusals: dict[str, str] = {}
+        dr = dead_reckoned[k]
+        if k == 0:
+            # the start is given: the model's frame is anchored here
+            prior_xzh = (true_pose.x, true_pose.z, true_pose.heading_deg)
+            driver_est = PoseEstimate("given", true_left, axes_matrix(R_true), np.zeros(0, bool),
+                                      covariance6=np.zeros((6, 6)))
+            match = MatchResult([], 0, 0)
+            for m in methods:
+                estimates[m] = prior_xzh
+            pairs_used: list[tuple[int, int]] = []
+            t_match = time.perf_counter()
+            times["match"] = (t_match - t_group) * 1e3
+            driver_refused = None
+        else:
+            prior_xzh, step_ft, turn = _compose_step(prev_xzh, dead_reckoned[k - 1], dr)
+            sig_pos2 += (config.odometry_distance_fraction * step_ft) ** 2 + 0.02 ** 2
+            sig_rot2 += np.radians(config.odometry_turn_deg) ** 2 * (1 if turn > 0 else 0.25)
+            prior_R = _rotation(prior_xzh[2])
+            prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
+            # gate on at least 0.15 ft and 1.5 degrees: the prior is never that sure
+            cov6 = np.diag([max(sig_pos2, 0.15 ** 2)] * 3 + [max(sig_rot2, np.radians(1.5) ** 2)] * 3)
+            match = matcher(model, obs, prior_left, prior_R, cov6, rows=rows)
+            t_match = time.perf_counter()
+            times["match"] = (t_match - t_group) * 1e3
+            vid = [p[0] for p in match.pairs]
+            oi = [p[1] for p in match.pairs]
+            q = np.array([obs[i].q for i in oi]).reshape(-1, 3)
+            Cq = np.array([obs[i].cov for i in oi]).reshape(-1, 3, 3)
+            X = np.array([model.vertices[v].mean for v in vid]).reshape(-1, 3)
+            CX = np.array([model.vertices[v].cov for v in vid]).reshape(-1, 3, 3)
+            results: dict[str, PoseEstimate] = {}
+            for m in methods:
+                t0 = time.perf_counter()
+                try:
+                    est = estimate(m, q, Cq, X, CX, prior_left, prior_R)
+                    results[m] = est
+                    estimates[m] = (float(est.centre[0]), float(est.centre[2]), est.heading_deg)
+                except PoseRefused as exc:
+                    refusals[m] = str(exc)
+                    estimates[m] = None
+                times[m] = (time.perf_counter() - t0) * 1e3
+            driver_est = results.get(config.driver)
+            driver_refused = refusals.get(config.driver)
+            if driver_est is not None:
+                disagreement = _disagreement(driver_est, prior_xzh, sig_pos2, sig_rot2)
+                if disagreement is not None:
+                    driver_refused, driver_est = disagreement, None
+            pairs_used = []
+            if driver_est is not None:
+                pairs_used = [p for p, ok in zip(match.pairs, driver_est.inliers) if ok]
+        estimates["dead_reckoning"] = (dr.x, dr.z, dr.heading_deg)
+        t_up = time.perf_counter()
+        added = 0
+        if driver_est is not None:
+            added = _update_model(model, edges, obs, match.pairs, pairs_used, driver_est,
+                                  config.kalman, k, obs_truth, obs_truth_id, history)
+            est_xzh = (float(driver_est.centre[0]), float(driver_est.centre[2]),
+                       driver_est.heading_deg)
+            est_cov = driver_est.xz_heading_covariance()
+            if k > 0 and est_cov is not None:
+                sig_pos2 = float(max(est_cov[0, 0], est_cov[1, 1]))
+                sig_rot2 = float(est_cov[2, 2])
+        else:
+            # no fix: nothing is updated, but what the robot sees for the first time
+            # enters at the prior pose, carrying the prior's own uncertainty (A-29's
+            # P_i N_Y term; without it these features would claim a fix never made)
+            prior_est = PoseEstimate("prior", prior_left, axes_matrix(prior_R),
+                                     np.zeros(0, bool), covariance6=cov6)
+            added = _update_model(model, edges, obs, match.pairs, [], prior_est, "a29", k,
+                                  obs_truth, obs_truth_id, history)
+            est_xzh, est_cov = prior_xzh, None
+        times["update"] = (time.perf_counter() - t_up) * 1e3
+        times["look"] = (times["scan"] + times["group"] + times["match"]
+                         + times.get(config.driver, 0.0) + times["update"])
+        vel = None
+        if prev_xzh is not None:
+            vel = velocity(prev_xzh, prev_cov, est_xzh, est_cov, config.look_interval_s)
+        prev_xzh, prev_cov = est_xzh, est_cov
+        wrong = _wrong(model, match.pairs, obs_truth)
+        used_wrong = _wrong(model, pairs_used, obs_truth)
+        records.append(LookRecord(
+            k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
+            len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused))
+        if progress is not None:
+            progress(k)
+    return WalkResult(config, records, model, history)
+
+
+ODOMETRY_GATE_CHI2 = 16.27     # 99.9 %, 3 degrees of freedom
+
+
+def _disagreement(est: PoseEstimate, prior_xzh, sig_pos2: float, sig_rot2: float) -> str | None:
+    """A visual fix far outside the odometry's prior (x, z, heading) is not used:
+    the matches behind it are taken to be wrong.  None when it agrees."""
+    d = np.array([est.centre[0] - prior_xzh[0], est.centre[2] - prior_xzh[1],
+                  np.radians(wrap_deg(est.heading_deg - prior_xzh[2]))])
+    S = np.diag([max(sig_pos2, 0.15 ** 2), max(sig_pos2, 0.15 ** 2), max(sig_rot2, np.radians(1.5) ** 2)])
+    C = est.xz_heading_covariance()
+    if C is not None:
+        S = S + C
+    m2 = float(d @ np.linalg.solve(S, d))
+    if m2 > ODOMETRY_GATE_CHI2:
+        return (f"{est.method} fix disagrees with the odometry's prior by {np.hypot(d[0], d[1]):.2f} ft "
+                f"and {np.degrees(abs(d[2])):.1f} deg (chi-square {m2:.0f}); prior kept")
+    return None
+
+
+def _wrong(model, pairs, obs_truth) -> int:
+    n = 0
+    for vid, i in pairs:
+        t = model.vertices[vid].truth
+        if t is None or np.linalg.norm(obs_truth[i] - t) > WRONG_MATCH_FT:
+            n += 1
+    return n
+
+
+def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
+                  look: int, obs_truth, obs_truth_id, history) -> int:
+    """Kalman-update the vertices the driving pose kept, add the observations
+    no model vertex claimed, link boundary lines.  Returns how many were added."""
+    if not obs:
+        return 0
+    q = np.array([o.q for o in obs])
+    Cq = np.array([o.cov for o in obs])
+    z = est.transform(q)
+    Rm = measurement_covariance_a30(est.M, Cq)
+    if kalman == "a29":
+        Rm = measurement_covariance_a29(est.M, Cq, est.pose_covariance_at(q))
+    claimed = {i for _, i in pairs}
+    vertex_of: dict[int, int] = {}
+    for vid, i in pairs_used:
+        v = model.vertices[vid]
+        v.mean, v.cov = static_update(v.mean, v.cov, z[i], Rm[i])
+        v.looks += 1
+        v.last_look = look
+        vertex_of[i] = vid
+        if v.truth is not None:
+            history.setdefault(vid, []).append(float(np.linalg.norm(v.mean - v.truth)))
+    added = 0
+    for i, o in enumerate(obs):
+        if i in claimed:
+            continue
+        v = model.add_vertex(z[i], Rm[i], o.kind, o.grey, look)
+        v.truth = obs_truth[i].copy()
+        v.truth_id = int(obs_truth_id[i])
+        history[v.id] = [float(np.linalg.norm(v.mean - v.truth))]
+        vertex_of[i] = v.id
+        added += 1
+    # boundary lines: one per vertical edge, its ends the vertices just placed
+    index = {id(o): i for i, o in enumerate(obs)}
+    for e in edges:
+        ends: list[int | None] = [None, None]
+        for vo in e.vertices:
+            i = _find_obs(obs, vo, index)
+            if i is not None and i in vertex_of:
+                ends[0 if vo.kind == "top" else 1] = vertex_of[i]
+        known = [ln for vid in ends if vid is not None for ln in model.vertices[vid].lines]
+        if known:
+            line = model.lines[known[0]]
+            line.looks += 1
+            merged = list(line.ends)
+            for slot in (0, 1):
+                if merged[slot] is None and ends[slot] is not None:
+                    merged[slot] = ends[slot]
+                    model.vertices[ends[slot]].lines.append(line.id)
+            line.ends = tuple(merged)
+            model.refresh_line(line)
+        elif any(vid is not None for vid in ends):
+            c = est.transform(e.centre[None])[0]
+            C = measurement_covariance_a30(est.M, e.centre_cov)
+            pts = np.array([model.vertices[vid].mean if vid is not None else c for vid in ends])
+            line = model.add_line(c, C, ends, pts, e.grey)
+            model.refresh_line(line)
+    return added
+
+
+def _find_obs(obs, vo, index):
+    i = index.get(id(vo))
+    if i is not None:
+        return i
+    for j, o in enumerate(obs):
+        if o.edge == vo.edge and o.kind == vo.kind:
+            return j
+    return None
