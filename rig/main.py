@@ -6,6 +6,8 @@
 * ``rig scan``: a whole-picture scan (lines 8..112 by default) with a progress
   bar: every located edge as a 3-D point with its error bounds and covariance,
   written as CSV and PLY; the accuracy table when the true range is known.
+* ``rig walk``: the robot walks a room on the rig's eyes and keeps one model
+  of it (rig/walk.py).
 """
 
 from __future__ import annotations
@@ -190,6 +192,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="FIX (not 1985): MARF's refined location with the geometric sign")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_scan)
+    from . import walk as walkmod          # rig walk: the robot's model of its world
+    walkmod.add_parser(sub)
     return p
 
 
