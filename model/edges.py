@@ -99,7 +99,8 @@ def locate(col: float, row: float, disparity: float, camera: Camera, e_d: float 
 
 def group_vertical_edges(points, lines, left_picture=None, camera: Camera = Camera(),
                          min_lines: int = 4, max_gap: int = 2,
-                         require_corner: bool = True) -> list[EdgeObservation]:
+                         require_corner: bool = True, right_picture=None,
+                         grey_check: int | None = 2) -> list[EdgeObservation]:
     """Chain the rig's located points (``rig.scan.Point``) into vertical edges.
 
     Two points join when they are on the same scanned line or on scanned lines
@@ -111,7 +112,13 @@ def group_vertical_edges(points, lines, left_picture=None, camera: Camera = Came
     With ``require_corner`` an end counts as a vertex only where the picture
     agrees that the boundary ends there: two rows beyond it the left picture no
     longer shows the same grey step.  Where the rig merely lost the edge (a
-    line it could not match) the end is not a corner and is not reported.  Chains covering fewer than
+    line it could not match) the end is not a corner and is not reported.
+
+    With a ``right_picture`` and ``grey_check``, a located point is kept only
+    if the grey levels two pixels either side of it agree (within
+    ``grey_check``) between the left picture at LOC1 and the right picture at
+    LOC2: a wrong stereo match of the rig (MASL paired two different edges)
+    usually fails this, and would otherwise enter the model at a wrong range.  Chains covering fewer than
     ``min_lines`` scanned lines are dropped.  ``lines`` is the set of lines
     that were scanned (their spacing sets the vertical uncertainty of a
     vertex)."""
@@ -121,6 +128,9 @@ def group_vertical_edges(points, lines, left_picture=None, camera: Camera = Came
     pos = {y: k for k, y in enumerate(lines)}
     step = float(np.median(np.diff(lines))) if len(lines) > 1 else 1.0
     pts = [p for p in points if p.line in pos and p.disparity > 1]
+    if right_picture is not None and left_picture is not None and grey_check is not None and pts:
+        keep = _stereo_agrees(left_picture, right_picture, pts, grey_check)
+        pts = [p for p, k in zip(pts, keep) if k]
     n = len(pts)
     col = np.array([p.loc1 - 0.5 for p in pts])
     disp = np.array([float(p.disparity) for p in pts])
@@ -191,6 +201,21 @@ def group_vertical_edges(points, lines, left_picture=None, camera: Camera = Came
         e.vertices[:] = [VertexObservation(v.q, v.cov, v.kind, v.col, v.row, v.disparity,
                                            v.grey, i, v.line) for v in e.vertices]
     return out
+
+
+def _stereo_agrees(left, right, pts, tol) -> np.ndarray:
+    L = np.asarray(left).astype(np.int64)
+    Rp = np.asarray(right).astype(np.int64)
+    h, w = L.shape
+    r = np.clip(np.array([p.line for p in pts]), 0, h - 1)
+    c1 = np.array([p.loc1 for p in pts], dtype=np.int64) - 1
+    c2 = np.array([p.loc2 for p in pts], dtype=np.int64) - 1
+    ok = np.ones(len(pts), bool)
+    for d in (-2, 2):
+        a = L[r, np.clip(c1 + d, 0, w - 1)]
+        b = Rp[r, np.clip(c2 + d, 0, w - 1)]
+        ok &= np.abs(a - b) <= tol
+    return ok
 
 
 def _continues(picture, y_end, col, direction, grey) -> bool:

@@ -208,13 +208,14 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
     rows = (min(lines), max(lines) + 1)
     prev_xzh = None
     prev_cov = None
-    sig_pos2, sig_rot2 = 0.0, 0.0                    # prior uncertainty carried between looks
+    P = np.zeros((3, 3))              # covariance of the pose (x, z, heading rad) carried on
     for k, true_pose in enumerate(poses):
         look = render(room, true_pose, k)
         t_start = time.perf_counter()
         scan = scan_pair(look.left_bi, look.right_bi, lines)
         t_scan = time.perf_counter()
-        edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera)
+        edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
+                                     right_picture=look.right_bi)
         obs = vertex_observations(edges)
         t_group = time.perf_counter()
         R_true = np.asarray(true_pose.rotation(), float)
@@ -225,29 +226,24 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         estimates: dict[str, tuple | None] = {}
         refusals: dict[str, str] = {}
         dr = dead_reckoned[k]
+        driver_refused = None
+        pairs_used: list[tuple[int, int]] = []
         if k == 0:
             # the start is given: the model's frame is anchored here
             prior_xzh = (true_pose.x, true_pose.z, true_pose.heading_deg)
-            driver_est = PoseEstimate("given", true_left, axes_matrix(R_true), np.zeros(0, bool),
-                                      covariance6=np.zeros((6, 6)))
+            pose_est = PoseEstimate("given", true_left, axes_matrix(R_true), np.zeros(0, bool),
+                                    covariance6=np.zeros((6, 6)))
             match = MatchResult([], 0, 0)
-            for m in methods:
+            for m in (*methods, "fused"):
                 estimates[m] = prior_xzh
-            pairs_used: list[tuple[int, int]] = []
-            t_match = time.perf_counter()
-            times["match"] = (t_match - t_group) * 1e3
-            driver_refused = None
+            times["match"] = (time.perf_counter() - t_group) * 1e3
         else:
-            prior_xzh, step_ft, turn = _compose_step(prev_xzh, dead_reckoned[k - 1], dr)
-            sig_pos2 += (config.odometry_distance_fraction * step_ft) ** 2 + 0.02 ** 2
-            sig_rot2 += np.radians(config.odometry_turn_deg) ** 2 * (1 if turn > 0 else 0.25)
+            prior_xzh, P = _predict(prev_xzh, P, dead_reckoned[k - 1], dr, config)
             prior_R = _rotation(prior_xzh[2])
             prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
-            # gate on at least 0.15 ft and 1.5 degrees: the prior is never that sure
-            cov6 = np.diag([max(sig_pos2, 0.15 ** 2)] * 3 + [max(sig_rot2, np.radians(1.5) ** 2)] * 3)
+            cov6 = _cov6(P)
             match = matcher(model, obs, prior_left, prior_R, cov6, rows=rows)
-            t_match = time.perf_counter()
-            times["match"] = (t_match - t_group) * 1e3
+            times["match"] = (time.perf_counter() - t_group) * 1e3
             vid = [p[0] for p in match.pairs]
             oi = [p[1] for p in match.pairs]
             q = np.array([obs[i].q for i in oi]).reshape(-1, 3)
@@ -265,36 +261,32 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
                     refusals[m] = str(exc)
                     estimates[m] = None
                 times[m] = (time.perf_counter() - t0) * 1e3
-            driver_est = results.get(config.driver)
+            fix = results.get(config.driver)
             driver_refused = refusals.get(config.driver)
-            if driver_est is not None:
-                disagreement = _disagreement(driver_est, prior_xzh, sig_pos2, sig_rot2)
-                if disagreement is not None:
-                    driver_refused, driver_est = disagreement, None
-            pairs_used = []
-            if driver_est is not None:
-                pairs_used = [p for p, ok in zip(match.pairs, driver_est.inliers) if ok]
+            pose_est = None
+            if fix is not None:
+                fused = _fuse(fix, prior_xzh, P)
+                if isinstance(fused, str):
+                    driver_refused = fused
+                else:
+                    pose_est, P = fused
+                    pairs_used = [p for p, ok in zip(match.pairs, fix.inliers) if ok]
+            if pose_est is None:
+                # no fix: the pose stays the prior; nothing is updated, but what the robot
+                # sees for the first time enters at the prior, carrying the prior's own
+                # uncertainty (A-29's P_i N_Y term; without it these features would
+                # claim a fix never made)
+                pose_est = PoseEstimate("prior", prior_left, axes_matrix(prior_R),
+                                        np.zeros(0, bool), covariance6=cov6)
+            estimates["fused"] = (float(pose_est.centre[0]), float(pose_est.centre[2]),
+                                  pose_est.heading_deg)
         estimates["dead_reckoning"] = (dr.x, dr.z, dr.heading_deg)
         t_up = time.perf_counter()
-        added = 0
-        if driver_est is not None:
-            added = _update_model(model, edges, obs, match.pairs, pairs_used, driver_est,
-                                  config.kalman, k, obs_truth, obs_truth_id, history)
-            est_xzh = (float(driver_est.centre[0]), float(driver_est.centre[2]),
-                       driver_est.heading_deg)
-            est_cov = driver_est.xz_heading_covariance()
-            if k > 0 and est_cov is not None:
-                sig_pos2 = float(max(est_cov[0, 0], est_cov[1, 1]))
-                sig_rot2 = float(est_cov[2, 2])
-        else:
-            # no fix: nothing is updated, but what the robot sees for the first time
-            # enters at the prior pose, carrying the prior's own uncertainty (A-29's
-            # P_i N_Y term; without it these features would claim a fix never made)
-            prior_est = PoseEstimate("prior", prior_left, axes_matrix(prior_R),
-                                     np.zeros(0, bool), covariance6=cov6)
-            added = _update_model(model, edges, obs, match.pairs, [], prior_est, "a29", k,
-                                  obs_truth, obs_truth_id, history)
-            est_xzh, est_cov = prior_xzh, None
+        kalman = config.kalman if pose_est.method != "prior" else "a29"
+        added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
+                              kalman, k, obs_truth, obs_truth_id, history)
+        est_xzh = estimates["fused"]
+        est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
         times["look"] = (times["scan"] + times["group"] + times["match"]
                          + times.get(config.driver, 0.0) + times["update"])
@@ -314,22 +306,69 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
 
 
 ODOMETRY_GATE_CHI2 = 16.27     # 99.9 %, 3 degrees of freedom
+MIN_POS_SIGMA_FT = 0.1         # the prior is never surer than this for gating ...
+MIN_ROT_SIGMA_DEG = 1.0        # ... and this
 
 
-def _disagreement(est: PoseEstimate, prior_xzh, sig_pos2: float, sig_rot2: float) -> str | None:
-    """A visual fix far outside the odometry's prior (x, z, heading) is not used:
-    the matches behind it are taken to be wrong.  None when it agrees."""
-    d = np.array([est.centre[0] - prior_xzh[0], est.centre[2] - prior_xzh[1],
-                  np.radians(wrap_deg(est.heading_deg - prior_xzh[2]))])
-    S = np.diag([max(sig_pos2, 0.15 ** 2), max(sig_pos2, 0.15 ** 2), max(sig_rot2, np.radians(1.5) ** 2)])
-    C = est.xz_heading_covariance()
-    if C is not None:
-        S = S + C
-    m2 = float(d @ np.linalg.solve(S, d))
+def _predict(prev_xzh, P, dr_prev, dr_now, config: WalkConfig):
+    """The prior pose and its covariance: the last pose moved by the odometry's
+    step; the step's noise (a share of the distance, degrees per turn) and the
+    heading's uncertainty carried into position by the usual linearisation."""
+    xzh, step_ft, turn = _compose_step(prev_xzh, dr_prev, dr_now)
+    h = np.radians(xzh[2])
+    F = np.array([[1.0, 0.0, step_ft * np.cos(h)], [0.0, 1.0, -step_ft * np.sin(h)], [0, 0, 1.0]])
+    G = np.array([[np.sin(h), 0.0], [np.cos(h), 0.0], [0.0, 1.0]])
+    sd = config.odometry_distance_fraction * step_ft
+    st = np.radians(config.odometry_turn_deg) if turn > 0 else 0.0
+    Q = np.diag([sd ** 2 + 0.01 ** 2, st ** 2 + np.radians(0.1) ** 2])
+    return xzh, F @ P @ F.T + G @ Q @ G.T
+
+
+def _cov6(P) -> np.ndarray:
+    """6x6 (position, rotation vector) gating covariance from the (x, z, heading) one."""
+    pos = max(P[0, 0], P[1, 1], MIN_POS_SIGMA_FT ** 2)
+    rot = max(P[2, 2], np.radians(MIN_ROT_SIGMA_DEG) ** 2)
+    return np.diag([pos, MIN_POS_SIGMA_FT ** 2, pos, np.radians(MIN_ROT_SIGMA_DEG) ** 2, rot,
+                    np.radians(MIN_ROT_SIGMA_DEG) ** 2])
+
+
+def _fuse(fix: PoseEstimate, prior_xzh, P):
+    """The fix combined with the odometry's prior (x, z, heading) by their
+    covariances — the text's "combining multiple sensor inputs ... stochastically"
+    (Appendix A, after A-29).  A fix outside the prior's 99.9 % region is not
+    used (its matches are taken to be wrong): returns the reason instead."""
+    z = np.array([fix.centre[0], fix.centre[2], np.radians(fix.heading_deg)])
+    m = np.array([prior_xzh[0], prior_xzh[1], np.radians(prior_xzh[2])])
+    d = z - m
+    d[2] = np.radians(wrap_deg(np.degrees(d[2])))
+    C = fix.xz_heading_covariance()
+    if C is None:
+        C = np.diag([MIN_POS_SIGMA_FT ** 2] * 2 + [np.radians(MIN_ROT_SIGMA_DEG) ** 2])
+    Pg = np.diag(np.diag(_cov6(P))[[0, 2, 4]])
+    m2 = float(d @ np.linalg.solve(Pg + C, d))
     if m2 > ODOMETRY_GATE_CHI2:
-        return (f"{est.method} fix disagrees with the odometry's prior by {np.hypot(d[0], d[1]):.2f} ft "
-                f"and {np.degrees(abs(d[2])):.1f} deg (chi-square {m2:.0f}); prior kept")
-    return None
+        return (f"{fix.method} fix disagrees with the odometry's prior by {np.hypot(d[0], d[1]):.2f} "
+                f"ft and {np.degrees(abs(d[2])):.1f} deg (chi-square {m2:.0f}); prior kept")
+    K = P @ np.linalg.inv(P + C)
+    post = m + K @ d
+    P_post = (np.eye(3) - K) @ P
+    P_post = (P_post + P_post.T) / 2
+    # the fix's own tilt (pitch, roll) is kept; its heading and floor position are the fused ones
+    turn = np.degrees(post[2]) - fix.heading_deg
+    R = _rotation(turn) @ fix.R
+    U, _, Vt = np.linalg.svd(R)
+    R = U @ Vt                                   # a48's axes are not orthonormal: the nearest rotation
+    centre = np.array([post[0], fix.centre[1], post[1]])
+    cov6 = np.zeros((6, 6))
+    if fix.covariance6 is not None:
+        cov6 = fix.covariance6.copy()
+    elif fix.Cc is not None:
+        cov6[:3, :3] = fix.Cc[:3, :3]
+    at = [0, 2, 4]                               # x, z, heading (rotation about room Y)
+    cov6[np.ix_(at, at)] = P_post
+    est = PoseEstimate("fused", left_centre(centre, R), axes_matrix(R), fix.inliers,
+                       covariance6=cov6)
+    return est, P_post
 
 
 def _wrong(model, pairs, obs_truth) -> int:

@@ -411,7 +411,9 @@ def estimate(method: str, q, Cq, X, CX, prior_left, prior_R) -> PoseEstimate:
 
 ESTIMATORS = ("a48", "rigid", "robust", "floor", "kabsch", "opencv")
 METHOD_NOTES = {
-    "dead_reckoning": "the odometry alone, integrated from the start (the prior of every look)",
+    "dead_reckoning": "the odometry alone, integrated from the start",
+    "fused": "the robot's pose: the driving method's fix combined with the odometry's prior by "
+             "their covariances (the pose the model is updated with)",
     "a48": "Appendix A as written: 12-element state Y, D_i = C_pi^-1 (A-31), A-47/A-48, C_c of A-50",
     "rigid": "alternative (a): true rotation, full covariance weights (R C_i R^T + C_X)^-1",
     "robust": "alternative (b): (a) with wrong correspondences rejected (consensus + chi-square gate)",

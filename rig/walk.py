@@ -10,6 +10,9 @@ Method names (table, ``--json`` and model JSON):
 
 ==================  ==========================================================
 ``dead_reckoning``  the odometry alone (2 % of distance, 1 degree per turn)
+``fused``           the robot's pose: the driving method's fix (``--method``)
+                    combined with the odometry's prior by their covariances;
+                    the model is updated with it
 ``a48``             Appendix A as written: A-21..A-48, covariance A-50
 ``rigid``           alternative (a): a true rotation, full-covariance weights
 ``robust``          alternative (b): (a) with wrong correspondences rejected
@@ -39,7 +42,7 @@ import numpy as np
 
 from model.pose import ESTIMATORS, METHOD_NOTES
 
-ALL_METHODS = ("dead_reckoning", *ESTIMATORS)
+ALL_METHODS = ("dead_reckoning", "fused", *ESTIMATORS)
 DEFAULT_ROOM_LOOKS = 30
 
 
@@ -94,13 +97,13 @@ def _fmt_est(e):
 
 
 def look_table(result, driver: str) -> str:
-    head = (f"look  true x      z    head | {driver:>8s} x      z    head |  err ft  deg | "
+    head = (f"look  true x      z    head |    fused x      z    head |  err ft  deg | "
             f"dead-rec err ft deg | seen match wrong used | model  ms")
     out = [head, "-" * len(head)]
     for r in result.records:
         t = r.true_pose
-        e = r.estimates.get(driver)
-        err = r.errors(driver)
+        e = r.estimates.get("fused")
+        err = r.errors("fused")
         dre = r.errors("dead_reckoning")
         es = "   -     -  " if err is None else f"{err[0]:6.2f} {err[1]:5.1f}"
         out.append(f"{r.look:4d} {t.x:6.2f} {t.z:6.2f} {t.heading_deg:7.1f} | {_fmt_est(e):>24s} | "

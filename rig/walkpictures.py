@@ -3,7 +3,7 @@
 * :func:`walk_map` — the room from above (x across, z up): the true walls and
   obstacle footprints, the model's vertices with their 2-sigma ellipses
   (Mahalanobis distance 2 of the x-z marginal), the true path (green), the
-  driving method's estimates (blue) and dead reckoning (red).
+  robot's fused pose (blue) and dead reckoning (red).
 * :func:`error_plot` — position and heading error per look, one line per
   method; refused looks are gaps.
 """
@@ -21,8 +21,8 @@ TRUE_C = (40, 150, 40)
 EST_C = (200, 90, 20)
 DR_C = (40, 40, 210)
 VERTEX_C = (120, 60, 150)
-METHOD_COLOURS = {"dead_reckoning": DR_C, "a48": (0, 140, 255), "rigid": (160, 160, 0),
-                  "robust": EST_C, "floor": (180, 0, 180), "kabsch": (90, 90, 90),
+METHOD_COLOURS = {"dead_reckoning": DR_C, "fused": EST_C, "a48": (0, 140, 255),
+                  "rigid": (160, 160, 0), "robust": (230, 170, 90), "floor": (180, 0, 180), "kabsch": (90, 90, 90),
                   "opencv": (0, 200, 200)}
 
 
@@ -70,7 +70,7 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
     recs = result.records
     true_pts = [P(r.true_pose.x, r.true_pose.z) for r in recs]
     dr_pts = [P(*r.estimates["dead_reckoning"][:2]) for r in recs]
-    est_pts = [P(*r.estimates[driver][:2]) if r.estimates.get(driver) else None for r in recs]
+    est_pts = [P(*r.estimates["fused"][:2]) if r.estimates.get("fused") else None for r in recs]
     for pts, col in ((dr_pts, DR_C), (true_pts, TRUE_C)):
         cv2.polylines(img, [np.array(pts, np.int32)], False, col, 2, cv2.LINE_AA)
     prev = None
@@ -89,7 +89,7 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
                f"grey: true walls and obstacles", (left, 52), 0.45)
     y = H - bottom + 40
     for label, col in (("true path (arrows: heading)", TRUE_C),
-                       (f"estimated ({driver})", EST_C), ("dead reckoning", DR_C)):
+                       (f"estimated (fused: {driver} + odometry)", EST_C), ("dead reckoning", DR_C)):
         cv2.line(img, (left, y - 5), (left + 30, y - 5), col, 3)
         _text(img, label, (left + 40, y), 0.5)
         y += 24
@@ -130,7 +130,7 @@ def error_plot(result, methods=None, max_pos: float = 2.0, max_head: float = 10.
                     continue
                 p = (X(k), int(y0 + ph - min(e[idx], vmax) / vmax * ph))
                 if prev is not None:
-                    cv2.line(img, prev, p, col, 2 if m in ("robust", "dead_reckoning") else 1,
+                    cv2.line(img, prev, p, col, 2 if m in ("fused", "dead_reckoning") else 1,
                              cv2.LINE_AA)
                 prev = p
     _text(img, "look", (left + pw // 2, top + 2 * ph + gap + 34), 0.45)
