@@ -42,6 +42,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from itertools import combinations
+from math import comb
 
 import numpy as np
 
@@ -304,11 +305,35 @@ def mahalanobis2(est: PoseEstimate, q, Cq, X, CX) -> np.ndarray:
 # --- (b) robust rejection, (c) floor-following --------------------------------------
 
 def _kabsch(v, X):
+    import warnings
     from scipy.spatial.transform import Rotation
     vc, Xc = v.mean(axis=0), X.mean(axis=0)
-    rot, _ = Rotation.align_vectors(X - Xc, v - vc)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)     # near-degenerate sets: still a rotation
+        rot, _ = Rotation.align_vectors(X - Xc, v - vc)
     R = rot.as_matrix()
     return Xc - R @ vc, R
+
+
+def _kabsch_triples(v, X, idx):
+    """Rigid fits (c, R) of many small subsets at once (rows of ``idx``), by the
+    SVD of each subset's cross-covariance; degenerate subsets are dropped."""
+    if len(idx) == 0:
+        return np.zeros((0, 3)), np.zeros((0, 3, 3))
+    A, B = v[idx], X[idx]                                   # (T, k, 3)
+    ac, bc = A.mean(axis=1), B.mean(axis=1)
+    A0, B0 = A - ac[:, None], B - bc[:, None]
+    s = np.linalg.svd(A0, compute_uv=False)
+    ok = s[:, 1] > 1e-3 * np.maximum(s[:, 0], 1e-12)
+    H = np.einsum("tki,tkj->tij", A0[ok], B0[ok])
+    U, _, Vt = np.linalg.svd(H)
+    d = np.sign(np.linalg.det(np.einsum("tij,tjk->tik", U, Vt)))
+    D = np.zeros((len(d), 3, 3))
+    D[:, 0, 0] = D[:, 1, 1] = 1.0
+    D[:, 2, 2] = d
+    R = np.einsum("tji,tjk,tlk->til", Vt, D, U)             # V D U^T
+    c = bc[ok] - np.einsum("tij,tj->ti", R, ac[ok])
+    return c, R
 
 
 def solve_robust(q, Cq, X, CX, prior_left, prior_R, gate: float = CHI2_3DOF_99,
@@ -326,23 +351,23 @@ def solve_robust(q, Cq, X, CX, prior_left, prior_R, gate: float = CHI2_3DOF_99,
     check_conditions(q, need_3d=False)
     n = len(q)
     v, _ = _to_v(q, Cq)
-    hyps = [PoseEstimate(name, np.asarray(prior_left, float), axes_matrix(prior_R),
-                         np.ones(n, bool))]
-    triples = list(combinations(range(n), 3))
-    if len(triples) > max_triples:
+    if comb(n, 3) <= max_triples:
+        triples = list(combinations(range(n), 3))
+    else:
         rng = np.random.default_rng(seed)
-        triples = [triples[i] for i in rng.choice(len(triples), max_triples, replace=False)]
-    for t in triples:
-        idx = list(t)
-        s = np.linalg.svd(v[idx] - v[idx].mean(axis=0), compute_uv=False)
-        if s[1] <= 1e-3 * max(s[0], 1e-12):
-            continue
-        c, R = _kabsch(v[idx], X[idx])
-        if floor:
-            R = _yaw(np.radians(heading_deg(R[:, 2])))
-        hyps.append(PoseEstimate(name, c, axes_matrix(R), np.ones(n, bool)))
-    costs = [np.minimum(mahalanobis2(h, q, Cq, X, CX), gate).sum() for h in hyps]
-    best = hyps[int(np.argmin(costs))]
+        triples = [rng.choice(n, 3, replace=False) for _ in range(max_triples)]
+    cs, Rs = _kabsch_triples(v, X, np.array(triples, dtype=np.int64).reshape(-1, 3))
+    if floor and len(Rs):
+        Rs = np.array([_yaw(np.radians(heading_deg(R[:, 2]))) for R in Rs])
+    cs = np.vstack([np.asarray(prior_left, float)[None], cs])
+    Rs = np.concatenate([np.asarray(prior_R, float)[None], Rs])
+    # every hypothesis scored with the prior's weights (one inverse per pair, not per pair
+    # and hypothesis): the truncated cost sum min(d^2, gate)
+    W0 = _weights(np.asarray(prior_R, float), _to_v(q, Cq)[1], CX)
+    r = cs[:, None, :] + np.einsum("hij,nj->hni", Rs, v) - X[None]
+    d2 = np.einsum("hna,nab,hnb->hn", r, W0, r)
+    h = int(np.argmin(np.minimum(d2, gate).sum(axis=1)))
+    best = PoseEstimate(name, cs[h], axes_matrix(Rs[h]), np.ones(n, bool))
     inl = mahalanobis2(best, q, Cq, X, CX) <= gate
     est = best
     for _ in range(10):
