@@ -35,11 +35,11 @@ from world.room import bundled_lab, generate_room  # noqa: E402
 from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
-def one_walk(room, poses, kalman="a30", seed=1985):
+def one_walk(room, poses, kalman="a30", seed=1985, line_step=2):
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
     t0 = time.perf_counter()
     res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
-                   WalkConfig(kalman=kalman))
+                   WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step))))
     return res, time.perf_counter() - t0
 
 
@@ -73,13 +73,16 @@ def feature_stats(results) -> dict:
     same = [h for h in hist if len(h) >= 10]
     first = float(np.sqrt(np.mean([h[0] ** 2 for h in same]))) if same else None
     tenth = float(np.sqrt(np.mean([h[9] ** 2 for h in same]))) if same else None
-    inside, scored, feats = [], 0, 0
+    inside, scored, feats, conf_in, conf = [], 0, 0, [], 0
     for res in results:
         fs = res.feature_scores()
         feats += fs["features"]
         if fs["scored"]:
             scored += fs["scored"]
             inside.append(fs["inside_2sigma"] * fs["scored"])
+        if fs["confirmed"]:
+            conf += fs["confirmed"]
+            conf_in.append(fs["confirmed_inside_2sigma"] * fs["confirmed"])
     matched = sum(r.matched for res in results for r in res.records)
     wrong = sum(r.wrong for res in results for r in res.records)
     used = sum(r.used for res in results for r in res.records)
@@ -88,6 +91,7 @@ def feature_stats(results) -> dict:
     scan_ms = [r.times_ms["scan"] for res in results for r in res.records[1:]]
     return {"curve": curve, "same_features": len(same), "same_rms_1": first, "same_rms_10": tenth,
             "inside_2sigma": sum(inside) / scored if scored else None, "features": feats,
+            "confirmed": conf, "confirmed_inside_2sigma": sum(conf_in) / conf if conf else None,
             "wrong_share": wrong / matched if matched else None,
             "used_wrong_share": used_wrong / used if used else None,
             "median_look_ms": float(np.median(look_ms)), "median_scan_ms": float(np.median(scan_ms)),
@@ -110,7 +114,7 @@ def method_table(title, errs) -> str:
 
 def feature_table(sets) -> str:
     rows = ["| set | features | RMS ft after 1 / 2 / 3 / 5 / 10 looks (features) | same features: "
-            "RMS after 1st -> 10th look | inside 2 sigma | wrong corr. (all / used) | ms per look "
+            "RMS after 1st -> 10th look | inside 2 sigma (all; confirmed) | wrong corr. (all / used) | ms per look "
             "(median, p90; scan) |", "|---|---|---|---|---|---|---|"]
     for name, f in sets:
         curve = " / ".join(f"{c['rms']:.2f} ({c['features']})" for c in f["curve"]
@@ -118,7 +122,7 @@ def feature_table(sets) -> str:
         same = (f"{fmt(f['same_rms_1'])} -> {fmt(f['same_rms_10'])} ({f['same_features']})"
                 if f["same_features"] else "-")
         rows.append(f"| {name} | {f['features']} | {curve} | {same} | "
-                    f"{100 * (f['inside_2sigma'] or 0):.0f} % | {100 * (f['wrong_share'] or 0):.0f} % / "
+                    f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
                     f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "
                     f"{f['p90_look_ms']:.0f}; {f['median_scan_ms']:.0f} |")
     return "\n".join(rows)
@@ -137,6 +141,7 @@ def main(argv=None) -> int:
     bundled, took = one_walk(lab, poses)
     print(f"bundled walk: {len(poses)} looks, {took:.0f} s", file=sys.stderr)
     bundled29, _ = one_walk(lab, poses, kalman="a29")
+    bundled1, _ = one_walk(lab, poses, line_step=1)
     rooms = []
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)
@@ -144,11 +149,17 @@ def main(argv=None) -> int:
         rooms.append(res)
         print(f"room {seed}: {took:.0f} s", file=sys.stderr)
     doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
+           "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),
            "features": {"bundled (A-30, as written)": feature_stats([bundled]),
                         "bundled (A-29, camera error propagated)": feature_stats([bundled29]),
+                        "bundled (A-30, every line scanned)": feature_stats([bundled1]),
                         f"{args.rooms} generated rooms (A-30)": feature_stats(rooms)},
            "per_room": {str(i + 1): method_errors([r]) for i, r in enumerate(rooms)}}
     print(method_table(f"Bundled walk ({len(poses)} looks)", doc["bundled"]))
+    print()
+    print(method_table("Bundled walk, Kalman A-29", doc["bundled_a29"]))
+    print()
+    print(method_table("Bundled walk, every line scanned", doc["bundled_every_line"]))
     print()
     print(method_table(f"{args.rooms} generated rooms, {args.looks} looks each (pooled)", doc["rooms"]))
     print()

@@ -54,7 +54,7 @@ class WalkConfig:
     driver: str = "robust"
     kalman: str = "a30"                 # "a30" as written, "a29" camera error propagated
     match: str = "text"
-    lines: tuple[int, ...] = tuple(range(8, 113))
+    lines: tuple[int, ...] = tuple(range(8, 113, 2))      # every 2nd line (rig walk --line-step)
     look_interval_s: float = 1.0
     odometry_distance_fraction: float = 0.02
     odometry_turn_deg: float = 1.0
@@ -100,7 +100,7 @@ class WalkResult:
     def feature_scores(self) -> dict:
         """RMS error (ft) and share of truths inside 2 sigma over the vertices
         with a truth; the Mahalanobis-2 radius share too."""
-        errs, inside, inside_r2 = [], [], []
+        errs, inside, inside_r2, confirmed = [], [], [], []
         for v in self.model.vertices.values():
             if v.truth is None:
                 continue
@@ -109,13 +109,25 @@ class WalkResult:
             m2 = float(d @ np.linalg.solve(v.cov, d))
             inside.append(m2 <= CHI2_3DOF_2SIGMA)
             inside_r2.append(m2 <= 4.0)
+            confirmed.append(v.looks >= 2)
         if not errs:
             return {"features": len(self.model.vertices), "scored": 0, "rms_error_ft": None,
-                    "inside_2sigma": None, "inside_mahalanobis_2": None}
+                    "inside_2sigma": None, "inside_mahalanobis_2": None, "confirmed": 0,
+                    "confirmed_rms_error_ft": None, "confirmed_median_error_ft": None,
+                    "confirmed_inside_2sigma": None, "median_error_ft": None}
+        errs, inside, confirmed = np.array(errs), np.array(inside), np.array(confirmed)
         return {"features": len(self.model.vertices), "scored": len(errs),
                 "rms_error_ft": float(np.sqrt(np.mean(errs))),
+                "median_error_ft": float(np.sqrt(np.median(errs))),
                 "inside_2sigma": float(np.mean(inside)),
-                "inside_mahalanobis_2": float(np.mean(inside_r2))}
+                "inside_mahalanobis_2": float(np.mean(inside_r2)),
+                "confirmed": int(confirmed.sum()),
+                "confirmed_rms_error_ft": float(np.sqrt(np.mean(errs[confirmed])))
+                if confirmed.any() else None,
+                "confirmed_median_error_ft": float(np.sqrt(np.median(errs[confirmed])))
+                if confirmed.any() else None,
+                "confirmed_inside_2sigma": float(np.mean(inside[confirmed]))
+                if confirmed.any() else None}
 
     def rms_by_looks(self, max_looks: int = 20) -> list[tuple[int, int, float]]:
         """(n, features seen at least n times, RMS error after their n-th look)."""

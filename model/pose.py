@@ -266,7 +266,7 @@ def solve_rigid(q, Cq, X, CX, prior_left, prior_R, iterations: int = 20,
             delta = d6
         c = c + delta[:3]
         R = _rodrigues(delta[3:]) @ R
-        if np.linalg.norm(delta) < 1e-10:
+        if np.linalg.norm(delta) < 1e-9:
             break
     W = _weights(R, Cv, CX)
     J = np.zeros((len(q), 3, 6))
@@ -370,7 +370,7 @@ def solve_robust(q, Cq, X, CX, prior_left, prior_R, gate: float = CHI2_3DOF_99,
     best = PoseEstimate(name, cs[h], axes_matrix(Rs[h]), np.ones(n, bool))
     inl = mahalanobis2(best, q, Cq, X, CX) <= gate
     est = best
-    for _ in range(10):
+    for _ in range(5):
         if inl.sum() < 3:
             raise PoseRefused(f"only {int(inl.sum())} of {n} matched points agree on one pose: "
                               f"too few to fix the camera")

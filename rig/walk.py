@@ -151,8 +151,11 @@ def summary_text(result, rows) -> str:
     looks_ms = [r.times_ms["look"] for r in result.records[1:]]
     out.append("")
     out.append(f"model: {fs['features']} vertices, {len(result.model.lines)} boundary lines; "
-               f"RMS error {f(fs['rms_error_ft'])} ft; truths inside 2 sigma "
-               f"{100 * (fs['inside_2sigma'] or 0):.0f} %")
+               f"RMS error {f(fs['rms_error_ft'])} ft (median {f(fs['median_error_ft'])}); truths "
+               f"inside 2 sigma {100 * (fs['inside_2sigma'] or 0):.0f} %")
+    out.append(f"  confirmed (seen in 2 looks or more): {fs['confirmed']}, RMS error "
+               f"{f(fs['confirmed_rms_error_ft'])} ft (median {f(fs['confirmed_median_error_ft'])}), "
+               f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.0f} %")
     out.append(f"correspondences: {matched} matched, {wrong} wrong "
                f"({100 * wrong / max(matched, 1):.0f} %); {used} used by the driving method, "
                f"{used_wrong} of them wrong ({100 * used_wrong / max(used, 1):.0f} %)")
@@ -204,6 +207,10 @@ def walk_json(result, label: str, rows) -> dict:
         "model": {"features": fs["features"], "rms_error_ft": fs["rms_error_ft"],
                   "inside_2sigma": fs["inside_2sigma"], "scored": fs["scored"],
                   "inside_mahalanobis_2": fs["inside_mahalanobis_2"],
+                  "median_error_ft": fs["median_error_ft"], "confirmed": fs["confirmed"],
+                  "confirmed_rms_error_ft": fs["confirmed_rms_error_ft"],
+                  "confirmed_median_error_ft": fs["confirmed_median_error_ft"],
+                  "confirmed_inside_2sigma": fs["confirmed_inside_2sigma"],
                   "lines": len(result.model.lines),
                   "rms_by_looks": [{"looks": n, "features": c, "rms_error_ft": e}
                                    for n, c, e in result.rms_by_looks(20)]},
@@ -225,8 +232,12 @@ def cmd_walk(args) -> int:
         print(f"rig walk: {exc}", file=sys.stderr)
         return 2
     methods = tuple(args.methods) if args.methods else ESTIMATORS
+    if args.line_step < 1:
+        print(f"rig walk: --line-step {args.line_step}: must be at least 1", file=sys.stderr)
+        return 2
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
-                        match=args.match, look_interval_s=args.interval)
+                        match=args.match, look_interval_s=args.interval,
+                        lines=tuple(range(8, 113, args.line_step)))
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -307,6 +318,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     w.add_argument("--match", choices=("text", "improved"), default="text",
                    help="text: predict, gate, grey level, one-to-one (default); improved: the "
                         "matching package's matcher, where installed")
+    w.add_argument("--line-step", type=int, default=2, metavar="N",
+                   help="scan every N-th line of 8..112 (default 2: half the scan time; "
+                        "1 scans every line)")
     w.add_argument("--interval", type=float, default=1.0, metavar="S",
                    help="seconds between looks, for the velocity (default 1)")
     w.add_argument("--odometry-seed", type=int, default=1985, metavar="SEED")
