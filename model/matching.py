@@ -46,14 +46,15 @@ def _skew_stack(w):
 
 
 def in_view(X, left, R, first_row: float = 8, last_row: float = 113, dv: float = 180.0,
-            min_range: float = 1.0) -> np.ndarray:
+            min_range: float = 1.0, margin: float = 0.0) -> np.ndarray:
     """Which room points the left camera at (left, R) would see in the scanned rows."""
     X = np.atleast_2d(np.asarray(X, dtype=np.float64))
     v = (X - left) @ R
     with np.errstate(divide="ignore", invalid="ignore"):
         col = 64.0 + dv * v[:, 0] / v[:, 2]
         row = 60.0 + dv * v[:, 1] / v[:, 2]
-    return (v[:, 2] > min_range) & (col >= 0) & (col < 128) & (row >= first_row) & (row <= last_row)
+    return ((v[:, 2] > min_range) & (col >= -margin) & (col < 128 + margin)
+            & (row >= first_row - margin) & (row <= last_row + margin))
 
 
 def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float = GATE_CHI2,
@@ -69,7 +70,7 @@ def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float
     left = np.asarray(prior_left, dtype=np.float64)
     visible = in_view(means, left, R, rows[0], rows[1])
     # keep vertices near the view too: the prior may be off by a few degrees
-    widened = in_view(means, left, R, rows[0] - 15, rows[1] + 15) | visible
+    widened = in_view(means, left, R, rows[0], rows[1], margin=15.0)
     cand = np.flatnonzero(widened)
     if len(cand) == 0:
         return MatchResult([], int(visible.sum()), 0)
