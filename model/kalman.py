@@ -17,6 +17,15 @@ What ``R`` is decides the honesty of the covariance:
   ``P_i N_Y`` term kept — ``R = C_pi + P_i C_c P_i^T``, the camera estimate's
   covariance carried to the point (the product term ``N_Pi N_Y`` is second
   order and dropped).
+
+The Kalman update assumes the looks' errors independent.  The rig's are not:
+from nearby viewpoints a feature lands on the same quantised disparity and
+the same end row again and again, so its covariance shrinks with every look
+while its error does not (measured in docs/model.md).  A second named
+alternative, :func:`covariance_intersection` (Julier & Uhlmann 1997), fuses
+with the weight ``w`` that minimises the trace of
+``P' = (w P^-1 + (1-w) R^-1)^-1``: never overconfident whatever the
+correlation, at the price of shrinking slowly.
 """
 
 from __future__ import annotations
@@ -54,5 +63,27 @@ def measurement_covariance_a29(M, Cq, pose_point_covariance) -> np.ndarray:
     return environment_covariance(M, Cq) + np.asarray(pose_point_covariance, dtype=np.float64)
 
 
+def covariance_intersection(mean, cov, z, R, steps: int = 21) -> tuple[np.ndarray, np.ndarray]:
+    """Covariance intersection of a feature (mean, cov) with a measurement
+    (z, R), for one feature or a stack; ``w`` searched on a grid of ``steps``."""
+    mean = np.atleast_2d(np.asarray(mean, dtype=np.float64))
+    cov = np.asarray(cov, dtype=np.float64).reshape(-1, 3, 3)
+    z = np.atleast_2d(np.asarray(z, dtype=np.float64))
+    R = np.asarray(R, dtype=np.float64).reshape(-1, 3, 3)
+    Pi, Ri = np.linalg.inv(cov), np.linalg.inv(R)
+    w = np.linspace(0.0, 1.0, steps)
+    info = w[:, None, None, None] * Pi[None] + (1 - w)[:, None, None, None] * Ri[None]
+    P = np.linalg.inv(info)                                       # (steps, N, 3, 3)
+    best = np.argmin(np.trace(P, axis1=2, axis2=3), axis=0)       # (N,)
+    n = np.arange(len(mean))
+    Pb = P[best, n]
+    wb = w[best][:, None]
+    m = np.einsum("nij,nj->ni", Pb, wb * np.einsum("nij,nj->ni", Pi, mean)
+                  + (1 - wb) * np.einsum("nij,nj->ni", Ri, z))
+    return m, (Pb + np.swapaxes(Pb, -1, -2)) / 2
+
+
 KALMAN_MODES = {"a30": "camera error ignored (as written)",
-                "a29": "camera error propagated (alternative)"}
+                "a29": "camera error propagated (alternative)",
+                "ci": "A-29's measurement covariance, fused by covariance intersection "
+                      "(correlated looks; alternative)"}

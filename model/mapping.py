@@ -37,7 +37,8 @@ import numpy as np
 
 from .edges import Camera, group_vertical_edges, vertex_observations
 from .geometry import axes_matrix, heading_deg, left_centre, wrap_deg
-from .kalman import measurement_covariance_a29, measurement_covariance_a30, static_update
+from .kalman import (covariance_intersection, measurement_covariance_a29,
+                     measurement_covariance_a30, static_update)
 from .matching import MATCHERS, MatchResult
 from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
 from .symbolic import SymbolicModel
@@ -207,8 +208,8 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
     for m in methods:
         if m not in ESTIMATORS:
             raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
-    if config.kalman not in ("a30", "a29"):
-        raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30 or a29")
+    if config.kalman not in ("a30", "a29", "ci"):
+        raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30, a29 or ci")
     matcher = MATCHERS.get(config.match)
     if matcher is None:
         raise ValueError(f"unknown matcher {config.match!r}; one of {', '.join(MATCHERS)}")
@@ -402,13 +403,17 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
     Cq = np.array([o.cov for o in obs])
     z = est.transform(q)
     Rm = measurement_covariance_a30(est.M, Cq)
-    if kalman == "a29":
+    if kalman in ("a29", "ci"):
         Rm = measurement_covariance_a29(est.M, Cq, est.pose_covariance_at(q))
     claimed = {i for _, i in pairs}
     vertex_of: dict[int, int] = {}
     for vid, i in pairs_used:
         v = model.vertices[vid]
-        v.mean, v.cov = static_update(v.mean, v.cov, z[i], Rm[i])
+        if kalman == "ci":
+            m, P = covariance_intersection(v.mean, v.cov, z[i], Rm[i])
+            v.mean, v.cov = m[0], P[0]
+        else:
+            v.mean, v.cov = static_update(v.mean, v.cov, z[i], Rm[i])
         v.looks += 1
         v.last_look = look
         vertex_of[i] = vid

@@ -313,8 +313,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     w.add_argument("--methods", nargs="+", choices=ESTIMATORS, metavar="NAME",
                    help="methods to compare on the same correspondences (default all: "
                         + ", ".join(ESTIMATORS) + ")")
-    w.add_argument("--kalman", choices=("a30", "a29"), default="a30",
-                   help="a30: camera error ignored, as written (default); a29: propagated")
+    w.add_argument("--kalman", choices=("a30", "a29", "ci"), default="a30",
+                   help="a30: camera error ignored, as written (default); a29: propagated; "
+                        "ci: propagated and fused by covariance intersection (looks' errors "
+                        "correlated)")
     w.add_argument("--match", choices=("text", "improved"), default="text",
                    help="text: predict, gate, grey level, one-to-one (default); improved: the "
                         "matching package's matcher, where installed")

@@ -52,3 +52,20 @@ def test_a29_adds_the_camera_term_to_a30():
     np.testing.assert_allclose(a30, np.diag([0.01, 0.04, 0.09]))
     extra = np.diag([0.001, 0.002, 0.003])
     np.testing.assert_allclose(measurement_covariance_a29(M, C, extra), a30 + extra)
+
+
+def test_covariance_intersection_hand_example():
+    from model.kalman import covariance_intersection
+    # equal covariances 2I: P' = (w/2 + (1-w)/2)^-1 I = 2I for every w (trace ties: w = 0
+    # is the first grid point), mean = w m + (1-w) z = z; never smaller than either input
+    m, P = covariance_intersection([0, 0, 0], 2 * np.eye(3), [1, 2, 3], 2 * np.eye(3))
+    np.testing.assert_allclose(P[0], 2 * np.eye(3))
+    # a sure feature and a vague measurement: w = 1 keeps the feature as it is
+    m, P = covariance_intersection([1, 1, 1], 0.1 * np.eye(3), [5, 5, 5], 10 * np.eye(3))
+    np.testing.assert_allclose(m[0], [1, 1, 1])
+    np.testing.assert_allclose(P[0], 0.1 * np.eye(3))
+    # complementary axes: P = diag(1, 4, 1), R = diag(4, 1, 1); the trace of
+    # (w P^-1 + (1-w) R^-1)^-1 is least at w = 1/2: P' = diag(1.6, 1.6, 1)
+    m, P = covariance_intersection([0, 0, 0], np.diag([1.0, 4, 1]), [1, 1, 1], np.diag([4.0, 1, 1]))
+    np.testing.assert_allclose(P[0], np.diag([1.6, 1.6, 1.0]), atol=1e-12)
+    np.testing.assert_allclose(m[0], [0.2, 0.8, 0.5], atol=1e-12)
