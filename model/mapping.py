@@ -57,6 +57,9 @@ class WalkConfig:
     match: str = "text"
     lines: tuple[int, ...] = tuple(range(8, 113, 2))      # every 2nd line (rig walk --line-step)
     look_interval_s: float = 1.0
+    # Chapter V: "the range estimates were fairly accurate for ranges of 15 feet or less";
+    # beyond, one pixel of disparity is feet of range and a wrong match lands anywhere
+    max_range_ft: float = 15.0
     odometry_distance_fraction: float = 0.02
     odometry_turn_deg: float = 1.0
     camera: Camera = Camera()
@@ -229,7 +232,9 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         t_scan = time.perf_counter()
         edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
                                      right_picture=look.right_bi)
-        obs = vertex_observations(edges)
+        obs = [o for o in vertex_observations(edges) if o.q[0] <= config.max_range_ft]
+        for e in edges:
+            e.vertices[:] = [o for o in e.vertices if o.q[0] <= config.max_range_ft]
         t_group = time.perf_counter()
         R_true = np.asarray(true_pose.rotation(), float)
         true_left = left_centre((true_pose.x, getattr(true_pose, "y", 0.0), true_pose.z), R_true)
