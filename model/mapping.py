@@ -54,7 +54,8 @@ class WalkConfig:
     methods: tuple[str, ...] = ESTIMATORS
     driver: str = "robust"
     kalman: str = "a30"                 # "a30" as written, "a29" camera error propagated
-    match: str = "text"
+    match: str = "1985"                 # the rig's stereo matcher: "1985" or "improved"
+    model_matcher: str = "text"         # look-to-model matching (model.matching.MATCHERS)
     lines: tuple[int, ...] = tuple(range(8, 113, 2))      # every 2nd line (rig walk --line-step)
     look_interval_s: float = 1.0
     # Chapter V: "the range estimates were fairly accurate for ranges of 15 feet or less";
@@ -213,9 +214,12 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
             raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
     if config.kalman not in ("a30", "a29", "ci"):
         raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30, a29 or ci")
-    matcher = MATCHERS.get(config.match)
+    matcher = MATCHERS.get(config.model_matcher)
     if matcher is None:
-        raise ValueError(f"unknown matcher {config.match!r}; one of {', '.join(MATCHERS)}")
+        raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
+                         f"{', '.join(MATCHERS)}")
+    if config.match not in ("1985", "improved"):
+        raise ValueError(f"--match {config.match!r}: choose 1985 or improved")
     model = SymbolicModel()
     corners = truth_points(room)
     history: dict[int, list[float]] = {}
@@ -228,7 +232,11 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
     for k, true_pose in enumerate(poses):
         look = render(room, true_pose, k)
         t_start = time.perf_counter()
-        scan = scan_pair(look.left_bi, look.right_bi, lines)
+        if config.match == "1985":
+            scan = scan_pair(look.left_bi, look.right_bi, lines)
+        else:
+            scan = scan_pair(look.left_bi, look.right_bi, lines,
+                             eclipse=stereo_eclipse(look, config))
         t_scan = time.perf_counter()
         edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
                                      right_picture=look.right_bi)
@@ -387,6 +395,30 @@ def _fuse(fix: PoseEstimate, prior_xzh, P):
     est = PoseEstimate("fused", left_centre(centre, R), axes_matrix(R), fix.inliers,
                        covariance6=cov6)
     return est, P_post
+
+
+def stereo_eclipse(look, config: WalkConfig):
+    """An ESTAR over the direct link with the improved stereo matcher of the
+    ``matching`` package (issue 13; ``rig walk --match improved``), where it is
+    installed; a clear error where it is not."""
+    import inspect
+
+    from diskfmt.dgreal import Real
+    from estar.link import DirectLink
+    from estar.program import Eclipse
+    from nstar.program import Nova
+    try:
+        from matching.mode import make_matcher
+    except ImportError as exc:
+        raise RuntimeError(f"--match improved needs the improved matcher (package matching): "
+                           f"{exc}") from None
+    if "matcher" not in inspect.signature(Eclipse).parameters:
+        raise RuntimeError("--match improved: this ESTAR takes no matcher (the improved "
+                           "matcher is not merged here)")
+    nova = Nova()
+    nova.load_pair(look.left_bi, look.right_bi)
+    return Eclipse(DirectLink(nova), Real.const(str(config.camera.ds)),
+                   Real.const(f"{config.camera.dv:g}"), matcher=make_matcher("improved"))
 
 
 def _wrong(model, pairs, obs_truth) -> int:

@@ -13,9 +13,10 @@ Shape (Appendix B bit maps) enters through ``shape_distance`` where a look
 carries bit maps; without them the grey levels and the kind of vertex (top or
 bottom end of a vertical boundary) are the whole characterisation.
 
-A better matcher plugs in through :data:`MATCHERS` (``rig walk --match``):
-any callable with :func:`match_look`'s signature returning a
-:class:`MatchResult`.
+Another model matcher plugs in through :data:`MATCHERS`: any callable with
+:func:`match_look`'s signature returning a :class:`MatchResult`.  (``rig walk
+--match improved`` is a different seam: the improved STEREO matcher of the
+``matching`` package inside ESTAR, see :func:`model.mapping.stereo_eclipse`.)
 """
 
 from __future__ import annotations
@@ -105,14 +106,4 @@ def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float
     return MatchResult(pairs, int(visible.sum()), int(ok.sum()))
 
 
-def _improved(*args, **kwargs):
-    """The improved matcher of the ``matching`` package, where it is installed."""
-    try:
-        from matching import walk_match       # built beside this package, not here
-    except ImportError as exc:
-        raise RuntimeError("--match improved needs the matching package's walk_match "
-                           f"(not available here: {exc})") from None
-    return walk_match(*args, **kwargs)
-
-
-MATCHERS: dict[str, Callable[..., MatchResult]] = {"text": match_look, "improved": _improved}
+MATCHERS: dict[str, Callable[..., MatchResult]] = {"text": match_look}

@@ -242,7 +242,7 @@ def cmd_walk(args) -> int:
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
     print(f"rig walk: {label}, {len(poses)} looks; driving method {args.method}, Kalman "
-          f"{args.kalman}, matcher {args.match}")
+          f"{args.kalman}, stereo matcher {args.match}")
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -317,9 +317,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="a30: camera error ignored, as written (default); a29: propagated; "
                         "ci: propagated and fused by covariance intersection (looks' errors "
                         "correlated)")
-    w.add_argument("--match", choices=("text", "improved"), default="text",
-                   help="text: predict, gate, grey level, one-to-one (default); improved: the "
-                        "matching package's matcher, where installed")
+    w.add_argument("--match", choices=("1985", "improved"), default="1985",
+                   help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
+                        "improved (the matching package's, where installed)")
     w.add_argument("--line-step", type=int, default=2, metavar="N",
                    help="scan every N-th line of 8..112 (default 2: half the scan time; "
                         "1 scans every line)")
