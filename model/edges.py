@@ -76,6 +76,18 @@ class EdgeObservation:
     top_clipped: bool
     bottom_clipped: bool
     vertices: list = field(default_factory=list)    # VertexObservation(s)
+    ends: tuple = ()                 # (line, QV feature k, "L"/"R") of its located points
+
+
+@dataclass(frozen=True)
+class SurfaceObservation:
+    """A QV feature interval bounded left and right by two vertical edges on
+    several lines: a surface of Chapter III seen in one look."""
+    left_edge: int                   # index of the EdgeObservation on its left
+    right_edge: int
+    lines: tuple[int, ...]
+    grey_extremes: tuple[int, int]   # darkest and lightest grey inside (left picture)
+    centre: np.ndarray               # (p, x, y): middle of the two edges' centres
 
 
 def locate(col: float, row: float, disparity: float, camera: Camera, e_d: float = E_D
@@ -177,9 +189,12 @@ def group_vertical_edges(points, lines, left_picture=None, camera: Camera = Came
                         float(disps.mean()), camera, e_d=E_D + (ys[-1] - ys[0]) / 2)
         if centre is None:
             continue
+        members = np.flatnonzero(root == line_root[a])
+        ends = tuple((pts[i].line, pts[i].edge if pts[i].edge <= 50 else pts[i].edge - 50,
+                      "L" if pts[i].edge <= 50 else "R") for i in members)
         edge = EdgeObservation(ys, tuple(cols.tolist()), tuple(disps.tolist()), centre[0],
                                centre[1], grey, top_clipped=bool(ks[0] == 0),
-                               bottom_clipped=bool(ks[-1] == len(lines) - 1))
+                               bottom_clipped=bool(ks[-1] == len(lines) - 1), ends=ends)
         for kind, end in (("top", slice(0, 3)), ("bottom", slice(-3, None))):
             if (edge.top_clipped if kind == "top" else edge.bottom_clipped):
                 continue
@@ -261,6 +276,37 @@ def _greys(picture, ys, cols) -> tuple[int, int]:
     left = pic[r, np.clip(c0 - 2, 0, w - 1)]
     right = pic[r, np.clip(c0 + 2, 0, w - 1)]
     return int(np.median(left)), int(np.median(right))
+
+
+def surface_observations(edges: list[EdgeObservation], left_picture=None,
+                         min_lines: int = 3) -> list[SurfaceObservation]:
+    """Surfaces: a QV feature whose left end lies on one vertical edge and its
+    right end on another, on at least ``min_lines`` lines."""
+    by_feature: dict[tuple[int, int], dict[str, int]] = {}
+    for i, e in enumerate(edges):
+        for line, k, side in e.ends:
+            by_feature.setdefault((line, k), {})[side] = i
+    pairs: dict[tuple[int, int], list[int]] = {}
+    for (line, _), sides in by_feature.items():
+        if "L" in sides and "R" in sides and sides["L"] != sides["R"]:
+            pairs.setdefault((sides["L"], sides["R"]), []).append(line)
+    out = []
+    pic = None if left_picture is None else np.asarray(left_picture)
+    for (a, b), ls in sorted(pairs.items()):
+        if len(ls) < min_lines:
+            continue
+        ls = sorted(ls)
+        if pic is not None:
+            # the pixels of the interval: from the one at its left end to the one at its right
+            c0 = int(np.floor(min(np.mean(edges[a].cols), np.mean(edges[b].cols))))
+            c1 = int(np.floor(max(np.mean(edges[a].cols), np.mean(edges[b].cols))))
+            inside = pic[np.ix_(ls, range(max(c0, 0), min(c1, pic.shape[1] - 1) + 1))]
+            grey = (int(inside.min()), int(inside.max()))
+        else:
+            grey = (-1, -1)
+        out.append(SurfaceObservation(a, b, tuple(ls), grey,
+                                      (edges[a].centre + edges[b].centre) / 2))
+    return out
 
 
 def vertex_observations(edges: list[EdgeObservation]) -> list[VertexObservation]:

@@ -35,7 +35,7 @@ from typing import Callable
 
 import numpy as np
 
-from .edges import Camera, group_vertical_edges, vertex_observations
+from .edges import Camera, group_vertical_edges, surface_observations, vertex_observations
 from .geometry import axes_matrix, heading_deg, left_centre, wrap_deg
 from .kalman import (covariance_intersection, measurement_covariance_a29,
                      measurement_covariance_a30, static_update)
@@ -310,7 +310,8 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         t_up = time.perf_counter()
         kalman = config.kalman if pose_est.method != "prior" else "a29"
         added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
-                              kalman, k, obs_truth, obs_truth_id, history)
+                              kalman, k, obs_truth, obs_truth_id, history,
+                              surface_observations(edges, look.left_bi))
         est_xzh = estimates["fused"]
         est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
@@ -431,7 +432,7 @@ def _wrong(model, pairs, obs_truth) -> int:
 
 
 def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
-                  look: int, obs_truth, obs_truth_id, history) -> int:
+                  look: int, obs_truth, obs_truth_id, history, surfaces=()) -> int:
     """Kalman-update the vertices the driving pose kept, add the observations
     no model vertex claimed, link boundary lines.  Returns how many were added."""
     if not obs:
@@ -468,7 +469,8 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         added += 1
     # boundary lines: one per vertical edge, its ends the vertices just placed
     index = {id(o): i for i, o in enumerate(obs)}
-    for e in edges:
+    line_of: dict[int, int] = {}
+    for n_edge, e in enumerate(edges):
         ends: list[int | None] = [None, None]
         for vo in e.vertices:
             i = _find_obs(obs, vo, index)
@@ -485,13 +487,46 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
                     model.vertices[ends[slot]].lines.append(line.id)
             line.ends = tuple(merged)
             model.refresh_line(line)
+            line_of[n_edge] = line.id
         elif any(vid is not None for vid in ends):
             c = est.transform(e.centre[None])[0]
             C = measurement_covariance_a30(est.M, e.centre_cov)
             pts = np.array([model.vertices[vid].mean if vid is not None else c for vid in ends])
             line = model.add_line(c, C, ends, pts, e.grey)
             model.refresh_line(line)
+            line_of[n_edge] = line.id
+    _update_surfaces(model, surfaces, line_of, est)
     return added
+
+
+def _update_surfaces(model, surfaces, line_of, est: PoseEstimate) -> None:
+    """Chapter III surfaces: a feature interval between two known boundary lines.
+    Its centre follows its lines; the normal is horizontal, across the two
+    lines, facing the camera; the grey extremes widen with each look."""
+    for so in surfaces:
+        a, b = line_of.get(so.left_edge), line_of.get(so.right_edge)
+        if a is None or b is None or a == b:
+            continue
+        la, lb = model.lines[a], model.lines[b]
+        known = [sid for sid, srf in model.surfaces.items() if set(srf.lines[:2]) == {a, b}]
+        centre = (la.centre + lb.centre) / 2
+        along = lb.centre - la.centre
+        normal = np.array([along[2], 0.0, -along[0]])
+        n = np.linalg.norm(normal)
+        normal = normal / n if n > 0 else np.array([0.0, 0.0, -1.0])
+        if normal @ (est.left - centre) < 0:
+            normal = -normal
+        if known:
+            srf = model.surfaces[known[0]]
+            srf.centre, srf.normal = centre, normal
+            srf.grey_extremes = (min(srf.grey_extremes[0], so.grey_extremes[0]),
+                                 max(srf.grey_extremes[1], so.grey_extremes[1]))
+            continue
+        from .symbolic import Surface
+        sid = len(model.surfaces)
+        model.surfaces[sid] = Surface(sid, centre, normal, so.grey_extremes, [a, b])
+        la.surface = lb.surface = sid
+        la.next_line = b
 
 
 def _find_obs(obs, vo, index):

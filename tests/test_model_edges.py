@@ -65,3 +65,19 @@ def test_wrong_stereo_match_is_dropped_by_the_grey_check():
     assert len(group_vertical_edges(good, range(8, 113), left, right_picture=right)) == 1
     wrong = pts(range(30, 40), 70, 25)        # paired with a place where the right picture is flat
     assert group_vertical_edges(wrong, range(8, 113), left, right_picture=right) == []
+
+
+def test_surface_between_two_edges_of_one_feature():
+    from model.edges import surface_observations
+    left = np.full((120, 128), 5, np.uint8)
+    left[:, 70:90] = 11
+    left[40, 75] = 13                          # the lightest pixel inside
+    # feature 3 of each line: its left end (edge 3) at LOC1 71, its right end (edge 53) at 90
+    points = pts(range(30, 50), 71, 10, edge=3) + pts(range(30, 50), 90, 10, edge=53)
+    edges = group_vertical_edges(points, range(8, 113), left)
+    surfaces = surface_observations(edges, left)
+    assert len(surfaces) == 1
+    s = surfaces[0]
+    assert (s.left_edge, s.right_edge) == (0, 1) and s.lines == tuple(range(30, 50))
+    assert s.grey_extremes == (11, 13)
+    np.testing.assert_allclose(s.centre, (edges[0].centre + edges[1].centre) / 2)
