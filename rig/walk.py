@@ -299,7 +299,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                     "located by each method on the same correspondences, and the model "
                     "improves by the static Kalman update.  Methods: "
                     + "; ".join(f"{m}: {METHOD_NOTES[m]}" for m in ALL_METHODS) + ".",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    )
     w.add_argument("--walk", metavar="FILE",
                    help="walk CSV (header x,z,heading_deg,pitch_deg,roll_deg); default: the "
                         "bundled walk (or a generated one with --room)")
