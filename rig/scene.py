@@ -87,8 +87,17 @@ class Quad:
     shade: Shade
 
 
-def flat(g: int) -> Shade:
-    return lambda X, Y, Z: np.full(X.shape, float(g))
+class flat:
+    """A plain grey ``g`` (a Shade; ``.grey`` lets a renderer fill it without hit points)."""
+
+    def __init__(self, g: int):
+        self.grey = float(g)
+
+    def __call__(self, X, Y, Z):
+        return np.full(np.shape(X), self.grey)
+
+    def __repr__(self):
+        return f"flat({self.grey:g})"
 
 
 def checks(g1: int, g2: int, size: float, u: int, v: int, origin=(0.0, 0.0)) -> Shade:

@@ -7,7 +7,7 @@ import pytest
 from diskfmt.layouts import encode_bi, encode_vd
 from rig.scene import bundled_path, flat, range_npy_bytes
 from world.pose import Pose
-from world.render import (LeftTheRoom, _directions, _grid, render_camera, render_look,
+from world.render import (LeftTheRoom, _directions, _grid, _trace_windows, render_camera, render_look,
                           project, trace_grid, trace_rays, visible)
 from world.room import bundled_lab, full_box, generate_room, make_room, _q
 
@@ -116,12 +116,17 @@ def test_range_truth_is_camera_z_of_the_face(pose):
 def test_windowed_trace_equals_plain_trace(lab):
     px, py = _grid(1)
     for pose in (Pose(0, 0, 0), Pose(2.0, 6.0, 80.0, 3.0, -4.0), Pose(-3.0, 2.0, -120.0),
-                 Pose(6.0, 17.5, 45.0, 0.0, 0.0), Pose(-3.98, -4.98, 200.0)):
+                 Pose(6.0, 17.5, 45.0, 0.0, 0.0), Pose(-3.615, -4.6, 0.0),
+                 Pose(-3.62, -4.75, 30.0, 2.0, 1.0)):
+        # (the last two: the left camera 1 cm and 5.5 cm from the left wall)
         for side in ("left", "right"):
             o, R = pose.camera_centre(side), pose.rotation()
             t, which, d = trace_grid(lab.quads, o, R, px, py)
             t0, which0 = trace_rays(lab.quads, o, _directions(R, px, py))
             assert np.array_equal(which, which0) and np.array_equal(t, t0)
+            # the numpy windowed path (used without numba) too
+            t1, which1, _ = _trace_windows(lab.quads, o, R, px, py, tuple(d))
+            assert np.array_equal(which1, which0) and np.array_equal(t1, t0)
 
 
 def test_visible_vertices(lab):

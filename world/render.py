@@ -12,7 +12,8 @@ why Pose(0, 0, 0) gives the bundled pair's bytes.
 Speed: each quad is intersected only with the rays inside the bounding box of its picture (its
 corners, clipped to the half space in front of the camera, projected, padded by 2 rays); a ray
 outside that box cannot hit it, so the result is exactly the full intersection's
-(``trace_rays``, tested equal in tests/test_world_render.py).
+(``trace_rays``, tested equal in tests/test_world_render.py).  With numba the windows are
+intersected by a compiled loop doing the same float operations (``RIG_NO_JIT=1``: numpy).
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from diskfmt.jit import ENABLED as JIT_ENABLED
+from diskfmt.jit import jit
 from pre.condense import condense
 from rig.scene import (CX, CY, DEFAULT_SEED, FOCAL_128, FOCAL_256, HEIGHT, NOISE_FRACTION,
                        SUPERSAMPLE, WIDTH, Quad, add_noise, quantise)
@@ -55,9 +58,11 @@ def _grid_128():
 
 
 def _directions(R, px, py):
-    """Room directions R @ (px, py, 1) of a ray grid: three (rows, cols) arrays."""
-    return tuple(np.ascontiguousarray(R[a, 0] * px[None, :] + R[a, 1] * py[:, None] + R[a, 2])
-                 for a in range(3))
+    """Room directions R @ (px, py, 1) of a ray grid: a (3, rows, cols) array."""
+    d = np.empty((3, py.size, px.size))
+    for a in range(3):
+        d[a] = R[a, 0] * px[None, :] + R[a, 1] * py[:, None] + R[a, 2]
+    return d
 
 
 def _quad_corners(q: Quad) -> np.ndarray:
@@ -122,6 +127,35 @@ def _intersect(q: Quad, origin, d, best, which, k):
     which[hit] = k
 
 
+@jit
+def _intersect_windows(params, wins, o, d, best, which):
+    """Compiled ``_intersect`` for every quad inside its window; the same float operations in
+    the same order, so the same result (tests/test_world_render.py compares).  params[k] =
+    (axis, c, lo0, hi0, lo1, hi1); wins[k] = (r0, r1, c0, c1), empty when r0 == r1."""
+    for k in range(params.shape[0]):
+        axis = int(params[k, 0])
+        a1 = 1 if axis == 0 else 0
+        a2 = 1 if axis == 2 else 2
+        c, lo0, hi0, lo1, hi1 = params[k, 1], params[k, 2], params[k, 3], params[k, 4], params[k, 5]
+        num = c - o[axis]
+        for i in range(wins[k, 0], wins[k, 1]):
+            for j in range(wins[k, 2], wins[k, 3]):
+                da = d[axis, i, j]
+                if da == 0.0:              # numpy: +-inf or nan, never a hit
+                    continue
+                t = num / da
+                if not (t > 0.0 and t < best[i, j]):
+                    continue
+                p = o[a1] + t * d[a1, i, j]
+                if not (p >= lo0 and p <= hi0):
+                    continue
+                p = o[a2] + t * d[a2, i, j]
+                if not (p >= lo1 and p <= hi1):
+                    continue
+                best[i, j] = t
+                which[i, j] = k
+
+
 def trace_rays(quads, origin, d):
     """Plain reference: the nearest hit of rays ``origin + t*d`` (d: three equal-shape arrays)
     against every quad.  Returns (t, index of the quad hit; -1 where nothing was hit).  Where
@@ -134,58 +168,85 @@ def trace_rays(quads, origin, d):
     return best, which
 
 
-def trace_grid(quads, origin, R, px, py):
+def trace_grid(quads, origin, R, px, py, windowed: bool = True):
     """``trace_rays`` on the ray grid (px per column, py per row) of a camera at ``origin`` with
-    rotation ``R``, testing each quad only inside its picture window.  Returns (t, which, d)."""
+    rotation ``R``, testing each quad only inside its picture window (``windowed=False``: the
+    plain reference, every quad against every ray).  Returns (t, which, d)."""
     o = np.asarray(origin, dtype=np.float64)
     R = np.asarray(R, dtype=np.float64)
     d = _directions(R, px, py)
-    best = np.full(d[0].shape, np.inf)
-    which = np.full(d[0].shape, -1, dtype=np.int32)
-    for k, q in enumerate(quads):
-        win = _window(q, o, R, px, py)
-        if win is None:
-            continue
-        _intersect(q, o, tuple(a[win] for a in d), best[win], which[win], k)
+    if not windowed:
+        return (*trace_rays(quads, o, d), d)
+    best, which, _ = _trace_windows(quads, o, R, px, py, d)
     return best, which, d
 
 
-def shade_hits(quads, origin, d, t, which) -> np.ndarray:
-    """Grey level at every ray's hit point."""
+def _trace_windows(quads, o, R, px, py, d):
+    best = np.full(d[0].shape, np.inf)
+    which = np.full(d[0].shape, -1, dtype=np.int32)
+    windows = [_window(q, o, R, px, py) for q in quads]
+    if JIT_ENABLED and isinstance(d, np.ndarray):
+        params = np.array([(q.axis, q.c, q.lo[0], q.hi[0], q.lo[1], q.hi[1]) for q in quads],
+                          dtype=np.float64).reshape(-1, 6)
+        wins = np.array([(0, 0, 0, 0) if w is None else (w[0].start, w[0].stop, w[1].start,
+                                                         w[1].stop) for w in windows],
+                        dtype=np.int64).reshape(-1, 4)
+        _intersect_windows(params, wins, o, d, best, which)
+        return best, which, windows
+    for k, q in enumerate(quads):
+        if windows[k] is not None:
+            win = windows[k]
+            _intersect(q, o, tuple(a[win] for a in d), best[win], which[win], k)
+    return best, which, windows
+
+
+def shade_hits(quads, origin, d, t, which, windows=None) -> np.ndarray:
+    """Grey level at every ray's hit point.  ``windows``: per quad, the (rows, cols) slices
+    that hold all its hits (None: the whole grid), from the windowed trace."""
     if (which < 0).any():
         n = int((which < 0).sum())
         raise LeftTheRoom(f"{n} rays hit nothing: the room is not closed or the camera at "
                           f"{tuple(float(v) for v in origin)} is outside it")
-    grey = np.zeros(t.shape)
+    # plain greys straight from a table; only textured quads need their hit points
+    lut = np.array([getattr(q.shade, "grey", 0.0) for q in quads])
+    grey = lut[which]
     o = np.asarray(origin, dtype=np.float64)
-    order = np.argsort(which, axis=None, kind="stable")
-    flat_which = which.reshape(-1)[order]
-    bounds = np.searchsorted(flat_which, np.arange(len(quads) + 1))
-    tf, gf = t.reshape(-1), grey.reshape(-1)
-    df = [a.reshape(-1) for a in d]
+    everything = (slice(None), slice(None))
     for k, q in enumerate(quads):
-        idx = order[bounds[k]:bounds[k + 1]]
-        if idx.size:
-            tk = tf[idx]
-            gf[idx] = q.shade(o[0] + tk * df[0][idx], o[1] + tk * df[1][idx],
-                              o[2] + tk * df[2][idx])
+        if hasattr(q.shade, "grey"):
+            continue
+        win = everything if windows is None else windows[k]
+        if win is None:
+            continue
+        m = which[win] == k
+        if m.any():
+            tk = t[win][m]
+            grey[win][m] = q.shade(o[0] + tk * d[0][win][m], o[1] + tk * d[1][win][m],
+                                   o[2] + tk * d[2][win][m])
     return grey
 
 
-def render_camera(quads, origin, R, supersample: int = SUPERSAMPLE) -> np.ndarray:
+def render_camera(quads, origin, R, supersample: int = SUPERSAMPLE,
+                  windowed: bool = True, _d=None) -> np.ndarray:
     """The noise-free 240x256 picture (float mean grey 0..15) of a camera at ``origin`` whose
     axes are the columns of ``R``."""
     px, py = _grid(supersample)
-    t, which, d = trace_grid(quads, origin, R, px, py)
-    grey = shade_hits(quads, origin, d, t, which)
+    o, R = np.asarray(origin, dtype=np.float64), np.asarray(R, dtype=np.float64)
+    if windowed:
+        d = _directions(R, px, py) if _d is None else _d
+        t, which, windows = _trace_windows(quads, o, R, px, py, d)
+    else:
+        t, which, d = trace_grid(quads, o, R, px, py, windowed=False)
+        windows = None
+    grey = shade_hits(quads, o, d, t, which, windows)
     s = supersample
     return grey.reshape(HEIGHT, s, WIDTH, s).mean(axis=(1, 3))
 
 
-def range_128(quads, origin, R):
+def range_128(quads, origin, R, windowed: bool = True):
     """(Z ft, quad index) through the centre of each 128x120 pixel of the camera at ``origin``."""
     px, py = _grid_128()
-    t, which, _ = trace_grid(quads, origin, R, px, py)
+    t, which, _ = trace_grid(quads, origin, R, px, py, windowed)
     if (which < 0).any():
         raise LeftTheRoom(f"rays through {int((which < 0).sum())} pixel centres hit nothing")
     return t, which
@@ -258,20 +319,23 @@ class Look:
 
 
 def render_look(room: Room, pose: Pose, seed: int = DEFAULT_SEED,
-                noise: float = NOISE_FRACTION, supersample: int = SUPERSAMPLE) -> Look:
+                noise: float = NOISE_FRACTION, supersample: int = SUPERSAMPLE,
+                windowed: bool = True) -> Look:
     """Render both cameras of the rig at ``pose`` in ``room``.  ``seed`` drives only the sensor
     noise (the bundled pair uses 1985); ``noise`` is the share of pixels moved one level;
-    ``supersample`` rays per pixel side (4 as in 1985's bundled pair; fewer is faster)."""
+    ``supersample`` rays per pixel side (4 as in 1985's bundled pair; fewer is faster);
+    ``windowed=False`` traces every quad against every ray (the plain reference: same result)."""
     if not isinstance(pose, Pose):
         raise TypeError(f"pose must be a world.pose.Pose, got {type(pose).__name__}")
     R = pose.rotation()
     rng = np.random.default_rng(seed)
     vds = []
+    d = _directions(R, *_grid(supersample))          # both cameras share the rotation
     for side in ("left", "right"):
-        grey = render_camera(room.quads, pose.camera_centre(side), R, supersample)
+        grey = render_camera(room.quads, pose.camera_centre(side), R, supersample, windowed, d)
         vds.append(add_noise(quantise(grey), rng, noise))
-    zl, wl = range_128(room.quads, pose.camera_centre("left"), R)
-    zr, _ = range_128(room.quads, pose.camera_centre("right"), R)
+    zl, wl = range_128(room.quads, pose.camera_centre("left"), R, windowed)
+    zr, _ = range_128(room.quads, pose.camera_centre("right"), R, windowed)
     arrays = [vds[0], vds[1], condense(vds[0]), condense(vds[1]), zl.astype(np.float32),
               zr.astype(np.float32), wl]
     for a in arrays:

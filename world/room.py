@@ -77,8 +77,13 @@ class Room:
 # --- building rooms ------------------------------------------------------------------------
 
 def _q(name, axis, c, b1, b2, shade) -> Quad:
+    """A quad on the plane ``coord[axis] == c`` spanning ranges ``b1``, ``b2`` of the two other
+    axes in X, Y, Z order (rig.scene's convention)."""
     return Quad(name, axis, float(c), (float(b1[0]), float(b2[0])),
                 (float(b1[1]), float(b2[1])), shade)
+
+
+quad = _q          # the public name
 
 
 def full_box(name, x, y, z, front, side, top, back=None) -> list[Quad]:
@@ -280,7 +285,7 @@ def bundled_lab() -> Room:
     back to a front wall at Z = -5 ft (with a door and a poster), the side walls carry posters
     (left wall at Z 2..8, nearer than the 10.2 ft where the left wall enters the 1985 view; right
     wall at Z < 18.6), and every box gets its back face (never nearer than its front, so never
-    drawn from the bundled pose).
+    drawn from the bundled pose).  tests/test_world_render.py checks the bytes.
     """
     s = scene
     y0, y1 = s.CEILING_Y, FLOOR_Y
@@ -291,9 +296,15 @@ def bundled_lab() -> Room:
         _q("left poster", 0, x0, (-2.8, -0.6), (2.0, 4.0), flat(13)),
         _q("left chart", 0, x0, (-2.5, 0.5), (5.5, 8.0),
            checks(11, 4, 0.5, 1, 2, origin=(-2.5, 5.5))),
-        # right wall (X = 7): a striped poster and a dark notice board
+        # left wall, near the front: a striped calendar
+        _q("left calendar", 0, x0, (-2.2, 0.2), (-3.5, -0.5), stripes(12, 3, 0.3, 2, origin=-3.5)),
+        # right wall (X = 7): a map, a striped poster, a notice board with two sheets, a picture
+        _q("right map", 0, x1, (-2.0, 0.5), (-3.0, 1.5), checks(13, 5, 0.45, 1, 2, origin=(-2.0, -3.0))),
         _q("right poster", 0, x1, (-2.5, 0.0), (5.0, 8.0), stripes(14, 5, 0.4, 2, origin=5.0)),
+        _q("right notice sheet", 0, x1, (-2.6, -1.5), (11.4, 12.3), flat(14)),
+        _q("right notice sheet", 0, x1, (-1.2, 0.1), (12.8, 13.5), flat(12)),
         _q("right notice board", 0, x1, (-3.0, 0.5), (11.0, 14.0), flat(2)),
+        _q("right picture", 0, x1, (-2.0, -0.5), (15.5, 17.5), flat(1)),
         # front wall (Z = -5): a door and a poster
         _q("front door knob", 2, z0, (1.25, 1.4), (-0.05, 0.1), flat(15)),
         _q("front door panel", 2, z0, (0.5, 2.4), (-4.0, y1), flat(4)),
@@ -317,10 +328,13 @@ def bundled_lab() -> Room:
 
 # --- generated rooms -----------------------------------------------------------------------
 
-def _texture(rng, base: int, horizontal_axis: int, lo_h: float, lo_y: float):
-    """A random surface pattern with enough contrast to give edges."""
+def _texture(rng, base: int, horizontal_axis: int, lo_h: float, lo_y: float, avoid=None):
+    """A random surface pattern with enough contrast to give edges (its second grey at least
+    3 levels from ``avoid``, the grey of the wall behind a poster)."""
     kind = rng.choice(["flat", "stripes", "checks", "band"], p=[0.35, 0.25, 0.25, 0.15])
     other = int((base + rng.integers(4, 12)) % 16)
+    if avoid is not None and abs(other - avoid) < 3:
+        other = int((avoid + 8) % 16) if abs((avoid + 8) % 16 - base) >= 3 else int((base + 8) % 16)
     if kind == "flat":
         return flat(base)
     if kind == "stripes":
@@ -345,7 +359,7 @@ def _far_enough(a, b, gap):
 @functools.lru_cache(maxsize=64)
 def generate_room(seed: int) -> Room:
     """A new closed room from ``seed``: walls, floor and ceiling of random greys (floor sometimes
-    tiled), 1-2 doors and 2-6 posters on the walls, 3-7 boxes on the floor (some textured, some
+    tiled), 1-2 doors and up to 9 posters on the walls, 3-7 boxes on the floor (some textured, some
     carrying a smaller box).  The start is Pose(0, 0, 0), at least 2.5 ft from every box and
     wall; every box keeps a 1.8 ft gap to the walls and to other boxes so a robot can pass."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -435,7 +449,7 @@ def generate_room(seed: int) -> Room:
                                     (f"door {i + 1} frame", iv, (top, y1), flat(fg))):
             b1, b2 = ((yiv, hiv) if axis == 0 else (hiv, yiv))
             decals.append(_q(nm, axis, c, b1, b2, shade))
-    for i in range(int(rng.integers(2, 7))):
+    for i in range(int(rng.integers(4, 10))):
         wall = names[int(rng.integers(0, 4))]
         pw = float(rng.uniform(1.0, 3.0))
         iv = slot(wall, pw)
@@ -447,7 +461,7 @@ def generate_room(seed: int) -> Room:
         yiv = (round(ptop, 3), round(ptop + ph, 3))
         wg = wall_g[names.index(wall)]
         pg = int((wg + rng.integers(4, 12)) % 16)
-        shade = _texture(rng, pg, hax, iv[0], yiv[0])
+        shade = _texture(rng, pg, hax, iv[0], yiv[0], avoid=wg)
         b1, b2 = ((yiv, iv) if axis == 0 else (iv, yiv))
         decals.append(_q(f"{wall} poster {i + 1}", axis, c, b1, b2, shade))
     quads += decals

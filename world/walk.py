@@ -3,8 +3,8 @@
 Every walk moves like the Stanford Cart: each step turns in place by at most 15 degrees, then
 drives straight ahead about 0.75 ft (a step that must turn further first turns in place, with
 no drive).  The bundled walk is a loop through the bundled lab, from Pose(0, 0, 0) (the bundled
-pair) past the right of the bin and table, across in front of the bookcase, back down the left
-side past the carton and crate, round behind the start, shipped as ``world/data/lab-walk.csv``
+pair) up the left side past the crate, across in front of the carton and the bookcase, back down
+the right side past the table and the bin, round behind the start, shipped as ``world/data/lab-walk.csv``
 (written by ``python -m world walk --bundled``).  ``generate_walk`` wanders a room between
 random goals along shortest paths on a 0.25 ft grid of the free floor.
 
@@ -34,11 +34,11 @@ CLEARANCE_FT = 1.2         # rig centre to any obstacle or wall (a robot about 2
 HEADER = ("x", "z", "heading_deg", "pitch_deg", "roll_deg")
 BUNDLED_WALK = Path(__file__).resolve().parent / "data" / "lab-walk.csv"
 
-# The bundled loop (x, z), ft: the start, right of the bin, right of the table, in front of the
-# bookcase, across to the left, down the left side, round behind the start and facing forward.
-LAB_WAYPOINTS = ((0.0, 0.0), (1.6, 1.8), (3.4, 4.6), (3.5, 10.0), (2.2, 11.6), (0.0, 11.4),
-                 (-1.1, 10.0), (-2.6, 8.0), (-2.6, 2.5), (-2.0, -1.2), (-0.3, -2.0),
-                 (0.4, -0.8))
+# The bundled loop (x, z), ft: from the start left of the bin and crate, up the left side, across
+# in front of the carton and the bookcase (facing the right wall's posters), down the right side
+# (facing the front wall's door and poster), round behind the start and turned to face forward.
+LAB_WAYPOINTS = ((0.0, 0.0), (-1.6, 1.4), (-2.6, 3.0), (-2.6, 8.0), (-1.1, 10.0), (0.0, 11.4),
+                 (2.2, 11.6), (3.5, 10.0), (3.4, 4.6), (1.6, 1.8), (0.6, -0.6), (-0.4, -1.2))
 
 
 def _round(p: Pose) -> Pose:
