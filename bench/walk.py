@@ -11,8 +11,8 @@ truths inside each feature's 2-sigma ellipsoid (the 3-D region holding
 95.45 %), the share of wrong correspondences, and the time per look (scan +
 grouping + matching + the driving method + the Kalman update, rendering not
 included).  The bundled walk is also run with the A-29 Kalman alternative,
-with covariance intersection, with every line scanned and without the 15 ft
-range limit.
+with covariance intersection, with every line scanned, without the 15 ft
+range limit and without the shape gate.
 
 Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
 """
@@ -37,12 +37,12 @@ from world.room import bundled_lab, generate_room  # noqa: E402
 from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
-def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0):
+def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64):
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
     t0 = time.perf_counter()
     res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
                    WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
-                              max_range_ft=max_range))
+                              max_range_ft=max_range, shape_max_bits=shape))
     return res, time.perf_counter() - t0
 
 
@@ -147,6 +147,7 @@ def main(argv=None) -> int:
     bundled1, _ = one_walk(lab, poses, line_step=1)
     bundled_ci, _ = one_walk(lab, poses, kalman="ci")
     bundled_far, _ = one_walk(lab, poses, max_range=1e9)
+    bundled_noshape, _ = one_walk(lab, poses, shape=None)
     rooms = []
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)
@@ -156,11 +157,13 @@ def main(argv=None) -> int:
     doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
            "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),
            "bundled_ci": method_errors([bundled_ci]), "bundled_no_range_limit": method_errors([bundled_far]),
+           "bundled_no_shape_gate": method_errors([bundled_noshape]),
            "features": {"bundled (A-30, as written)": feature_stats([bundled]),
                         "bundled (A-29, camera error propagated)": feature_stats([bundled29]),
                         "bundled (A-30, every line scanned)": feature_stats([bundled1]),
                         "bundled (covariance intersection)": feature_stats([bundled_ci]),
                         "bundled (A-30, no range limit)": feature_stats([bundled_far]),
+                        "bundled (A-30, no shape gate)": feature_stats([bundled_noshape]),
                         f"{args.rooms} generated rooms (A-30)": feature_stats(rooms)},
            "per_room": {str(i + 1): method_errors([r]) for i, r in enumerate(rooms)}}
     print(method_table(f"Bundled walk ({len(poses)} looks)", doc["bundled"]))
@@ -172,6 +175,8 @@ def main(argv=None) -> int:
     print(method_table("Bundled walk, covariance intersection", doc["bundled_ci"]))
     print()
     print(method_table("Bundled walk, no range limit", doc["bundled_no_range_limit"]))
+    print()
+    print(method_table("Bundled walk, no shape gate", doc["bundled_no_shape_gate"]))
     print()
     print(method_table(f"{args.rooms} generated rooms, {args.looks} looks each (pooled)", doc["rooms"]))
     print()

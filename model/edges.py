@@ -62,6 +62,7 @@ class VertexObservation:
     grey: tuple[int, int]    # grey level left and right of the edge (left picture)
     edge: int                # index of its EdgeObservation in the look
     line: int = -1           # the scanned line at that end (the last one that saw the edge)
+    shape: tuple | None = None   # Appendix B 16x16 rectangular map of the corner (left picture)
 
 
 @dataclass(frozen=True)
@@ -214,7 +215,9 @@ def group_vertical_edges(points, lines, left_picture=None, camera: Camera = Came
     out.sort(key=lambda e: (np.mean(e.cols), e.lines[0]))
     for i, e in enumerate(out):
         e.vertices[:] = [VertexObservation(v.q, v.cov, v.kind, v.col, v.row, v.disparity,
-                                           v.grey, i, v.line) for v in e.vertices]
+                                           v.grey, i, v.line,
+                                           corner_map(left_picture, v.col, v.row, v.kind, v.grey))
+                         for v in e.vertices]
     return out
 
 
@@ -276,6 +279,26 @@ def _greys(picture, ys, cols) -> tuple[int, int]:
     left = pic[r, np.clip(c0 - 2, 0, w - 1)]
     right = pic[r, np.clip(c0 + 2, 0, w - 1)]
     return int(np.median(left)), int(np.median(right))
+
+
+def corner_map(picture, col: float, row: float, kind: str, grey) -> tuple | None:
+    """The corner's shape as an Appendix B rectangular map (16 column words, bit 0
+    the top row; ``model.bitmaps``): the 16x16 pixels of the left picture with the
+    vertex at the middle of the top (a "top" vertex) or bottom row, set where the
+    grey level is nearer the edge's right-side grey than its left-side one."""
+    if picture is None or grey[0] < 0:
+        return None
+    pic = np.asarray(picture).astype(np.int64)
+    h, w = pic.shape
+    c0 = int(np.floor(col)) - 8
+    r0 = int(np.floor(row)) if kind == "top" else int(np.floor(row)) - 16
+    rr = np.clip(np.arange(r0, r0 + 16), 0, h - 1)
+    cc = np.clip(np.arange(c0, c0 + 16), 0, w - 1)
+    win = pic[np.ix_(rr, cc)]
+    left_g, right_g = grey
+    bits = np.abs(win - right_g) < np.abs(win - left_g)
+    words = (bits.astype(np.int64) << np.arange(16)[:, None]).sum(axis=0)
+    return tuple(int(x) for x in words)
 
 
 def surface_observations(edges: list[EdgeObservation], left_picture=None,

@@ -61,6 +61,9 @@ class WalkConfig:
     # Chapter V: "the range estimates were fairly accurate for ranges of 15 feet or less";
     # beyond, one pixel of disparity is feet of range and a wrong match lands anywhere
     max_range_ft: float = 15.0
+    # Chapter III: "approximate matches in grey level, then approximate matches in shape";
+    # corner maps differing in more than a quarter of their 256 bits are not the same corner
+    shape_max_bits: int | None = 64
     odometry_distance_fraction: float = 0.02
     odometry_turn_deg: float = 1.0
     camera: Camera = Camera()
@@ -268,7 +271,8 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
             prior_R = _rotation(prior_xzh[2])
             prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
             cov6 = _cov6(P)
-            match = matcher(model, obs, prior_left, prior_R, cov6, rows=rows)
+            match = matcher(model, obs, prior_left, prior_R, cov6, rows=rows,
+                            shape_max_bits=config.shape_max_bits)
             times["match"] = (time.perf_counter() - t_group) * 1e3
             vid = [p[0] for p in match.pairs]
             oi = [p[1] for p in match.pairs]
@@ -454,6 +458,7 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
             v.mean, v.cov = static_update(v.mean, v.cov, z[i], Rm[i])
         v.looks += 1
         v.last_look = look
+        v.shape = obs[i].shape
         vertex_of[i] = vid
         if v.truth is not None:
             history.setdefault(vid, []).append(float(np.linalg.norm(v.mean - v.truth)))
@@ -462,6 +467,7 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         if i in claimed:
             continue
         v = model.add_vertex(z[i], Rm[i], o.kind, o.grey, look)
+        v.shape = o.shape
         v.truth = obs_truth[i].copy()
         v.truth_id = int(obs_truth_id[i])
         history[v.id] = [float(np.linalg.norm(v.mean - v.truth))]

@@ -9,9 +9,11 @@ rig's covariance carried into room axes (A-31) and the prior pose's own
 uncertainty), then within the grey levels ("approximate matches in grey
 level, then approximate matches in shape"), and finally one-to-one: the
 assignment of least total distance (scipy's ``linear_sum_assignment``).
-Shape (Appendix B bit maps) enters through ``shape_distance`` where a look
-carries bit maps; without them the grey levels and the kind of vertex (top or
-bottom end of a vertical boundary) are the whole characterisation.
+Shape: with ``shape_max_bits`` each candidate's corner map (an Appendix B
+rectangular map, :func:`model.edges.corner_map`) is compared with the model
+vertex's by :func:`model.bitmaps.shifted_compare` and the pair refused above
+that many differing bits; without it the grey levels and the kind of vertex
+(top or bottom end of a vertical boundary) are the whole characterisation.
 
 Another model matcher plugs in through :data:`MATCHERS`: any callable with
 :func:`match_look`'s signature returning a :class:`MatchResult`.  (``rig walk
@@ -28,6 +30,7 @@ import numpy as np
 
 GATE_CHI2 = 16.27      # chi-square 99.9 % point, 3 degrees of freedom
 GREY_TOLERANCE = 2     # grey levels (0..15) either side of the edge
+SHAPE_MAX_BITS = None  # Appendix B shape gate: most differing bits of 256 (None: no gate)
 
 
 @dataclass
@@ -60,7 +63,7 @@ def in_view(X, left, R, first_row: float = 8, last_row: float = 113, dv: float =
 
 def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float = GATE_CHI2,
                grey_tolerance: int = GREY_TOLERANCE, rows=(8, 113),
-               shape_distance: Callable | None = None) -> MatchResult:
+               shape_max_bits: int | None = SHAPE_MAX_BITS, model_shapes=None) -> MatchResult:
     """Match a look's vertex observations (``model.edges.VertexObservation``)
     to the model's vertices (``model.symbolic.SymbolicModel``)."""
     ids, means, covs, kinds, greys = model.vertex_arrays()
@@ -95,9 +98,15 @@ def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float
     ok = (d2 <= gate) & (kind_obs[:, None] == kind_mod[None, :])
     if grey_tolerance is not None:
         ok &= np.all(np.abs(g_obs[:, None, :] - g_mod[None, :, :]) <= grey_tolerance, axis=2)
+    if shape_max_bits is not None:
+        # Appendix B: the corner maps compared at horizontal offsets -2..2 (B-1's count)
+        from .bitmaps import shifted_compare
+        shapes = [model.vertices[int(ids[c])].shape for c in cand]
+        for i, j in zip(*np.nonzero(ok)):
+            a, b = observations[i].shape, shapes[j]
+            if a is not None and b is not None and shifted_compare(b, a, 2)[0] > shape_max_bits:
+                ok[i, j] = False
     cost = np.where(ok, d2, np.inf)
-    if shape_distance is not None:
-        cost = cost + np.where(ok, shape_distance(observations, ids[cand]), 0.0)
     pairs = []
     if ok.any():
         from scipy.optimize import linear_sum_assignment

@@ -43,6 +43,7 @@ class Vertex:
     last_look: int = 0
     truth: np.ndarray | None = None  # the world's true location (scoring only)
     truth_id: int = -1               # index of the true corner, -1 none
+    shape: tuple | None = None       # Appendix B rectangular map of the corner, last seen
 
 
 @dataclass
@@ -126,7 +127,9 @@ class SymbolicModel:
             "vertices": [{"id": v.id, "mean": arr(v.mean), "cov": arr(v.cov), "kind": v.kind,
                           "grey": list(v.grey), "lines": v.lines, "looks": v.looks,
                           "first_look": v.first_look, "last_look": v.last_look,
-                          "truth": arr(v.truth)} for v in self.vertices.values()],
+                          "truth": arr(v.truth),
+                          "shape": None if v.shape is None else list(v.shape)}
+                         for v in self.vertices.values()],
             "lines": [{"id": ln.id, "centre": arr(ln.centre), "centre_cov": arr(ln.centre_cov),
                        "ends": list(ln.ends), "end_points": arr(ln.end_points),
                        "surface": ln.surface, "next_line": ln.next_line,

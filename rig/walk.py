@@ -237,7 +237,8 @@ def cmd_walk(args) -> int:
         return 2
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
                         match=args.match, look_interval_s=args.interval,
-                        lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range)
+                        lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range,
+                        shape_max_bits=None if args.shape_bits < 0 else args.shape_bits)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -326,6 +327,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     w.add_argument("--max-range", type=float, default=15.0, metavar="FT",
                    help="vertices farther than this are not used (default 15 ft, the range "
                         "Chapter V found the rig fairly accurate within)")
+    w.add_argument("--shape-bits", type=int, default=64, metavar="N",
+                   help="matching's shape gate: corner maps (Appendix B) differing in more "
+                        "than N of 256 bits do not match (default 64; -1: no shape gate)")
     w.add_argument("--interval", type=float, default=1.0, metavar="S",
                    help="seconds between looks, for the velocity (default 1)")
     w.add_argument("--odometry-seed", type=int, default=1985, metavar="SEED")

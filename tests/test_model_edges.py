@@ -81,3 +81,14 @@ def test_surface_between_two_edges_of_one_feature():
     assert (s.left_edge, s.right_edge) == (0, 1) and s.lines == tuple(range(30, 50))
     assert s.grey_extremes == (11, 13)
     np.testing.assert_allclose(s.centre, (edges[0].centre + edges[1].centre) / 2)
+
+
+def test_corner_map_of_a_box_corner():
+    from model.edges import corner_map
+    pic = np.full((120, 128), 5, np.uint8)
+    pic[40:, 70:] = 12                       # a lighter box whose top-left corner is (col 70, row 40)
+    # the window: columns 62..77, rows 40..55; set where nearer the right-side grey (12)
+    words = corner_map(pic, 70.0, 40.0, "top", (5, 12))
+    assert words == (0,) * 8 + (0xFFFF,) * 8
+    # the bottom view of the same corner sees the background above it: nothing set
+    assert corner_map(pic, 70.0, 40.0, "bottom", (5, 12)) == (0,) * 16

@@ -52,3 +52,19 @@ def test_velocity_from_successive_poses():
     np.testing.assert_allclose((v.vx, v.vz, v.turn_deg_s), (0.3, 0.4, 5.0))
     assert abs(v.speed - 0.5) < 1e-12
     np.testing.assert_allclose(np.diag(v.cov), [0.02 / 4, 0.08 / 4, 2.0 / 4])
+
+
+def test_shape_gate_refuses_a_different_corner():
+    model, obs, left, R = setup()
+    box = (0,) * 8 + (0xFFFF,) * 8
+    for v in model.vertices.values():
+        v.shape = box
+    o = obs[0]
+    same = VertexObservation(o.q, o.cov, o.kind, o.col, o.row, o.disparity, o.grey, 0, -1,
+                             (0,) * 7 + (0xFFFF,) * 9)       # one column off: shifted back
+    other = VertexObservation(o.q, o.cov, o.kind, o.col, o.row, o.disparity, o.grey, 0, -1,
+                              (0xFFFF,) * 8 + (0,) * 8)      # the mirror corner: 256 bits apart
+    cov6 = np.diag([0.01] * 3 + [1e-4] * 3)
+    assert match_look(model, [same], left, R, cov6, shape_max_bits=64).pairs == [(0, 0)]
+    assert match_look(model, [other], left, R, cov6, shape_max_bits=64).pairs == []
+    assert match_look(model, [other], left, R, cov6, shape_max_bits=None).pairs == [(0, 0)]
