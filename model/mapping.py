@@ -36,7 +36,7 @@ from typing import Callable
 import numpy as np
 
 from .edges import Camera, group_vertical_edges, surface_observations, vertex_observations
-from .geometry import axes_matrix, heading_deg, left_centre, wrap_deg
+from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .kalman import (covariance_intersection, measurement_covariance_a29,
                      measurement_covariance_a30, static_update)
 from .matching import MATCHERS, MatchResult
@@ -200,7 +200,6 @@ def _compose_step(prev_est_xzh, dr_prev, dr_now):
 
 
 def _rotation(heading, pitch=0.0, roll=0.0):
-    from .geometry import rotation_from_angles
     return rotation_from_angles(heading, pitch, roll)
 
 
