@@ -69,7 +69,10 @@ def load_walk(args):
             raise WalkInputError(str(exc)) from None
         label += f", walk {args.walk}"
     elif args.room is not None:
-        poses = generate_walk(room, args.room, args.looks or DEFAULT_ROOM_LOOKS)
+        try:
+            poses = generate_walk(room, args.room, args.looks or DEFAULT_ROOM_LOOKS)
+        except ValueError as exc:
+            raise WalkInputError(f"{label}: {exc}") from None
         label += f", generated walk (seed {args.room})"
     else:
         poses = bundled_walk()
