@@ -231,6 +231,11 @@ def cmd_walk(args) -> int:
         room, poses, label = load_walk(args)
         if args.interval <= 0:
             raise WalkInputError(f"--interval {args.interval}: the time between looks must be > 0")
+        if args.json and not Path(args.json).resolve().parent.is_dir():
+            raise WalkInputError(f"--json {args.json}: no such directory "
+                                 f"{Path(args.json).resolve().parent}")
+        if Path(args.out).exists() and not Path(args.out).is_dir():
+            raise WalkInputError(f"--out {args.out}: exists and is not a directory")
     except WalkInputError as exc:
         print(f"rig walk: {exc}", file=sys.stderr)
         return 2

@@ -75,3 +75,13 @@ def test_pose_outside_the_room_is_refused(tmp_path, capsys):
 def test_too_few_looks_is_refused(tmp_path, capsys):
     rc = main(["walk", "--looks", "1", "--out", str(tmp_path / "o"), "--quiet"])
     assert rc == 2 and "at least 2 looks" in capsys.readouterr().err
+
+
+def test_unwritable_outputs_are_refused_before_walking(tmp_path, capsys):
+    rc = main(["walk", "--looks", "2", "--out", str(tmp_path / "o"), "--json",
+               str(tmp_path / "nowhere" / "w.json"), "--quiet"])
+    assert rc == 2 and "no such directory" in capsys.readouterr().err
+    (tmp_path / "file").write_text("x")
+    rc = main(["walk", "--looks", "2", "--out", str(tmp_path / "file"), "--quiet"])
+    assert rc == 2 and "not a directory" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
