@@ -76,6 +76,9 @@ def feature_stats(results) -> dict:
     same = [h for h in hist if len(h) >= 10]
     first = float(np.sqrt(np.mean([h[0] ** 2 for h in same]))) if same else None
     tenth = float(np.sqrt(np.mean([h[9] ** 2 for h in same]))) if same else None
+    same5 = [h for h in hist if len(h) >= 5]
+    rms5 = ([float(np.sqrt(np.mean([h[k] ** 2 for h in same5]))) for k in (0, 4)]
+            if same5 else [None, None])
     inside, scored, feats, conf_in, conf = [], 0, 0, [], 0
     for res in results:
         fs = res.feature_scores()
@@ -93,6 +96,7 @@ def feature_stats(results) -> dict:
     look_ms = [r.times_ms["look"] for res in results for r in res.records[1:]]
     scan_ms = [r.times_ms["scan"] for res in results for r in res.records[1:]]
     return {"curve": curve, "same_features": len(same), "same_rms_1": first, "same_rms_10": tenth,
+            "same5_features": len(same5), "same5_rms_1": rms5[0], "same5_rms_5": rms5[1],
             "inside_2sigma": sum(inside) / scored if scored else None, "features": feats,
             "confirmed": conf, "confirmed_inside_2sigma": sum(conf_in) / conf if conf else None,
             "wrong_share": wrong / matched if matched else None,
@@ -117,13 +121,15 @@ def method_table(title, errs) -> str:
 
 def feature_table(sets) -> str:
     rows = ["| set | features | RMS ft after 1 / 2 / 3 / 5 / 10 looks (features) | same features: "
-            "RMS after 1st -> 10th look | inside 2 sigma (all; confirmed) | wrong corr. (all / used) | ms per look "
+            "RMS after 1st -> 10th look; 1st -> 5th | inside 2 sigma (all; confirmed) | wrong corr. (all / used) | ms per look "
             "(median, p90; scan) |", "|---|---|---|---|---|---|---|"]
     for name, f in sets:
         curve = " / ".join(f"{c['rms']:.2f} ({c['features']})" for c in f["curve"]
                            if c["looks"] in (1, 2, 3, 5, 10))
         same = (f"{fmt(f['same_rms_1'])} -> {fmt(f['same_rms_10'])} ({f['same_features']})"
                 if f["same_features"] else "-")
+        same += (f"; 1st -> 5th: {fmt(f['same5_rms_1'])} -> {fmt(f['same5_rms_5'])} "
+                 f"({f['same5_features']})" if f["same5_features"] else "")
         rows.append(f"| {name} | {f['features']} | {curve} | {same} | "
                     f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
                     f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "
