@@ -8,6 +8,8 @@
 * ``rig scan``: a whole-picture scan (lines 8..112 by default) with a progress
   bar: every located edge as a 3-D point with its error bounds and covariance,
   written as CSV and PLY; the accuracy table when the true range is known.
+* ``rig walk``: the robot walks a room on the rig's eyes and keeps one model
+  of it (rig/walk.py).
 
 Every option is checked before any work starts; a bad one is one line on
 standard error and exit status 1.
@@ -401,6 +403,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="name of the separation's unit for the table")
     q.add_argument("--csv", metavar="FILE", help="write the edges as CSV (rig scan's columns)")
     q.set_defaults(func=cmd_posit)
+    from . import walk as walkmod          # rig walk: the robot's model of its world
+    walkmod.add_parser(sub)
     return p
 
 

@@ -195,8 +195,10 @@ def test_ctrl_c_in_rig_scan_stops_at_once_and_tidily(tmp_path, link):
     """Before: up to 30 s, chained tracebacks, command files left in jhdata/."""
     jh = tmp_path / "jh"
     many = [str(y) for y in range(120)] * (1 if link == "file" else 20)   # long enough
+    # The reference engine: the eyes would finish the 2400 lines before the signal.
+    engine = ["--engine", "reference"] if link == "direct" else []
     p = subprocess.Popen([sys.executable, "-m", "rig.main", "scan", "--link", link, "--jhdata",
-                          str(jh), "--quiet", "--line", *many], cwd=tmp_path, stdout=subprocess.PIPE,
+                          str(jh), "--quiet", *engine, "--line", *many], cwd=tmp_path, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, env=env(), start_new_session=True)
     try:
         if link == "file":

@@ -1,0 +1,197 @@
+"""Walk benchmark (issue 10): the robot's model of its world, every pose method
+side by side on the same correspondences.
+
+Sets: the bundled walk through the bundled lab, and generated rooms (seeds
+1..N, each with its generated walk).  For each set and method: median and
+worst camera position error (ft, on the floor) and heading error (degrees)
+over looks 1.. (look 0 is the given start); looks the method fixed; then
+feature RMS error against the number of looks a feature was seen in (all
+features, and the same features after their 1st and 10th look), the share of
+truths inside each feature's 2-sigma ellipsoid (the 3-D region holding
+95.45 %), the share of wrong correspondences, and the time per look (scan +
+grouping + matching + the driving method + the Kalman update, rendering not
+included).  The bundled walk is also run with the A-29 Kalman alternative,
+with covariance intersection, with every line scanned, without the 15 ft
+range limit and without the shape gate.
+
+Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from model.mapping import WalkConfig, run_walk  # noqa: E402
+from rig.walk import ALL_METHODS  # noqa: E402
+from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
+from world.render import render_look  # noqa: E402
+from world.room import bundled_lab, generate_room  # noqa: E402
+from world.walk import bundled_walk, generate_walk  # noqa: E402
+
+
+def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64):
+    dr = dead_reckon(poses, OdometryNoise(seed=seed))
+    t0 = time.perf_counter()
+    res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
+                   WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
+                              max_range_ft=max_range, shape_max_bits=shape))
+    return res, time.perf_counter() - t0
+
+
+def method_errors(results) -> dict:
+    out = {}
+    for m in ALL_METHODS:
+        errs, looks = [], 0
+        for res in results:
+            for r in res.records[1:]:
+                looks += 1
+                e = r.errors(m)
+                if e is not None:
+                    errs.append(e)
+        a = np.array(errs).reshape(-1, 2)
+        out[m] = {"fixed": len(a), "looks": looks,
+                  "median_pos": float(np.median(a[:, 0])) if len(a) else None,
+                  "worst_pos": float(a[:, 0].max()) if len(a) else None,
+                  "median_head": float(np.median(a[:, 1])) if len(a) else None,
+                  "worst_head": float(a[:, 1].max()) if len(a) else None}
+    return out
+
+
+def feature_stats(results) -> dict:
+    hist = [h for res in results for h in res.error_history.values()]
+    curve = []
+    for n in (1, 2, 3, 5, 10, 15, 20):
+        e = [h[n - 1] for h in hist if len(h) >= n]
+        if e:
+            curve.append({"looks": n, "features": len(e), "rms": float(np.sqrt(np.mean(np.square(e)))),
+                          "median": float(np.median(e))})
+    same = [h for h in hist if len(h) >= 10]
+    first = float(np.sqrt(np.mean([h[0] ** 2 for h in same]))) if same else None
+    tenth = float(np.sqrt(np.mean([h[9] ** 2 for h in same]))) if same else None
+    same5 = [h for h in hist if len(h) >= 5]
+    rms5 = ([float(np.sqrt(np.mean([h[k] ** 2 for h in same5]))) for k in (0, 4)]
+            if same5 else [None, None])
+    inside, scored, feats, conf_in, conf = [], 0, 0, [], 0
+    for res in results:
+        fs = res.feature_scores()
+        feats += fs["features"]
+        if fs["scored"]:
+            scored += fs["scored"]
+            inside.append(fs["inside_2sigma"] * fs["scored"])
+        if fs["confirmed"]:
+            conf += fs["confirmed"]
+            conf_in.append(fs["confirmed_inside_2sigma"] * fs["confirmed"])
+    matched = sum(r.matched for res in results for r in res.records)
+    wrong = sum(r.wrong for res in results for r in res.records)
+    used = sum(r.used for res in results for r in res.records)
+    used_wrong = sum(r.used_wrong for res in results for r in res.records)
+    look_ms = [r.times_ms["look"] for res in results for r in res.records[1:]]
+    scan_ms = [r.times_ms["scan"] for res in results for r in res.records[1:]]
+    return {"curve": curve, "same_features": len(same), "same_rms_1": first, "same_rms_10": tenth,
+            "same5_features": len(same5), "same5_rms_1": rms5[0], "same5_rms_5": rms5[1],
+            "inside_2sigma": sum(inside) / scored if scored else None, "features": feats,
+            "confirmed": conf, "confirmed_inside_2sigma": sum(conf_in) / conf if conf else None,
+            "wrong_share": wrong / matched if matched else None,
+            "used_wrong_share": used_wrong / used if used else None,
+            "median_look_ms": float(np.median(look_ms)), "median_scan_ms": float(np.median(scan_ms)),
+            "p90_look_ms": float(np.percentile(look_ms, 90))}
+
+
+def fmt(v, p=2):
+    return "-" if v is None else f"{v:.{p}f}"
+
+
+def method_table(title, errs) -> str:
+    rows = [f"**{title}**", "",
+            "| method | looks fixed | median position ft | worst position ft | median heading deg "
+            "| worst heading deg |", "|---|---|---|---|---|---|"]
+    for m, e in errs.items():
+        rows.append(f"| `{m}` | {e['fixed']}/{e['looks']} | {fmt(e['median_pos'])} | "
+                    f"{fmt(e['worst_pos'])} | {fmt(e['median_head'], 1)} | {fmt(e['worst_head'], 1)} |")
+    return "\n".join(rows)
+
+
+def feature_table(sets) -> str:
+    rows = ["| set | features | RMS ft after 1 / 2 / 3 / 5 / 10 looks (features) | same features: "
+            "RMS after 1st -> 10th look; 1st -> 5th | inside 2 sigma (all; confirmed) | wrong corr. (all / used) | ms per look "
+            "(median, p90; scan) |", "|---|---|---|---|---|---|---|"]
+    for name, f in sets:
+        curve = " / ".join(f"{c['rms']:.2f} ({c['features']})" for c in f["curve"]
+                           if c["looks"] in (1, 2, 3, 5, 10))
+        same = (f"{fmt(f['same_rms_1'])} -> {fmt(f['same_rms_10'])} ({f['same_features']})"
+                if f["same_features"] else "-")
+        same += (f"; 1st -> 5th: {fmt(f['same5_rms_1'])} -> {fmt(f['same5_rms_5'])} "
+                 f"({f['same5_features']})" if f["same5_features"] else "")
+        rows.append(f"| {name} | {f['features']} | {curve} | {same} | "
+                    f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
+                    f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "
+                    f"{f['p90_look_ms']:.0f}; {f['median_scan_ms']:.0f} |")
+    return "\n".join(rows)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--rooms", type=int, default=10)
+    ap.add_argument("--looks", type=int, default=20, help="looks per generated walk")
+    ap.add_argument("--bundled-looks", type=int, default=None)
+    ap.add_argument("--json", help="write all figures as JSON")
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    lab = bundled_lab()
+    poses = bundled_walk()[:args.bundled_looks]
+    bundled, took = one_walk(lab, poses)
+    print(f"bundled walk: {len(poses)} looks, {took:.0f} s", file=sys.stderr)
+    bundled29, _ = one_walk(lab, poses, kalman="a29")
+    bundled1, _ = one_walk(lab, poses, line_step=1)
+    bundled_ci, _ = one_walk(lab, poses, kalman="ci")
+    bundled_far, _ = one_walk(lab, poses, max_range=1e9)
+    bundled_noshape, _ = one_walk(lab, poses, shape=None)
+    rooms = []
+    for seed in range(1, args.rooms + 1):
+        room = generate_room(seed)
+        res, took = one_walk(room, generate_walk(room, seed, args.looks))
+        rooms.append(res)
+        print(f"room {seed}: {took:.0f} s", file=sys.stderr)
+    doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
+           "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),
+           "bundled_ci": method_errors([bundled_ci]), "bundled_no_range_limit": method_errors([bundled_far]),
+           "bundled_no_shape_gate": method_errors([bundled_noshape]),
+           "features": {"bundled (A-30, as written)": feature_stats([bundled]),
+                        "bundled (A-29, camera error propagated)": feature_stats([bundled29]),
+                        "bundled (A-30, every line scanned)": feature_stats([bundled1]),
+                        "bundled (covariance intersection)": feature_stats([bundled_ci]),
+                        "bundled (A-30, no range limit)": feature_stats([bundled_far]),
+                        "bundled (A-30, no shape gate)": feature_stats([bundled_noshape]),
+                        f"{args.rooms} generated rooms (A-30)": feature_stats(rooms)},
+           "per_room": {str(i + 1): method_errors([r]) for i, r in enumerate(rooms)}}
+    print(method_table(f"Bundled walk ({len(poses)} looks)", doc["bundled"]))
+    print()
+    print(method_table("Bundled walk, Kalman A-29", doc["bundled_a29"]))
+    print()
+    print(method_table("Bundled walk, every line scanned", doc["bundled_every_line"]))
+    print()
+    print(method_table("Bundled walk, covariance intersection", doc["bundled_ci"]))
+    print()
+    print(method_table("Bundled walk, no range limit", doc["bundled_no_range_limit"]))
+    print()
+    print(method_table("Bundled walk, no shape gate", doc["bundled_no_shape_gate"]))
+    print()
+    print(method_table(f"{args.rooms} generated rooms, {args.looks} looks each (pooled)", doc["rooms"]))
+    print()
+    print(feature_table(list(doc["features"].items())))
+    print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+    if args.json:
+        Path(args.json).write_text(json.dumps(doc, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

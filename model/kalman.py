@@ -1,0 +1,89 @@
+"""Stochastic updates (Chapter III): the static Kalman filter (MAYB 79) that
+improves a matched feature's mean location and covariance with every look.
+
+The feature does not move (static: state transition I, no process noise), so
+one update with a measurement ``z`` of covariance ``R`` is
+
+    K = P (P + R)^-1,   m' = m + K (z - m),   P' = (I - K) P
+
+which equals information fusion ``P' = (P^-1 + R^-1)^-1``.
+
+What ``R`` is decides the honesty of the covariance:
+
+* **as written** (A-30, :func:`measurement_covariance_a30`): the camera's own
+  position error is taken as zero, so ``R = C_pi`` of A-31, the rig's
+  camera-relative covariance turned into room axes;
+* **alternative** (A-29, :func:`measurement_covariance_a29`): the
+  ``P_i N_Y`` term kept — ``R = C_pi + P_i C_c P_i^T``, the camera estimate's
+  covariance carried to the point (the product term ``N_Pi N_Y`` is second
+  order and dropped).
+
+The Kalman update assumes the looks' errors independent.  The rig's are not:
+from nearby viewpoints a feature lands on the same quantised disparity and
+the same end row again and again, so its covariance shrinks with every look
+while its error does not (measured in docs/model.md).  A second named
+alternative, :func:`covariance_intersection` (Julier & Uhlmann 1997), fuses
+with the weight ``w`` that minimises the trace of
+``P' = (w P^-1 + (1-w) R^-1)^-1``: never overconfident whatever the
+correlation, at the price of shrinking slowly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import environment_covariance
+
+
+def static_update(mean, cov, z, R) -> tuple[np.ndarray, np.ndarray]:
+    """One static Kalman update of a 3-D feature (or a stack of them:
+    ``mean`` (N,3), ``cov`` (N,3,3))."""
+    mean = np.asarray(mean, dtype=np.float64)
+    cov = np.asarray(cov, dtype=np.float64)
+    z = np.asarray(z, dtype=np.float64)
+    R = np.asarray(R, dtype=np.float64)
+    S = cov + R
+    # K = P S^-1, computed as (S^-1 P)^T since both are symmetric
+    K = np.swapaxes(np.linalg.solve(S, cov), -1, -2)
+    m = mean + np.einsum("...ij,...j->...i", K, z - mean)
+    eye = np.eye(3)
+    P = (eye - K) @ cov
+    P = (P + np.swapaxes(P, -1, -2)) / 2
+    return m, P
+
+
+def measurement_covariance_a30(M, Cq) -> np.ndarray:
+    """A-30 (as written): camera error ignored, ``R = M C_i M^T`` (A-31)."""
+    return environment_covariance(M, Cq)
+
+
+def measurement_covariance_a29(M, Cq, pose_point_covariance) -> np.ndarray:
+    """A-29 (alternative): ``R = M C_i M^T + P_i C_c P_i^T``; pass the second
+    term as computed by :meth:`model.pose.PoseEstimate.pose_covariance_at`."""
+    return environment_covariance(M, Cq) + np.asarray(pose_point_covariance, dtype=np.float64)
+
+
+def covariance_intersection(mean, cov, z, R, steps: int = 21) -> tuple[np.ndarray, np.ndarray]:
+    """Covariance intersection of a feature (mean, cov) with a measurement
+    (z, R), for one feature or a stack; ``w`` searched on a grid of ``steps``."""
+    mean = np.atleast_2d(np.asarray(mean, dtype=np.float64))
+    cov = np.asarray(cov, dtype=np.float64).reshape(-1, 3, 3)
+    z = np.atleast_2d(np.asarray(z, dtype=np.float64))
+    R = np.asarray(R, dtype=np.float64).reshape(-1, 3, 3)
+    Pi, Ri = np.linalg.inv(cov), np.linalg.inv(R)
+    w = np.linspace(0.0, 1.0, steps)
+    info = w[:, None, None, None] * Pi[None] + (1 - w)[:, None, None, None] * Ri[None]
+    P = np.linalg.inv(info)                                       # (steps, N, 3, 3)
+    best = np.argmin(np.trace(P, axis1=2, axis2=3), axis=0)       # (N,)
+    n = np.arange(len(mean))
+    Pb = P[best, n]
+    wb = w[best][:, None]
+    m = np.einsum("nij,nj->ni", Pb, wb * np.einsum("nij,nj->ni", Pi, mean)
+                  + (1 - wb) * np.einsum("nij,nj->ni", Ri, z))
+    return m, (Pb + np.swapaxes(Pb, -1, -2)) / 2
+
+
+KALMAN_MODES = {"a30": "camera error ignored (as written)",
+                "a29": "camera error propagated (alternative)",
+                "ci": "A-29's measurement covariance, fused by covariance intersection "
+                      "(correlated looks; alternative)"}

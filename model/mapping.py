@@ -1,0 +1,523 @@
+"""The walk: look after look into one symbolic model (Chapter III, "Three
+Dimensional Models and Model Updates", "Stochastic Updates", "Camera
+Position Estimation").
+
+For every look:
+
+1. the rig scans the pair (ESTAR over the direct link, every line of the
+   scanned range) and its located edges are grouped into vertical edges and
+   vertex observations (:mod:`model.edges`);
+2. the prior pose is the last estimate moved by the odometry's step (dead
+   reckoning between looks);
+3. the observations are matched to the model (:mod:`model.matching`);
+4. every pose method runs on the SAME correspondences (:mod:`model.pose`);
+5. the pose of the *driving* method (``robust`` unless chosen otherwise) is
+   used to update the matched vertices by the static Kalman filter
+   (:mod:`model.kalman`, A-30 or A-29) and to add the unmatched ones as new
+   vertices; vertices out of view are kept as they are;
+6. the velocity follows from the driving method's successive positions.
+
+The first look's pose is given (the model's frame is the room's, anchored
+where the robot starts); every later pose is estimated.  A look whose pose
+the driving method refuses (too few matches, colinear points ...) keeps the
+prior, changes nothing in the model, and says why.
+
+The world's truth (the renderer's range per pixel, the room's true corners) is
+used only for scoring: which correspondences are wrong, how far each feature
+is from its true place, whether the truth is inside 2 sigma.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from .edges import Camera, group_vertical_edges, surface_observations, vertex_observations
+from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
+from .kalman import (covariance_intersection, measurement_covariance_a29,
+                     measurement_covariance_a30, static_update)
+from .matching import MATCHERS, MatchResult
+from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
+from .symbolic import SymbolicModel
+from .velocity import Velocity, velocity
+
+CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
+TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
+WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
+
+
+@dataclass
+class WalkConfig:
+    methods: tuple[str, ...] = ESTIMATORS
+    driver: str = "robust"
+    kalman: str = "a30"                 # "a30" as written, "a29" camera error propagated
+    match: str = "1985"                 # the rig's stereo matcher: "1985" or "improved"
+    model_matcher: str = "text"         # look-to-model matching (model.matching.MATCHERS)
+    lines: tuple[int, ...] = tuple(range(8, 113, 2))      # every 2nd line (rig walk --line-step)
+    look_interval_s: float = 1.0
+    # Chapter V: "the range estimates were fairly accurate for ranges of 15 feet or less";
+    # beyond, one pixel of disparity is feet of range and a wrong match lands anywhere
+    max_range_ft: float = 15.0
+    # Chapter III: "approximate matches in grey level, then approximate matches in shape";
+    # corner maps differing in more than a quarter of their 256 bits are not the same corner
+    shape_max_bits: int | None = 64
+    odometry_distance_fraction: float = 0.02
+    odometry_turn_deg: float = 1.0
+    camera: Camera = Camera()
+
+
+@dataclass
+class LookRecord:
+    look: int
+    true_pose: object
+    dead_reckoned: object
+    prior_xzh: tuple[float, float, float]
+    estimates: dict[str, tuple[float, float, float] | None]
+    refusals: dict[str, str]
+    seen: int
+    matched: int
+    wrong: int
+    used: int
+    used_wrong: int
+    added: int
+    model_size: int
+    predicted_in_view: int
+    times_ms: dict[str, float]
+    velocity: Velocity | None = None
+    driver_refused: str | None = None
+
+    def errors(self, name: str) -> tuple[float, float] | None:
+        est = self.estimates.get(name)
+        if est is None:
+            return None
+        t = self.true_pose
+        return (float(np.hypot(est[0] - t.x, est[1] - t.z)),
+                float(abs(wrap_deg(est[2] - t.heading_deg))))
+
+
+@dataclass
+class WalkResult:
+    config: WalkConfig
+    records: list[LookRecord]
+    model: SymbolicModel
+    error_history: dict[int, list[float]] = field(default_factory=dict)   # vertex -> error after each look
+
+    def feature_scores(self) -> dict:
+        """RMS error (ft) and share of truths inside 2 sigma over the vertices
+        with a truth; the Mahalanobis-2 radius share too."""
+        errs, inside, inside_r2, confirmed = [], [], [], []
+        for v in self.model.vertices.values():
+            if v.truth is None:
+                continue
+            d = v.mean - v.truth
+            errs.append(float(d @ d))
+            m2 = float(d @ np.linalg.solve(v.cov, d))
+            inside.append(m2 <= CHI2_3DOF_2SIGMA)
+            inside_r2.append(m2 <= 4.0)
+            confirmed.append(v.looks >= 2)
+        if not errs:
+            return {"features": len(self.model.vertices), "scored": 0, "rms_error_ft": None,
+                    "inside_2sigma": None, "inside_mahalanobis_2": None, "confirmed": 0,
+                    "confirmed_rms_error_ft": None, "confirmed_median_error_ft": None,
+                    "confirmed_inside_2sigma": None, "median_error_ft": None}
+        errs, inside, confirmed = np.array(errs), np.array(inside), np.array(confirmed)
+        return {"features": len(self.model.vertices), "scored": len(errs),
+                "rms_error_ft": float(np.sqrt(np.mean(errs))),
+                "median_error_ft": float(np.sqrt(np.median(errs))),
+                "inside_2sigma": float(np.mean(inside)),
+                "inside_mahalanobis_2": float(np.mean(inside_r2)),
+                "confirmed": int(confirmed.sum()),
+                "confirmed_rms_error_ft": float(np.sqrt(np.mean(errs[confirmed])))
+                if confirmed.any() else None,
+                "confirmed_median_error_ft": float(np.sqrt(np.median(errs[confirmed])))
+                if confirmed.any() else None,
+                "confirmed_inside_2sigma": float(np.mean(inside[confirmed]))
+                if confirmed.any() else None}
+
+    def rms_by_looks(self, max_looks: int = 20) -> list[tuple[int, int, float]]:
+        """(n, features seen at least n times, RMS error after their n-th look)."""
+        out = []
+        for n in range(1, max_looks + 1):
+            e = [h[n - 1] for h in self.error_history.values() if len(h) >= n]
+            if e:
+                out.append((n, len(e), float(np.sqrt(np.mean(np.square(e))))))
+        return out
+
+
+# --- truth, for scoring only ------------------------------------------------------
+
+def truth_points(room) -> np.ndarray:
+    pts = [np.asarray(room.vertices, float).reshape(-1, 3)]
+    ve = np.asarray(room.vertical_edges, float)
+    if ve.size:
+        pts.append(ve.reshape(-1, 3))
+    return np.concatenate(pts) if pts else np.zeros((0, 3))
+
+
+def observed_truth(obs, range_left, true_left, true_R, corners, camera: Camera):
+    """The world's true location of each observation: the pixel the rig named,
+    at the renderer's range on the last scanned line that saw the edge (the
+    nearer of the columns either side, as rig.truth scores an edge), in room
+    axes; snapped to a true corner when one lies within TRUTH_SNAP_FT.
+    Returns (points (N,3), corner index or -1 (N,))."""
+    h, w = range_left.shape
+    pts, idx = [], []
+    for o in obs:
+        r = int(np.clip(o.line if o.line >= 0 else np.floor(o.row), 0, h - 1))
+        c = int(np.clip(np.floor(o.col), 0, w - 1))
+        z = float(np.min(range_left[r, max(c - 1, 0):c + 2]))
+        v = np.array([z * (o.col - camera.centre_col) / camera.dv,
+                      z * (o.row - camera.centre_row) / camera.dv, z])
+        p = true_left + true_R @ v
+        k = -1
+        if len(corners):
+            d = np.linalg.norm(corners - p, axis=1)
+            j = int(np.argmin(d))
+            if d[j] <= TRUTH_SNAP_FT:
+                p, k = corners[j].copy(), j
+        pts.append(p)
+        idx.append(k)
+    return np.array(pts).reshape(-1, 3), np.array(idx, dtype=int)
+
+
+# --- the loop ------------------------------------------------------------------------
+
+def _compose_step(prev_est_xzh, dr_prev, dr_now):
+    """The prior: the previous estimate moved by the odometry's step, i.e. the
+    dead-reckoned motion from dr_prev to dr_now expressed in the vehicle frame."""
+    h0 = np.radians(dr_prev.heading_deg)
+    dx, dz = dr_now.x - dr_prev.x, dr_now.z - dr_prev.z
+    fwd = dx * np.sin(h0) + dz * np.cos(h0)          # along the old heading
+    side = dx * np.cos(h0) - dz * np.sin(h0)         # to its right
+    turn = float(wrap_deg(dr_now.heading_deg - dr_prev.heading_deg))
+    x, z, h = prev_est_xzh
+    hr = np.radians(h)
+    return (x + fwd * np.sin(hr) + side * np.cos(hr), z + fwd * np.cos(hr) - side * np.sin(hr),
+            float(wrap_deg(h + turn))), float(np.hypot(dx, dz)), abs(turn)
+
+
+def _rotation(heading, pitch=0.0, roll=0.0):
+    return rotation_from_angles(heading, pitch, roll)
+
+
+def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = WalkConfig(),
+             progress: Callable[[int], None] | None = None, seed: int = 0) -> WalkResult:
+    """Walk the poses: ``render(room, pose, look_index)`` gives the world's Look
+    (``left_bi``, ``right_bi``, ``range_left``, ``pose``)."""
+    from eyes import scan_pair as eyes_scan_pair
+    from matching.mode import make_matcher
+    from rig.scan import scan_pair
+    if config.driver not in ESTIMATORS:
+        raise ValueError(f"unknown driving method {config.driver!r}; one of {', '.join(ESTIMATORS)}")
+    methods = tuple(dict.fromkeys((*config.methods, config.driver)))
+    for m in methods:
+        if m not in ESTIMATORS:
+            raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
+    if config.kalman not in ("a30", "a29", "ci"):
+        raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30, a29 or ci")
+    matcher = MATCHERS.get(config.model_matcher)
+    if matcher is None:
+        raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
+                         f"{', '.join(MATCHERS)}")
+    if config.match not in ("1985", "improved"):
+        raise ValueError(f"--match {config.match!r}: choose 1985 or improved")
+    model = SymbolicModel()
+    corners = truth_points(room)
+    history: dict[int, list[float]] = {}
+    records: list[LookRecord] = []
+    lines = list(config.lines)
+    rows = (min(lines), max(lines) + 1)
+    prev_xzh = None
+    prev_cov = None
+    P = np.zeros((3, 3))              # covariance of the pose (x, z, heading rad) carried on
+    for k, true_pose in enumerate(poses):
+        look = render(room, true_pose, k)
+        t_start = time.perf_counter()
+        ds, dv = str(config.camera.ds), f"{config.camera.dv:g}"
+        if config.match == "1985":        # the compiled 1985 frame scan (the eyes), bit for bit
+            scan = eyes_scan_pair(look.left_bi, look.right_bi, lines, ds, dv)
+        else:                             # the improved stereo matcher (package matching)
+            scan = scan_pair(look.left_bi, look.right_bi, lines, ds, dv,
+                             matcher=make_matcher("improved"))
+        t_scan = time.perf_counter()
+        edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
+                                     right_picture=look.right_bi)
+        obs = [o for o in vertex_observations(edges) if o.q[0] <= config.max_range_ft]
+        for e in edges:
+            e.vertices[:] = [o for o in e.vertices if o.q[0] <= config.max_range_ft]
+        t_group = time.perf_counter()
+        R_true = np.asarray(true_pose.rotation(), float)
+        true_left = left_centre((true_pose.x, getattr(true_pose, "y", 0.0), true_pose.z), R_true)
+        obs_truth, obs_truth_id = observed_truth(obs, np.asarray(look.range_left, float),
+                                                 true_left, R_true, corners, config.camera)
+        times = {"scan": (t_scan - t_start) * 1e3, "group": (t_group - t_scan) * 1e3}
+        estimates: dict[str, tuple | None] = {}
+        refusals: dict[str, str] = {}
+        dr = dead_reckoned[k]
+        driver_refused = None
+        pairs_used: list[tuple[int, int]] = []
+        if k == 0:
+            # the start is given: the model's frame is anchored here
+            prior_xzh = (true_pose.x, true_pose.z, true_pose.heading_deg)
+            pose_est = PoseEstimate("given", true_left, axes_matrix(R_true), np.zeros(0, bool),
+                                    covariance6=np.zeros((6, 6)))
+            match = MatchResult([], 0, 0)
+            for m in (*methods, "fused"):
+                estimates[m] = prior_xzh
+            times["match"] = (time.perf_counter() - t_group) * 1e3
+        else:
+            prior_xzh, P = _predict(prev_xzh, P, dead_reckoned[k - 1], dr, config)
+            prior_R = _rotation(prior_xzh[2])
+            prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
+            cov6 = _cov6(P)
+            match = matcher(model, obs, prior_left, prior_R, cov6, rows=rows,
+                            shape_max_bits=config.shape_max_bits)
+            times["match"] = (time.perf_counter() - t_group) * 1e3
+            vid = [p[0] for p in match.pairs]
+            oi = [p[1] for p in match.pairs]
+            q = np.array([obs[i].q for i in oi]).reshape(-1, 3)
+            Cq = np.array([obs[i].cov for i in oi]).reshape(-1, 3, 3)
+            X = np.array([model.vertices[v].mean for v in vid]).reshape(-1, 3)
+            CX = np.array([model.vertices[v].cov for v in vid]).reshape(-1, 3, 3)
+            results: dict[str, PoseEstimate] = {}
+            for m in methods:
+                t0 = time.perf_counter()
+                try:
+                    est = estimate(m, q, Cq, X, CX, prior_left, prior_R)
+                    results[m] = est
+                    estimates[m] = (float(est.centre[0]), float(est.centre[2]), est.heading_deg)
+                except PoseRefused as exc:
+                    refusals[m] = str(exc)
+                    estimates[m] = None
+                times[m] = (time.perf_counter() - t0) * 1e3
+            fix = results.get(config.driver)
+            driver_refused = refusals.get(config.driver)
+            pose_est = None
+            if fix is not None:
+                fused = _fuse(fix, prior_xzh, P)
+                if isinstance(fused, str):
+                    driver_refused = fused
+                else:
+                    pose_est, P = fused
+                    pairs_used = [p for p, ok in zip(match.pairs, fix.inliers) if ok]
+            if pose_est is None:
+                # no fix: the pose stays the prior; nothing is updated, but what the robot
+                # sees for the first time enters at the prior, carrying the prior's own
+                # uncertainty (A-29's P_i N_Y term; without it these features would
+                # claim a fix never made)
+                pose_est = PoseEstimate("prior", prior_left, axes_matrix(prior_R),
+                                        np.zeros(0, bool), covariance6=cov6)
+            estimates["fused"] = (float(pose_est.centre[0]), float(pose_est.centre[2]),
+                                  pose_est.heading_deg)
+        estimates["dead_reckoning"] = (dr.x, dr.z, dr.heading_deg)
+        t_up = time.perf_counter()
+        kalman = config.kalman if pose_est.method != "prior" else "a29"
+        added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
+                              kalman, k, obs_truth, obs_truth_id, history,
+                              surface_observations(edges, look.left_bi))
+        est_xzh = estimates["fused"]
+        est_cov = P.copy()
+        times["update"] = (time.perf_counter() - t_up) * 1e3
+        times["look"] = (times["scan"] + times["group"] + times["match"]
+                         + times.get(config.driver, 0.0) + times["update"])
+        vel = None
+        if prev_xzh is not None:
+            vel = velocity(prev_xzh, prev_cov, est_xzh, est_cov, config.look_interval_s)
+        prev_xzh, prev_cov = est_xzh, est_cov
+        wrong = _wrong(model, match.pairs, obs_truth)
+        used_wrong = _wrong(model, pairs_used, obs_truth)
+        records.append(LookRecord(
+            k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
+            len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused))
+        if progress is not None:
+            progress(k)
+    return WalkResult(config, records, model, history)
+
+
+ODOMETRY_GATE_CHI2 = 16.27     # 99.9 %, 3 degrees of freedom
+MIN_POS_SIGMA_FT = 0.1         # the prior is never surer than this for gating ...
+MIN_ROT_SIGMA_DEG = 1.0        # ... and this
+
+
+def _predict(prev_xzh, P, dr_prev, dr_now, config: WalkConfig):
+    """The prior pose and its covariance: the last pose moved by the odometry's
+    step; the step's noise (a share of the distance, degrees per turn) and the
+    heading's uncertainty carried into position by the usual linearisation."""
+    xzh, step_ft, turn = _compose_step(prev_xzh, dr_prev, dr_now)
+    h = np.radians(xzh[2])
+    F = np.array([[1.0, 0.0, step_ft * np.cos(h)], [0.0, 1.0, -step_ft * np.sin(h)], [0, 0, 1.0]])
+    G = np.array([[np.sin(h), 0.0], [np.cos(h), 0.0], [0.0, 1.0]])
+    sd = config.odometry_distance_fraction * step_ft
+    st = np.radians(config.odometry_turn_deg) if turn > 0 else 0.0
+    Q = np.diag([sd ** 2 + 0.01 ** 2, st ** 2 + np.radians(0.1) ** 2])
+    return xzh, F @ P @ F.T + G @ Q @ G.T
+
+
+def _cov6(P) -> np.ndarray:
+    """6x6 (position, rotation vector) gating covariance from the (x, z, heading) one."""
+    pos = max(P[0, 0], P[1, 1], MIN_POS_SIGMA_FT ** 2)
+    rot = max(P[2, 2], np.radians(MIN_ROT_SIGMA_DEG) ** 2)
+    return np.diag([pos, MIN_POS_SIGMA_FT ** 2, pos, np.radians(MIN_ROT_SIGMA_DEG) ** 2, rot,
+                    np.radians(MIN_ROT_SIGMA_DEG) ** 2])
+
+
+def _fuse(fix: PoseEstimate, prior_xzh, P):
+    """The fix combined with the odometry's prior (x, z, heading) by their
+    covariances — the text's "combining multiple sensor inputs ... stochastically"
+    (Appendix A, after A-29).  A fix outside the prior's 99.9 % region is not
+    used (its matches are taken to be wrong): returns the reason instead."""
+    z = np.array([fix.centre[0], fix.centre[2], np.radians(fix.heading_deg)])
+    m = np.array([prior_xzh[0], prior_xzh[1], np.radians(prior_xzh[2])])
+    d = z - m
+    d[2] = np.radians(wrap_deg(np.degrees(d[2])))
+    C = fix.xz_heading_covariance()
+    if C is None:
+        C = np.diag([MIN_POS_SIGMA_FT ** 2] * 2 + [np.radians(MIN_ROT_SIGMA_DEG) ** 2])
+    Pg = np.diag(np.diag(_cov6(P))[[0, 2, 4]])
+    m2 = float(d @ np.linalg.solve(Pg + C, d))
+    if m2 > ODOMETRY_GATE_CHI2:
+        return (f"{fix.method} fix disagrees with the odometry's prior by {np.hypot(d[0], d[1]):.2f} "
+                f"ft and {np.degrees(abs(d[2])):.1f} deg (chi-square {m2:.0f}); prior kept")
+    K = P @ np.linalg.inv(P + C)
+    post = m + K @ d
+    P_post = (np.eye(3) - K) @ P
+    P_post = (P_post + P_post.T) / 2
+    # the fix's own tilt (pitch, roll) is kept; its heading and floor position are the fused ones
+    turn = np.degrees(post[2]) - fix.heading_deg
+    R = _rotation(turn) @ fix.R
+    U, _, Vt = np.linalg.svd(R)
+    R = U @ Vt                                   # a48's axes are not orthonormal: the nearest rotation
+    centre = np.array([post[0], fix.centre[1], post[1]])
+    cov6 = np.zeros((6, 6))
+    if fix.covariance6 is not None:
+        cov6 = fix.covariance6.copy()
+    elif fix.Cc is not None:
+        cov6[:3, :3] = fix.Cc[:3, :3]
+    at = [0, 2, 4]                               # x, z, heading (rotation about room Y)
+    cov6[np.ix_(at, at)] = P_post
+    est = PoseEstimate("fused", left_centre(centre, R), axes_matrix(R), fix.inliers,
+                       covariance6=cov6)
+    return est, P_post
+
+
+def _wrong(model, pairs, obs_truth) -> int:
+    n = 0
+    for vid, i in pairs:
+        t = model.vertices[vid].truth
+        if t is None or np.linalg.norm(obs_truth[i] - t) > WRONG_MATCH_FT:
+            n += 1
+    return n
+
+
+def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
+                  look: int, obs_truth, obs_truth_id, history, surfaces=()) -> int:
+    """Kalman-update the vertices the driving pose kept, add the observations
+    no model vertex claimed, link boundary lines.  Returns how many were added."""
+    if not obs:
+        return 0
+    q = np.array([o.q for o in obs])
+    Cq = np.array([o.cov for o in obs])
+    z = est.transform(q)
+    Rm = measurement_covariance_a30(est.M, Cq)
+    if kalman in ("a29", "ci"):
+        Rm = measurement_covariance_a29(est.M, Cq, est.pose_covariance_at(q))
+    claimed = {i for _, i in pairs}
+    vertex_of: dict[int, int] = {}
+    for vid, i in pairs_used:
+        v = model.vertices[vid]
+        if kalman == "ci":
+            m, P = covariance_intersection(v.mean, v.cov, z[i], Rm[i])
+            v.mean, v.cov = m[0], P[0]
+        else:
+            v.mean, v.cov = static_update(v.mean, v.cov, z[i], Rm[i])
+        v.looks += 1
+        v.last_look = look
+        v.shape = obs[i].shape
+        vertex_of[i] = vid
+        if v.truth is not None:
+            history.setdefault(vid, []).append(float(np.linalg.norm(v.mean - v.truth)))
+    added = 0
+    for i, o in enumerate(obs):
+        if i in claimed:
+            continue
+        v = model.add_vertex(z[i], Rm[i], o.kind, o.grey, look)
+        v.shape = o.shape
+        v.truth = obs_truth[i].copy()
+        v.truth_id = int(obs_truth_id[i])
+        history[v.id] = [float(np.linalg.norm(v.mean - v.truth))]
+        vertex_of[i] = v.id
+        added += 1
+    # boundary lines: one per vertical edge, its ends the vertices just placed
+    index = {id(o): i for i, o in enumerate(obs)}
+    line_of: dict[int, int] = {}
+    for n_edge, e in enumerate(edges):
+        ends: list[int | None] = [None, None]
+        for vo in e.vertices:
+            i = _find_obs(obs, vo, index)
+            if i is not None and i in vertex_of:
+                ends[0 if vo.kind == "top" else 1] = vertex_of[i]
+        known = [ln for vid in ends if vid is not None for ln in model.vertices[vid].lines]
+        if known:
+            line = model.lines[known[0]]
+            line.looks += 1
+            merged = list(line.ends)
+            for slot in (0, 1):
+                if merged[slot] is None and ends[slot] is not None:
+                    merged[slot] = ends[slot]
+                    model.vertices[ends[slot]].lines.append(line.id)
+            line.ends = tuple(merged)
+            model.refresh_line(line)
+            line_of[n_edge] = line.id
+        elif any(vid is not None for vid in ends):
+            c = est.transform(e.centre[None])[0]
+            C = measurement_covariance_a30(est.M, e.centre_cov)
+            pts = np.array([model.vertices[vid].mean if vid is not None else c for vid in ends])
+            line = model.add_line(c, C, ends, pts, e.grey)
+            model.refresh_line(line)
+            line_of[n_edge] = line.id
+    _update_surfaces(model, surfaces, line_of, est)
+    return added
+
+
+def _update_surfaces(model, surfaces, line_of, est: PoseEstimate) -> None:
+    """Chapter III surfaces: a feature interval between two known boundary lines.
+    Its centre follows its lines; the normal is horizontal, across the two
+    lines, facing the camera; the grey extremes widen with each look."""
+    for so in surfaces:
+        a, b = line_of.get(so.left_edge), line_of.get(so.right_edge)
+        if a is None or b is None or a == b:
+            continue
+        la, lb = model.lines[a], model.lines[b]
+        known = [sid for sid, srf in model.surfaces.items() if set(srf.lines[:2]) == {a, b}]
+        centre = (la.centre + lb.centre) / 2
+        along = lb.centre - la.centre
+        normal = np.array([along[2], 0.0, -along[0]])
+        n = np.linalg.norm(normal)
+        normal = normal / n if n > 0 else np.array([0.0, 0.0, -1.0])
+        if normal @ (est.left - centre) < 0:
+            normal = -normal
+        if known:
+            srf = model.surfaces[known[0]]
+            srf.centre, srf.normal = centre, normal
+            srf.grey_extremes = (min(srf.grey_extremes[0], so.grey_extremes[0]),
+                                 max(srf.grey_extremes[1], so.grey_extremes[1]))
+            continue
+        from .symbolic import Surface
+        sid = len(model.surfaces)
+        model.surfaces[sid] = Surface(sid, centre, normal, so.grey_extremes, [a, b])
+        la.surface = lb.surface = sid
+        la.next_line = b
+
+
+def _find_obs(obs, vo, index):
+    i = index.get(id(vo))
+    if i is not None:
+        return i
+    for j, o in enumerate(obs):
+        if o.edge == vo.edge and o.kind == vo.kind:
+            return j
+    return None

@@ -1,0 +1,351 @@
+"""``rig walk`` — the robot walks a room on the 1985 eyes and keeps one model of it.
+
+Each look: the world renders the pair at the true pose, the rig scans it
+(ESTAR, lines 8..112), the located edges become vertex observations, they are
+matched to the model, every pose method estimates the camera on the same
+correspondences, and the driving method's pose updates the model (static
+Kalman filter) and adds what is new (see :mod:`model.mapping`).
+
+Method names (table, ``--json`` and model JSON):
+
+==================  ==========================================================
+``dead_reckoning``  the odometry alone (2 % of distance, 1 degree per turn)
+``fused``           the robot's pose: the driving method's fix (``--method``)
+                    combined with the odometry's prior by their covariances;
+                    the model is updated with it
+``a48``             Appendix A as written: A-21..A-48, covariance A-50
+``rigid``           alternative (a): a true rotation, full-covariance weights
+``robust``          alternative (b): (a) with wrong correspondences rejected
+``floor``           alternative (c): floor-following (x, z, heading), with (b)
+``kabsch``          reference: unweighted Kabsch (scipy)
+``opencv``          reference: OpenCV estimateAffine3D
+==================  ==========================================================
+
+Outputs (``--out DIR``): ``model.json`` (everything: settings, every look,
+the whole symbolic model), ``model.ply`` (vertices with covariance),
+``map.png`` (top-down: the model with 2-sigma ellipses, the true room
+outline, the true, estimated and dead-reckoned paths) and ``errors.png``
+(error per look, every method).  All files are written under temporary
+names and renamed once everything is computed: an interrupted walk leaves
+nothing half-written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from model.pose import ESTIMATORS, METHOD_NOTES
+
+ALL_METHODS = ("dead_reckoning", "fused", *ESTIMATORS)
+DEFAULT_ROOM_LOOKS = 30
+
+
+class WalkInputError(ValueError):
+    """Bad input to ``rig walk``: one clear message."""
+
+
+# --- inputs ----------------------------------------------------------------------
+
+def load_walk(args):
+    """(room, poses, description) from the options; raises WalkInputError."""
+    from world.room import bundled_lab, generate_room
+    from world.walk import bundled_walk, generate_walk, read_walk
+    if args.room is not None:
+        room = generate_room(args.room)
+        label = f"generated room {args.room}"
+    else:
+        room = bundled_lab()
+        label = "bundled lab"
+    if args.walk:
+        try:
+            poses = read_walk(args.walk)
+        except (ValueError, OSError) as exc:
+            raise WalkInputError(str(exc)) from None
+        label += f", walk {args.walk}"
+    elif args.room is not None:
+        try:
+            poses = generate_walk(room, args.room, args.looks or DEFAULT_ROOM_LOOKS)
+        except ValueError as exc:
+            raise WalkInputError(f"{label}: {exc}") from None
+        label += f", generated walk (seed {args.room})"
+    else:
+        poses = bundled_walk()
+        label += ", bundled walk"
+    if args.looks is not None:
+        if args.looks < 2:
+            raise WalkInputError(f"--looks {args.looks}: a walk needs at least 2 looks")
+        poses = poses[:args.looks]
+    if len(poses) < 2:
+        raise WalkInputError(f"{label}: only {len(poses)} pose(s); a walk needs at least 2")
+    for i, p in enumerate(poses):
+        x0, x1, z0, z1 = room.bounds
+        if not (x0 < p.x < x1 and z0 < p.z < z1):
+            raise WalkInputError(f"{label}: pose {i} (x {p.x:g}, z {p.z:g}) is outside the room "
+                                 f"(x {x0:g}..{x1:g}, z {z0:g}..{z1:g})")
+        if room.clearance(p.x, p.z) <= 0:
+            raise WalkInputError(f"{label}: pose {i} (x {p.x:g}, z {p.z:g}) is inside an obstacle")
+    return room, poses, label
+
+
+# --- tables ---------------------------------------------------------------------------
+
+def _fmt_est(e):
+    return "      refused      " if e is None else f"{e[0]:6.2f} {e[1]:6.2f} {e[2]:7.1f}"
+
+
+def look_table(result, driver: str) -> str:
+    head = (f"look  true x      z    head |    fused x      z    head |  err ft  deg | "
+            f"dead-rec err ft deg | seen match wrong used | model  ms")
+    out = [head, "-" * len(head)]
+    for r in result.records:
+        t = r.true_pose
+        e = r.estimates.get("fused")
+        err = r.errors("fused")
+        dre = r.errors("dead_reckoning")
+        es = "   -     -  " if err is None else f"{err[0]:6.2f} {err[1]:5.1f}"
+        out.append(f"{r.look:4d} {t.x:6.2f} {t.z:6.2f} {t.heading_deg:7.1f} | {_fmt_est(e):>24s} | "
+                   f"{es} | {dre[0]:10.2f} {dre[1]:5.1f} | {r.seen:4d} {r.matched:5d} {r.wrong:5d} "
+                   f"{r.used:4d} | {r.model_size:5d} {r.times_ms['look']:4.0f}"
+                   + ("" if not r.driver_refused or r.look == 0 else f"  <- {r.driver_refused}"))
+    return "\n".join(out)
+
+
+def method_summary(result) -> list[dict]:
+    """Per method: looks fixed, median/worst position and heading error (looks 1..)."""
+    rows = []
+    for m in ALL_METHODS:
+        if m != "dead_reckoning" and m not in result.records[0].estimates:
+            continue
+        errs = [r.errors(m) for r in result.records[1:]]
+        ok = np.array([e for e in errs if e is not None]).reshape(-1, 2)
+        times = [r.times_ms[m] for r in result.records[1:] if m in r.times_ms]
+        rows.append({
+            "method": m, "fixed": int(len(ok)), "looks": len(errs),
+            "median_position_error_ft": float(np.median(ok[:, 0])) if len(ok) else None,
+            "worst_position_error_ft": float(ok[:, 0].max()) if len(ok) else None,
+            "median_heading_error_deg": float(np.median(ok[:, 1])) if len(ok) else None,
+            "worst_heading_error_deg": float(ok[:, 1].max()) if len(ok) else None,
+            "median_solve_ms": float(np.median(times)) if times else None,
+        })
+    return rows
+
+
+def summary_text(result, rows) -> str:
+    def f(v, p=2):
+        return "    -" if v is None else f"{v:{6}.{p}f}"
+    out = ["method          fixed   position error ft    heading error deg   solve ms",
+           "                        median    worst      median    worst",
+           "--------------  -----   ------   ------      ------   ------   --------"]
+    for r in rows:
+        out.append(f"{r['method']:14s}  {r['fixed']:2d}/{r['looks']:<2d}   {f(r['median_position_error_ft'])}"
+                   f"   {f(r['worst_position_error_ft'])}      {f(r['median_heading_error_deg'], 1)}"
+                   f"   {f(r['worst_heading_error_deg'], 1)}   {f(r['median_solve_ms'], 1)}")
+    fs = result.feature_scores()
+    matched = sum(r.matched for r in result.records)
+    wrong = sum(r.wrong for r in result.records)
+    used = sum(r.used for r in result.records)
+    used_wrong = sum(r.used_wrong for r in result.records)
+    looks_ms = [r.times_ms["look"] for r in result.records[1:]]
+    out.append("")
+    out.append(f"model: {fs['features']} vertices, {len(result.model.lines)} boundary lines; "
+               f"RMS error {f(fs['rms_error_ft'])} ft (median {f(fs['median_error_ft'])}); truths "
+               f"inside 2 sigma {100 * (fs['inside_2sigma'] or 0):.0f} %")
+    out.append(f"  confirmed (seen in 2 looks or more): {fs['confirmed']}, RMS error "
+               f"{f(fs['confirmed_rms_error_ft'])} ft (median {f(fs['confirmed_median_error_ft'])}), "
+               f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.0f} %")
+    out.append(f"correspondences: {matched} matched, {wrong} wrong "
+               f"({100 * wrong / max(matched, 1):.0f} %); {used} used by the driving method, "
+               f"{used_wrong} of them wrong ({100 * used_wrong / max(used, 1):.0f} %)")
+    rl = result.rms_by_looks(12)
+    out.append("feature RMS ft after n looks: " + ", ".join(
+        f"{n}: {rms:.2f} ({cnt})" for n, cnt, rms in rl))
+    out.append(f"time per look (scan + model + driving method): median {np.median(looks_ms):.0f} ms")
+    return "\n".join(out)
+
+
+# --- JSON --------------------------------------------------------------------------
+
+def walk_json(result, label: str, rows) -> dict:
+    """The ``--json`` document (the schema of issue 10, plus more fields)."""
+    looks = []
+    for r in result.records:
+        t = r.true_pose
+        methods = {}
+        for m in ALL_METHODS:
+            if m not in r.estimates:
+                continue
+            e = r.estimates[m]
+            err = r.errors(m)
+            if e is None:
+                methods[m] = {"x": None, "z": None, "heading_deg": None, "position_error_ft": None,
+                              "heading_error_deg": None, "refused": r.refusals.get(m, "")}
+            else:
+                methods[m] = {"x": e[0], "z": e[1], "heading_deg": e[2],
+                              "position_error_ft": err[0], "heading_error_deg": err[1]}
+        v = r.velocity
+        looks.append({
+            "look": r.look, "true": {"x": t.x, "z": t.z, "heading_deg": t.heading_deg},
+            "methods": methods, "seen": r.seen, "matched": r.matched, "wrong": r.wrong,
+            "used": r.used, "used_wrong": r.used_wrong, "added": r.added,
+            "model_size": r.model_size, "time_ms": {k: round(x, 3) for k, x in r.times_ms.items()},
+            "driver_refused": r.driver_refused if r.look else None,
+            "velocity": None if v is None else {
+                "vx_ft_s": v.vx, "vz_ft_s": v.vz, "turn_deg_s": v.turn_deg_s,
+                "cov": np.round(v.cov, 8).tolist()},
+        })
+    fs = result.feature_scores()
+    return {
+        "walk": label,
+        "driver": result.config.driver, "kalman": result.config.kalman,
+        "match": result.config.match,
+        "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
+                         if m == "dead_reckoning" or m in result.records[0].estimates},
+        "looks": looks,
+        "model": {"features": fs["features"], "rms_error_ft": fs["rms_error_ft"],
+                  "inside_2sigma": fs["inside_2sigma"], "scored": fs["scored"],
+                  "inside_mahalanobis_2": fs["inside_mahalanobis_2"],
+                  "median_error_ft": fs["median_error_ft"], "confirmed": fs["confirmed"],
+                  "confirmed_rms_error_ft": fs["confirmed_rms_error_ft"],
+                  "confirmed_median_error_ft": fs["confirmed_median_error_ft"],
+                  "confirmed_inside_2sigma": fs["confirmed_inside_2sigma"],
+                  "lines": len(result.model.lines),
+                  "rms_by_looks": [{"looks": n, "features": c, "rms_error_ft": e}
+                                   for n, c, e in result.rms_by_looks(20)]},
+        "summary": rows,
+    }
+
+
+# --- the command -------------------------------------------------------------------
+
+def cmd_walk(args) -> int:
+    from model.mapping import WalkConfig, run_walk
+    from world.odometry import OdometryNoise, dead_reckon
+    from world.render import render_look
+    try:
+        room, poses, label = load_walk(args)
+        if args.interval <= 0:
+            raise WalkInputError(f"--interval {args.interval}: the time between looks must be > 0")
+        if args.json and not Path(args.json).resolve().parent.is_dir():
+            raise WalkInputError(f"--json {args.json}: no such directory "
+                                 f"{Path(args.json).resolve().parent}")
+        if Path(args.out).exists() and not Path(args.out).is_dir():
+            raise WalkInputError(f"--out {args.out}: exists and is not a directory")
+    except WalkInputError as exc:
+        print(f"rig walk: {exc}", file=sys.stderr)
+        return 2
+    methods = tuple(args.methods) if args.methods else ESTIMATORS
+    if args.line_step < 1:
+        print(f"rig walk: --line-step {args.line_step}: must be at least 1", file=sys.stderr)
+        return 2
+    config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
+                        match=args.match, look_interval_s=args.interval,
+                        lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range,
+                        shape_max_bits=None if args.shape_bits < 0 else args.shape_bits)
+    noise = OdometryNoise(seed=args.odometry_seed)
+    dr = dead_reckon(poses, noise)
+    out = Path(args.out)
+    print(f"rig walk: {label}, {len(poses)} looks; driving method {args.method}, Kalman "
+          f"{args.kalman}, stereo matcher {args.match}")
+    bar = None
+    if not args.quiet:
+        from tqdm import tqdm
+        bar = tqdm(total=len(poses), desc="looks", unit="look", disable=None)
+    t0 = time.perf_counter()
+    try:
+        result = run_walk(room, poses, dr,
+                          lambda r, p, k: render_look(r, p, seed=args.render_seed + k),
+                          config, progress=(lambda k: bar.update(1)) if bar else None)
+    except KeyboardInterrupt:
+        if bar:
+            bar.close()
+        print("rig walk: interrupted; nothing written", file=sys.stderr)
+        return 130
+    except (ValueError, RuntimeError) as exc:
+        if bar:
+            bar.close()
+        print(f"rig walk: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        if bar:
+            bar.close()
+    took = time.perf_counter() - t0
+    print(look_table(result, args.method))
+    rows = method_summary(result)
+    print()
+    print(summary_text(result, rows))
+    print(f"({took:.1f} s in all, rendering included)")
+    doc = walk_json(result, label, rows)
+    from model.symbolic import ply_text
+    from .pictures import save_png
+    from .walkpictures import error_plot, walk_map
+    full = dict(doc)
+    full["model_tables"] = result.model.to_json()
+    out.mkdir(parents=True, exist_ok=True)
+    images = {"map.png": walk_map(room, result, args.method),
+              "errors.png": error_plot(result)}
+    texts = {"model.json": json.dumps(full, indent=1) + "\n",
+             "model.ply": ply_text(result.model)}
+    from .scan import write_atomic
+    written = [write_atomic(out / name, text) for name, text in texts.items()]
+    written += [save_png(out / name, img) for name, img in images.items()]
+    if args.json:
+        written.append(write_atomic(args.json, json.dumps(doc, indent=1) + "\n"))
+    print("wrote: " + ", ".join(str(p) for p in written))
+    return 0
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    w = sub.add_parser(
+        "walk", help="walk a room: many looks, one model, where the camera is",
+        description="The robot walks a simulated room on the 1985 eyes: every look is "
+                    "rendered, scanned by the rig, matched to the model, the camera is "
+                    "located by each method on the same correspondences, and the model "
+                    "improves by the static Kalman update.  Methods: "
+                    + "; ".join(f"{m}: {METHOD_NOTES[m]}" for m in ALL_METHODS) + ".",
+    )
+    w.add_argument("--walk", metavar="FILE",
+                   help="walk CSV (header x,z,heading_deg,pitch_deg,roll_deg); default: the "
+                        "bundled walk (or a generated one with --room)")
+    w.add_argument("--room", type=int, metavar="SEED",
+                   help="a generated room (and, without --walk, a generated walk) instead of "
+                        "the bundled lab")
+    w.add_argument("--looks", type=int, metavar="N", help="only the first N looks "
+                   f"(a generated walk has {DEFAULT_ROOM_LOOKS} by default)")
+    w.add_argument("--method", choices=ESTIMATORS, default="robust",
+                   help="the method whose pose updates the model (default robust)")
+    w.add_argument("--methods", nargs="+", choices=ESTIMATORS, metavar="NAME",
+                   help="methods to compare on the same correspondences (default all: "
+                        + ", ".join(ESTIMATORS) + ")")
+    w.add_argument("--kalman", choices=("a30", "a29", "ci"), default="a30",
+                   help="a30: camera error ignored, as written (default); a29: propagated; "
+                        "ci: propagated and fused by covariance intersection (looks' errors "
+                        "correlated)")
+    w.add_argument("--match", choices=("1985", "improved"), default="1985",
+                   help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
+                        "improved (the matching package's, where installed)")
+    w.add_argument("--line-step", type=int, default=2, metavar="N",
+                   help="scan every N-th line of 8..112 (default 2: half the scan time; "
+                        "1 scans every line)")
+    w.add_argument("--max-range", type=float, default=15.0, metavar="FT",
+                   help="vertices farther than this are not used (default 15 ft, the range "
+                        "Chapter V found the rig fairly accurate within)")
+    w.add_argument("--shape-bits", type=int, default=64, metavar="N",
+                   help="matching's shape gate: corner maps (Appendix B) differing in more "
+                        "than N of 256 bits do not match (default 64; -1: no shape gate)")
+    w.add_argument("--interval", type=float, default=1.0, metavar="S",
+                   help="seconds between looks, for the velocity (default 1)")
+    w.add_argument("--odometry-seed", type=int, default=1985, metavar="SEED")
+    w.add_argument("--render-seed", type=int, default=1985, metavar="SEED",
+                   help="sensor-noise seed of look 0 (look k uses SEED + k)")
+    w.add_argument("--out", default="out/walk", help="where the model and pictures go "
+                                                     "(default out/walk)")
+    w.add_argument("--json", metavar="FILE", help="machine-readable summary (see rig/walk.py)")
+    w.add_argument("--quiet", action="store_true", help="no progress bar")
+    w.set_defaults(func=cmd_walk)
+    return w

@@ -1,0 +1,94 @@
+"""Vertical edges grouped over scan lines and their vertex observations,
+against values worked out by hand from A-6..A-8, A-13, A-17, A-18, A-20."""
+
+import numpy as np
+import pytest
+
+from model.edges import group_vertical_edges, locate, Camera, vertex_observations
+from rig.scan import Point
+
+
+def pts(lines, loc1, disparity, edge=1):
+    return [Point(y, edge, loc1, loc1 - disparity, 0, 0, 0, 0, 0, 0) for y in lines]
+
+
+def test_locate_hand_example():
+    # column 69.5 (LOC1 70), row 20.0, disparity 10, ds 0.75, dv 180:
+    # dp = 135/10 = 13.5; dx = 5.5*13.5/180 = 0.4125; dy = -40*13.5/180 = -3.0
+    # ep = 135*1/(100 - 10) = 1.5; ex = (5.5*1.5 + 13.5*0.5 + 1.5*0.5)/180 = 0.0875
+    # ey (eD = 1) = (40*1.5 + 13.5 + 1.5)/180 = 75/180
+    q, C = locate(69.5, 20.0, 10.0, Camera(), e_d=1.0)
+    np.testing.assert_allclose(q, [13.5, 0.4125, -3.0])
+    np.testing.assert_allclose(np.diag(C), [0.75 ** 2, 0.04375 ** 2, (75 / 360) ** 2])
+    assert locate(64, 60, 1.0, Camera()) is None          # disparity not above 1 px (LCSL)
+
+
+def test_two_edges_and_their_vertices():
+    lines = range(8, 113)
+    points = pts(range(20, 41), 70, 10) + pts(range(30, 51), 90, 20, edge=51)
+    edges = group_vertical_edges(points, lines)
+    assert len(edges) == 2
+    a, b = edges
+    assert a.lines == tuple(range(20, 41)) and b.lines == tuple(range(30, 51))
+    tops = [v for v in vertex_observations(edges) if v.kind == "top"]
+    # the corner lies between the last line without the edge and the first with it
+    assert tops[0].row == pytest.approx(20.0) and tops[0].col == pytest.approx(69.5)
+    q, C = locate(69.5, 20.0, 10.0, Camera(), e_d=1.0)
+    np.testing.assert_allclose(tops[0].q, q)
+    np.testing.assert_allclose(tops[0].cov, C)
+    bottom = [v for v in a.vertices if v.kind == "bottom"][0]
+    assert bottom.row == pytest.approx(41.0)
+
+
+def test_clipped_ends_are_not_vertices_and_disparity_jumps_split():
+    lines = range(8, 113)
+    edges = group_vertical_edges(pts(range(8, 30), 50, 12), lines)
+    assert len(edges) == 1 and edges[0].top_clipped
+    assert [v.kind for v in edges[0].vertices] == ["bottom"]
+    split = group_vertical_edges(pts(range(40, 50), 60, 8) + pts(range(50, 60), 60, 12), lines)
+    assert len(split) == 2
+
+
+def test_short_chains_are_dropped_and_line_gaps_bridged():
+    lines = range(8, 113)
+    assert group_vertical_edges(pts(range(40, 43), 60, 8), lines) == []     # 3 lines < 4
+    gapped = pts(range(40, 46), 60, 8) + pts(range(48, 54), 60, 8)           # 2 lines missing
+    assert len(group_vertical_edges(gapped, lines)) == 1
+
+
+def test_wrong_stereo_match_is_dropped_by_the_grey_check():
+    left = np.full((120, 128), 5, np.uint8)
+    left[:, 69:] = 12                         # a step at column 69 in the left picture
+    right = np.full((120, 128), 5, np.uint8)
+    right[:, 59:] = 12                        # ... and 10 px left in the right picture
+    good = pts(range(30, 40), 70, 10)
+    assert len(group_vertical_edges(good, range(8, 113), left, right_picture=right)) == 1
+    wrong = pts(range(30, 40), 70, 25)        # paired with a place where the right picture is flat
+    assert group_vertical_edges(wrong, range(8, 113), left, right_picture=right) == []
+
+
+def test_surface_between_two_edges_of_one_feature():
+    from model.edges import surface_observations
+    left = np.full((120, 128), 5, np.uint8)
+    left[:, 70:90] = 11
+    left[40, 75] = 13                          # the lightest pixel inside
+    # feature 3 of each line: its left end (edge 3) at LOC1 71, its right end (edge 53) at 90
+    points = pts(range(30, 50), 71, 10, edge=3) + pts(range(30, 50), 90, 10, edge=53)
+    edges = group_vertical_edges(points, range(8, 113), left)
+    surfaces = surface_observations(edges, left)
+    assert len(surfaces) == 1
+    s = surfaces[0]
+    assert (s.left_edge, s.right_edge) == (0, 1) and s.lines == tuple(range(30, 50))
+    assert s.grey_extremes == (11, 13)
+    np.testing.assert_allclose(s.centre, (edges[0].centre + edges[1].centre) / 2)
+
+
+def test_corner_map_of_a_box_corner():
+    from model.edges import corner_map
+    pic = np.full((120, 128), 5, np.uint8)
+    pic[40:, 70:] = 12                       # a lighter box whose top-left corner is (col 70, row 40)
+    # the window: columns 62..77, rows 40..55; set where nearer the right-side grey (12)
+    words = corner_map(pic, 70.0, 40.0, "top", (5, 12))
+    assert words == (0,) * 8 + (0xFFFF,) * 8
+    # the bottom view of the same corner sees the background above it: nothing set
+    assert corner_map(pic, 70.0, 40.0, "bottom", (5, 12)) == (0,) * 16

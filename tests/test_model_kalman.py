@@ -1,0 +1,71 @@
+"""The static Kalman update (Chapter III "Stochastic Updates") against a
+3-D example computed by hand."""
+
+import numpy as np
+
+from model.kalman import measurement_covariance_a29, measurement_covariance_a30, static_update
+
+
+def test_static_update_hand_example():
+    # P = diag(4, 1, 9), R = diag(4, 3, 4.5): K = diag(4/8, 1/4, 9/13.5) = diag(1/2, 1/4, 2/3)
+    # m = (1, 2, 3), z = (3, 6, 6): m' = (1 + 2/2, 2 + 4/4, 3 + 3*2/3) = (2, 3, 5)
+    # P' = (I - K) P = diag(2, 3/4, 3)
+    m, P = static_update([1, 2, 3], np.diag([4.0, 1, 9]), [3, 6, 6], np.diag([4.0, 3, 4.5]))
+    np.testing.assert_allclose(m, [2, 3, 5], atol=1e-12)
+    np.testing.assert_allclose(P, np.diag([2, 0.75, 3]), atol=1e-12)
+
+
+def test_static_update_hand_example_in_turned_axes():
+    # the same example seen in axes turned by the 3-4-5 rotation Q (exact entries):
+    # every mean turns by Q, every covariance becomes Q C Q^T; worked out by hand,
+    # Q diag(a, b, c) Q^T = [[.36a+.64b, .48a-.48b, 0], [.48a-.48b, .64a+.36b, 0], [0, 0, c]]
+    Q = np.array([[0.6, -0.8, 0], [0.8, 0.6, 0], [0, 0, 1.0]])
+
+    def turned(a, b, c):
+        return np.array([[.36 * a + .64 * b, .48 * a - .48 * b, 0],
+                         [.48 * a - .48 * b, .64 * a + .36 * b, 0], [0, 0, c]])
+
+    m, P = static_update(Q @ [1, 2, 3], turned(4, 1, 9), Q @ [3, 6, 6], turned(4, 3, 4.5))
+    np.testing.assert_allclose(m, [0.6 * 2 - 0.8 * 3, 0.8 * 2 + 0.6 * 3, 5], atol=1e-12)
+    np.testing.assert_allclose(P, turned(2, 0.75, 3), atol=1e-12)
+
+
+def test_update_is_information_fusion_and_stacks():
+    rng = np.random.default_rng(5)
+    A = rng.normal(size=(4, 3, 3))
+    P = A @ A.transpose(0, 2, 1) + np.eye(3)
+    B = rng.normal(size=(4, 3, 3))
+    R = B @ B.transpose(0, 2, 1) + 0.5 * np.eye(3)
+    m, z = rng.normal(size=(4, 3)), rng.normal(size=(4, 3))
+    mm, PP = static_update(m, P, z, R)
+    for i in range(4):
+        info = np.linalg.inv(P[i]) + np.linalg.inv(R[i])
+        np.testing.assert_allclose(PP[i], np.linalg.inv(info), rtol=1e-9)
+        want = np.linalg.solve(info, np.linalg.solve(P[i], m[i]) + np.linalg.solve(R[i], z[i]))
+        np.testing.assert_allclose(mm[i], want, rtol=1e-9, atol=1e-12)
+
+
+def test_a29_adds_the_camera_term_to_a30():
+    M = np.array([[0, 1.0, 0], [0, 0, 1], [1, 0, 0]])     # R_p = z, R_x = x, R_y = y
+    C = np.diag([0.09, 0.01, 0.04])                      # (p, x, y)
+    a30 = measurement_covariance_a30(M, C)
+    np.testing.assert_allclose(a30, np.diag([0.01, 0.04, 0.09]))
+    extra = np.diag([0.001, 0.002, 0.003])
+    np.testing.assert_allclose(measurement_covariance_a29(M, C, extra), a30 + extra)
+
+
+def test_covariance_intersection_hand_example():
+    from model.kalman import covariance_intersection
+    # equal covariances 2I: P' = (w/2 + (1-w)/2)^-1 I = 2I for every w (trace ties: w = 0
+    # is the first grid point), mean = w m + (1-w) z = z; never smaller than either input
+    m, P = covariance_intersection([0, 0, 0], 2 * np.eye(3), [1, 2, 3], 2 * np.eye(3))
+    np.testing.assert_allclose(P[0], 2 * np.eye(3))
+    # a sure feature and a vague measurement: w = 1 keeps the feature as it is
+    m, P = covariance_intersection([1, 1, 1], 0.1 * np.eye(3), [5, 5, 5], 10 * np.eye(3))
+    np.testing.assert_allclose(m[0], [1, 1, 1])
+    np.testing.assert_allclose(P[0], 0.1 * np.eye(3))
+    # complementary axes: P = diag(1, 4, 1), R = diag(4, 1, 1); the trace of
+    # (w P^-1 + (1-w) R^-1)^-1 is least at w = 1/2: P' = diag(1.6, 1.6, 1)
+    m, P = covariance_intersection([0, 0, 0], np.diag([1.0, 4, 1]), [1, 1, 1], np.diag([4.0, 1, 1]))
+    np.testing.assert_allclose(P[0], np.diag([1.6, 1.6, 1.0]), atol=1e-12)
+    np.testing.assert_allclose(m[0], [0.2, 0.8, 0.5], atol=1e-12)

@@ -1,0 +1,87 @@
+"""``rig walk`` end to end on a short walk, its JSON schema, and bad input."""
+
+import json
+
+import numpy as np
+import pytest
+
+from rig.main import main
+from rig.walk import ALL_METHODS
+
+
+@pytest.fixture(scope="module")
+def short_walk(tmp_path_factory):
+    out = tmp_path_factory.mktemp("walk")
+    rc = main(["walk", "--looks", "3", "--out", str(out / "o"), "--json", str(out / "w.json"),
+               "--quiet"])
+    return rc, out
+
+
+def test_rig_walk_end_to_end(short_walk, capsys):
+    rc, out = short_walk
+    assert rc == 0
+    doc = json.loads((out / "w.json").read_text())
+    assert [lk["look"] for lk in doc["looks"]] == [0, 1, 2]
+    assert set(doc["method_names"]) == set(ALL_METHODS)
+    for lk in doc["looks"]:
+        assert set(lk["true"]) == {"x", "z", "heading_deg"}
+        assert set(lk["methods"]) == set(ALL_METHODS)
+        for m in lk["methods"].values():
+            assert {"x", "z", "heading_deg", "position_error_ft", "heading_error_deg"} <= set(m)
+    # look 0 is the given start; the table's truth is the bundled walk's
+    from world.walk import bundled_walk
+    assert doc["looks"][0]["methods"]["a48"]["position_error_ft"] == 0.0
+    for lk, pose in zip(doc["looks"], bundled_walk()):
+        assert (lk["true"]["x"], lk["true"]["z"], lk["true"]["heading_deg"]) == pytest.approx(
+            (pose.x, pose.z, pose.heading_deg))
+    robust = doc["looks"][1]["methods"]["robust"]
+    assert robust["position_error_ft"] < 0.5 and robust["heading_error_deg"] < 3.0
+    model = doc["model"]
+    assert model["features"] > 50 and 0 <= model["inside_2sigma"] <= 1
+    assert model["rms_error_ft"] > 0
+    full = json.loads((out / "o" / "model.json").read_text())
+    assert len(full["model_tables"]["vertices"]) == model["features"]
+    ply = (out / "o" / "model.ply").read_text()
+    assert f"element vertex {model['features']}" in ply
+    body = ply.split("end_header\n", 1)[1].strip().splitlines()
+    assert len(body) == model["features"]
+    first = full["model_tables"]["vertices"][0]
+    np.testing.assert_allclose([float(v) for v in body[0].split()[:3]], first["mean"], atol=1e-4)
+    for name in ("map.png", "errors.png"):
+        assert (out / "o" / name).stat().st_size > 1000
+    assert not [p for p in (out / "o").iterdir() if p.name.startswith(".")]
+
+
+def test_bad_walk_row_is_one_clear_error(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,z,heading_deg,pitch_deg,roll_deg\n0,0,0,0,0\n0.5,zero,0,0,0\n")
+    out = tmp_path / "o"
+    rc = main(["walk", "--walk", str(bad), "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert "bad.csv" in err and "line 3" in err
+    assert not out.exists()
+
+
+def test_pose_outside_the_room_is_refused(tmp_path, capsys):
+    walk = tmp_path / "out.csv"
+    walk.write_text("x,z,heading_deg,pitch_deg,roll_deg\n0,0,0,0,0\n40,0,0,0,0\n")
+    rc = main(["walk", "--walk", str(walk), "--out", str(tmp_path / "o"), "--quiet"])
+    err = capsys.readouterr().err
+    assert rc == 2 and "pose 1" in err and "outside the room" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_too_few_looks_is_refused(tmp_path, capsys):
+    rc = main(["walk", "--looks", "1", "--out", str(tmp_path / "o"), "--quiet"])
+    assert rc == 2 and "at least 2 looks" in capsys.readouterr().err
+
+
+def test_unwritable_outputs_are_refused_before_walking(tmp_path, capsys):
+    rc = main(["walk", "--looks", "2", "--out", str(tmp_path / "o"), "--json",
+               str(tmp_path / "nowhere" / "w.json"), "--quiet"])
+    assert rc == 2 and "no such directory" in capsys.readouterr().err
+    (tmp_path / "file").write_text("x")
+    rc = main(["walk", "--looks", "2", "--out", str(tmp_path / "file"), "--quiet"])
+    assert rc == 2 and "not a directory" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
