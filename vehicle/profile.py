@@ -1,0 +1,48 @@
+"""The vehicle profile: what the planner and the simulated vehicle assume.
+
+Default (:data:`DEFAULT`): a HERO-1-sized base carrying the rig — a footprint
+1.0 ft wide by 1.25 ft long centred under the rig's midpoint, the cameras 3 ft
+above the floor (room Y = 0, the floor at Y = +3, as in the bundled lab), pivot
+turns (turning radius 0: the HERO-1 turns its single drive wheel across and
+pivots), at most 1.5 ft of forward travel between looks (the Stanford Cart
+moved about 2.5 ft per look), forward only.  ``margin_ft`` is added to the
+vehicle's radius when planning, against the error of the position estimate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class VehicleProfile:
+    width_ft: float = 1.0            # across (the rig's x axis)
+    length_ft: float = 1.25          # along the forward axis
+    camera_height_ft: float = 3.0    # above the floor
+    turning_radius_ft: float = 0.0   # 0: pivot turns
+    step_ft: float = 1.5             # most forward travel between looks
+    margin_ft: float = 0.25          # added to the radius for planning
+
+    def __post_init__(self):
+        for name in ("width_ft", "length_ft", "camera_height_ft", "step_ft"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"vehicle {name} must be positive, got {getattr(self, name)!r}")
+        if self.turning_radius_ft < 0 or self.margin_ft < 0:
+            raise ValueError("turning radius and margin must not be negative")
+
+    @property
+    def footprint(self) -> tuple[float, float]:
+        return (self.width_ft, self.length_ft)
+
+    @property
+    def radius_ft(self) -> float:
+        """The circle the footprint sweeps turning in place (half its diagonal)."""
+        return math.hypot(self.width_ft, self.length_ft) / 2
+
+    @property
+    def planning_radius_ft(self) -> float:
+        return self.radius_ft + self.margin_ft
+
+
+DEFAULT = VehicleProfile()
