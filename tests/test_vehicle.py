@@ -46,13 +46,15 @@ def test_noise_off_executes_exactly():
     assert v.execute("FORWARD 3; TURN 90; FORWARD 2; TURN 90; FORWARD 3; TURN 90; FORWARD 2; "
                      "TURN 90")
     assert (v.true.x, v.true.z, v.true.heading_deg) == pytest.approx((1.0, 2.0, 0.0), abs=1e-9)
-    assert v.dead == v.true
+    assert (v.dead.x, v.dead.z, v.dead.heading_deg) == pytest.approx(
+        (v.true.x, v.true.z, v.true.heading_deg), abs=1e-9)
     assert v.travelled_ft == pytest.approx(10.0)
     # a quarter circle of radius 2 to the right from heading 0 ends 2 right, 2 ahead, facing +X
     v = Vehicle([], OPEN, State(0.0, 0.0, 0.0))
     v.execute([Arc(2.0, 90.0)])
     assert (v.true.x, v.true.z, v.true.heading_deg) == pytest.approx((2.0, 2.0, 90.0), abs=1e-9)
-    assert v.travelled_ft == pytest.approx(math.pi, rel=1e-3)     # chords of the swept arc
+    assert v.travelled_ft == pytest.approx(math.pi)
+    assert (v.dead.x, v.dead.z) == pytest.approx((2.0, 2.0), abs=1e-9)
 
 
 class FixedNoise:

@@ -6,7 +6,7 @@ camera estimate), both ``(x, z, heading_deg)`` in room coordinates.  Each
 command moves the true pose exactly as commanded; the odometry reports the
 motion through ``noise.measure(distance_ft, turn_deg)`` (the world's
 ``OdometryNoise``: a fraction of each distance and some degrees of each turn),
-and the dead-reckoned pose integrates what it reports.  ``noise=None`` is
+and the dead-reckoned pose integrates what it reports (one report per command).  ``noise=None`` is
 noise off: both poses follow the commands exactly.
 
 Every motion is swept in small steps (``sweep_ft``, ``sweep_deg``) and the true
@@ -109,23 +109,32 @@ class Vehicle:
         return True
 
     def _one(self, cmd) -> bool:
+        """Sweep one command; the odometry reports it once (as the wheels would
+        for one commanded motion), also when a collision cut it short."""
+        start = self.true
+        dist = 0.0
+        ok = True
         for piece in _pieces(cmd, self.sweep_ft, self.sweep_deg):
             nxt = advance(self.true, piece)
             if self.hits(nxt):
                 self.collisions += 1
-                return False
-            dist = math.hypot(nxt.x - self.true.x, nxt.z - self.true.z)
-            turn = _wrap(nxt.heading_deg - self.true.heading_deg)
+                ok = False
+                break
+            dist += math.hypot(nxt.x - self.true.x, nxt.z - self.true.z)
             self.true = nxt
-            self.travelled_ft += dist
-            if self.noise is not None:
-                md, mt = self.noise.measure(dist, turn)
-            else:
-                md, mt = dist, turn
-            # dead reckoning: turn half, move, turn half (midpoint heading)
+        turn = _wrap(self.true.heading_deg - start.heading_deg)
+        if isinstance(cmd, Arc):
+            done = abs(turn) / max(abs(cmd.angle_deg), 1e-12)
+            dist = cmd.radius_ft * math.radians(abs(cmd.angle_deg)) * done
+        self.travelled_ft += dist
+        if dist > 0 or abs(turn) > 0:
+            md, mt = self.noise.measure(dist, turn) if self.noise is not None else (dist, turn)
+            # dead reckoning of one motion: move along the mean heading
             h = math.radians(self.dead.heading_deg + mt / 2)
-            self.dead = State(self.dead.x + md * math.sin(h), self.dead.z + md * math.cos(h),
+            chord = md if abs(mt) < 1e-9 or not isinstance(cmd, Arc) else \
+                2 * (md / math.radians(abs(mt))) * math.sin(math.radians(abs(mt)) / 2)
+            self.dead = State(self.dead.x + chord * math.sin(h), self.dead.z + chord * math.cos(h),
                               _wrap(self.dead.heading_deg + mt))
         self.true_track.append(self.true)
         self.dead_track.append(self.dead)
-        return True
+        return ok
