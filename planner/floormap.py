@@ -6,8 +6,8 @@ A :class:`FloorMap` is a grid over the floor (room X across, room Z along;
 row ``i`` is Z, column ``j`` is X) whose cells are FREE, OCCUPIED or UNKNOWN.
 :func:`project_octree` projects the octree over the vehicle's height band
 (room Y from the top of the vehicle down to a floor clearance; Y is down):
-a column is OCCUPIED if any known leaf in the band is occupied, FREE if some
-leaf in the band is free and none occupied, UNKNOWN otherwise.
+a column is OCCUPIED if any leaf in the band is occupied, else UNCERTAIN if
+any is uncertain, else FREE if any is free, else UNKNOWN (never seen).
 :func:`true_floor_map` draws the true room (obstacle footprints, walls) on
 the same grid: the reference the true optimum is measured on.
 """
@@ -18,14 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .octree import FREE, OCCUPIED, UNKNOWN, leaves
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, leaves
 
 FLOOR_Y = 3.0          # the floor plane in room coordinates (Y down, cameras at Y = 0)
 
 
 @dataclass
 class FloorMap:
-    cells: np.ndarray          # (nz, nx) uint8 of FREE / OCCUPIED / UNKNOWN
+    cells: np.ndarray          # (nz, nx) uint8 of FREE / OCCUPIED / UNKNOWN / UNCERTAIN
     x0: float                  # room X of the left edge of column 0
     z0: float                  # room Z of the near edge of row 0
     cell: float                # cell side, ft
@@ -76,7 +76,8 @@ def _paint(mask: np.ndarray, fm: FloorMap, cx, cz, half) -> None:
         mask[a:b, c:d] = True
 
 
-def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.0) -> FloorMap:
+def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.0,
+                   free_looks: int = 1) -> FloorMap:
     """The octree projected over the height band ``band`` = (Y top, Y bottom)
     of the vehicle's passage (room Y, down positive) onto a grid over ``bounds``."""
     res = tree.getResolution()
@@ -84,18 +85,16 @@ def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.
     ex = fm.extent()
     lo = np.array([ex[0], band[0], ex[2]])
     hi = np.array([ex[1], band[1], ex[3]])
-    centres, sizes, occ = leaves(tree, lo, hi)
+    centres, sizes, state = leaves(tree, lo, hi, free_looks)
+    masks = {st: np.zeros(fm.shape, bool) for st in (FREE, UNCERTAIN, OCCUPIED)}
     if len(centres):
         half = sizes / 2
         inband = (centres[:, 1] + half > band[0]) & (centres[:, 1] - half < band[1])
-        centres, half, occ = centres[inband], half[inband], occ[inband]
-    free = np.zeros(fm.shape, bool)
-    occupied = np.zeros(fm.shape, bool)
-    if len(centres):
-        _paint(free, fm, centres[~occ, 0], centres[~occ, 2], half[~occ])
-        _paint(occupied, fm, centres[occ, 0], centres[occ, 2], half[occ])
-    fm.cells[free] = FREE
-    fm.cells[occupied] = OCCUPIED
+        for st, mask in masks.items():
+            m = inband & (state == st)
+            _paint(mask, fm, centres[m, 0], centres[m, 2], half[m])
+    for st in (FREE, UNCERTAIN, OCCUPIED):           # later wins
+        fm.cells[masks[st]] = st
     return fm
 
 

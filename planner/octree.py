@@ -11,6 +11,8 @@ for path finding.  Here the octree is OctoMap's (the ``pyoctomap`` binding):
   the surfaces spanned between boundary lines (:func:`insert_surface`);
 * **free** along the sight line from the camera to every located point (Ruff
   and Ahuja's empty-space model: OctoMap's ray casting, :func:`insert_rays`);
+* **uncertain** where hits and misses leave it undecided (one look's hit when
+  ``confirm_looks`` is 2);
 * **unknown** elsewhere: cells never touched are simply absent from the tree,
   as the dissertation has it ("all other volumes are merely left out").
 
@@ -25,13 +27,14 @@ surfaces, the volume of interest set by the accuracy wanted) is written here.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import pyoctomap
 
-FREE, OCCUPIED, UNKNOWN = 0, 1, 2
-STATE_NAMES = {FREE: "free", OCCUPIED: "occupied", UNKNOWN: "unknown"}
+FREE, OCCUPIED, UNKNOWN, UNCERTAIN = 0, 1, 2, 3
+STATE_NAMES = {FREE: "free", OCCUPIED: "occupied", UNKNOWN: "unknown", UNCERTAIN: "uncertain"}
 
 
 @dataclass(frozen=True)
@@ -58,27 +61,72 @@ class VolumeOfInterest:
         return cls(side_ft, depth)
 
 
-def new_octree(voi: VolumeOfInterest = VolumeOfInterest()) -> pyoctomap.OcTree:
-    return pyoctomap.OcTree(voi.resolution)
+def new_octree(voi: VolumeOfInterest = VolumeOfInterest(), confirm_looks: int = 1
+               ) -> pyoctomap.OcTree:
+    """An empty model.  OctoMap's log-odds update is +0.85 for a hit and -0.41
+    for a miss (probabilities 0.7 / 0.4); a cell is OCCUPIED once its log-odds
+    reach ``confirm_looks - 1`` hits above one (so ``confirm_looks`` looks
+    that hit it and never miss), FREE while its log-odds are below zero (more
+    misses than hits; ``free_looks`` of them, see :func:`free_below`),
+    UNCERTAIN when hit but not yet confirmed, and UNKNOWN when never seen (or
+    seen through too few times)."""
+    tree = pyoctomap.OcTree(voi.resolution)
+    if confirm_looks < 1:
+        raise ValueError(f"confirm_looks must be at least 1, got {confirm_looks!r}")
+    hit = math.log(tree.getProbHit() / (1 - tree.getProbHit()))
+    thres_logodds = 0.0 if confirm_looks == 1 else hit * (confirm_looks - 1) + 0.05
+    tree.setOccupancyThres(1.0 / (1.0 + math.exp(-thres_logodds)))
+    return tree
+
+
+MISS_LOGODDS = math.log(0.4 / 0.6)      # OctoMap's default miss update
+
+
+def free_below(free_looks: int = 1) -> float:
+    """The log-odds under which a cell counts as FREE: ``free_looks`` misses
+    (net of hits) are needed."""
+    if free_looks < 1:
+        raise ValueError(f"free_looks must be at least 1, got {free_looks!r}")
+    return 0.0 if free_looks == 1 else MISS_LOGODDS * (free_looks - 1) - 1e-3
+
+
+def _classify(lo, occ_lo: float, free_lo: float):
+    """OCCUPIED at or above ``occ_lo``; UNCERTAIN (a possible obstacle) from 0;
+    FREE below ``free_lo``; UNKNOWN between (seen through too few times)."""
+    lo = np.asarray(lo, float)
+    return np.where(lo >= occ_lo, OCCUPIED, np.where(lo >= 0, UNCERTAIN, np.where(
+        lo < free_lo, FREE, UNKNOWN))).astype(np.uint8)
+
+
+def _state(tree, node, free_lo: float = 0.0) -> int:
+    return int(_classify(node.getLogOdds(), tree.getOccupancyThresLog(), free_lo))
 
 
 def insert_rays(tree: pyoctomap.OcTree, points: np.ndarray, origin, max_range: float = -1.0
                 ) -> None:
     """Free along each sight line ``origin -> point``, occupied at the point
-    (OctoMap's ray casting; one probabilistic update per cell per batch)."""
+    (OctoMap's ray casting; one update per cell per batch, a hit winning over
+    a miss in the same batch)."""
     pts = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3)
     if len(pts):
         tree.insertPointCloud(pts, np.asarray(origin, dtype=np.float64), max_range)
 
 
-def insert_feature(tree: pyoctomap.OcTree, mean, cov, sigmas: float = 2.0) -> int:
-    """A located feature grown by its covariance: every cell that reaches
-    within ``sigmas`` standard deviations (the Mahalanobis distance of the
-    cell's point nearest the mean) is marked occupied, and at least the cell of
-    the mean.  Returns the cells marked."""
+def cell_centres(points, res: float) -> np.ndarray:
+    """The distinct cells (their centres) holding ``points``."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    if not len(pts):
+        return pts
+    return (np.unique(np.floor(pts / res), axis=0) + 0.5) * res
+
+
+def feature_cells(mean, cov, res: float, sigmas: float = 2.0) -> np.ndarray:
+    """Centres of the cells a located feature occupies when grown by its
+    covariance: every cell that reaches within ``sigmas`` standard deviations
+    (the Mahalanobis distance of the cell's point nearest the mean), and at
+    least the cell of the mean."""
     mean = np.asarray(mean, dtype=np.float64)
     cov = np.asarray(cov, dtype=np.float64)
-    res = tree.getResolution()
     half = sigmas * np.sqrt(np.clip(np.diag(cov), 0, None))
     lo = np.floor((mean - half) / res)
     hi = np.floor((mean + half) / res)
@@ -86,63 +134,142 @@ def insert_feature(tree: pyoctomap.OcTree, mean, cov, sigmas: float = 2.0) -> in
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
     d = np.clip(mean, grid - res / 2, grid + res / 2) - mean
     try:
-        inv = np.linalg.inv(cov)
-        m2 = np.einsum("ni,ij,nj->n", d, inv, d)
+        m2 = np.einsum("ni,ij,nj->n", d, np.linalg.inv(cov), d)
         cells = grid[m2 <= sigmas ** 2]
     except np.linalg.LinAlgError:
         cells = grid[:0]
-    cells = np.vstack([cells, ((np.floor(mean / res) + 0.5) * res)[None]])
-    for c in cells:
-        tree.updateNode(c, True)
-    return len(cells)
+    return cell_centres(np.vstack([cells, mean[None]]), res)
 
 
-def insert_surface(tree: pyoctomap.OcTree, a, b, c=None) -> int:
-    """A surface spanned by boundary points: the segment ``a-b`` (two ends of a
-    surface seen on one scan line) or the parallelogram ``a, b, c`` (corner
-    ``a``, edges to ``b`` and ``c``), sampled at half the cell size and marked
-    occupied.  Returns the number of samples."""
+def surface_cells(a, b, res: float, c=None) -> np.ndarray:
+    """Centres of the cells of a surface spanned by boundary points: the
+    segment ``a-b`` (two ends of a surface seen on one scan line) or the
+    parallelogram ``a, b, c`` (corner ``a``, edges to ``b`` and ``c``), sampled
+    at half the cell size."""
     a, b = np.asarray(a, float), np.asarray(b, float)
-    res = tree.getResolution()
     n1 = max(2, int(np.ceil(np.linalg.norm(b - a) / (res / 2))) + 1)
-    s = np.linspace(0, 1, n1)
-    pts = a + s[:, None] * (b - a)
+    pts = a + np.linspace(0, 1, n1)[:, None] * (b - a)
     if c is not None:
         c = np.asarray(c, float)
         n2 = max(2, int(np.ceil(np.linalg.norm(c - a) / (res / 2))) + 1)
         t = np.linspace(0, 1, n2)
         pts = (pts[:, None, :] + t[None, :, None] * (c - a)).reshape(-1, 3)
-    keys = np.unique(np.floor(pts / res), axis=0)
-    for k in keys:
-        tree.updateNode((k + 0.5) * res, True)
-    return len(pts)
+    return cell_centres(pts, res)
 
 
-def query(tree: pyoctomap.OcTree, point) -> int:
-    """FREE, OCCUPIED or UNKNOWN at a room point."""
+def mark_occupied(tree: pyoctomap.OcTree, centres) -> int:
+    """One hit for each cell centre given."""
+    centres = np.ascontiguousarray(centres, dtype=np.float64).reshape(-1, 3)
+    if len(centres):
+        tree.updateNodes(centres, True)
+    return len(centres)
+
+
+def insert_feature(tree: pyoctomap.OcTree, mean, cov, sigmas: float = 2.0) -> int:
+    """A located feature grown by its covariance (:func:`feature_cells`),
+    marked occupied.  Returns the number of cells."""
+    return mark_occupied(tree, feature_cells(mean, cov, tree.getResolution(), sigmas))
+
+
+def insert_surface(tree: pyoctomap.OcTree, a, b, c=None) -> int:
+    """A surface between boundary points (:func:`surface_cells`), marked occupied."""
+    return mark_occupied(tree, surface_cells(a, b, tree.getResolution(), c))
+
+
+def _pack(keys: np.ndarray) -> np.ndarray:
+    k = keys.astype(np.int64) + (1 << 20)
+    return (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
+
+
+def features_cells(means, covs, res: float, sigmas: float = 2.0, max_cells: int = 6
+                   ) -> np.ndarray:
+    """:func:`feature_cells` for many features at once (vectorised), each grown
+    at most ``max_cells`` cells from its mean along an axis."""
+    means = np.asarray(means, float).reshape(-1, 3)
+    covs = np.asarray(covs, float).reshape(-1, 3, 3)
+    if not len(means):
+        return means
+    half = sigmas * np.sqrt(np.clip(np.diagonal(covs, axis1=1, axis2=2), 0, None))
+    k = np.minimum(np.ceil(half / res).max(0).astype(int) + 1, max_cells)
+    offs = np.stack(np.meshgrid(*[np.arange(-a, a + 1) for a in k], indexing="ij"),
+                    -1).reshape(-1, 3)
+    base = np.floor(means / res)
+    cells = (base[:, None, :] + offs[None]) + 0.5                   # (N, M, 3) in cells
+    d = np.clip(means[:, None, :] / res, cells - 0.5, cells + 0.5) * res - means[:, None, :]
+    try:
+        inv = np.linalg.inv(covs)
+    except np.linalg.LinAlgError:
+        inv = np.linalg.pinv(covs)
+    m2 = np.einsum("nmi,nij,nmj->nm", d, inv, d)
+    inside = m2 <= sigmas ** 2
+    inside[:, len(offs) // 2] = True                                   # the mean's own cell
+    return cell_centres(cells[inside] * res, res)
+
+
+def spans_cells(points, spans, res: float) -> np.ndarray:
+    """:func:`surface_cells` for many segments at once."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    if not len(spans):
+        return np.zeros((0, 3))
+    sp = np.asarray(spans, int).reshape(-1, 2)
+    a, b = pts[sp[:, 0]], pts[sp[:, 1]]
+    n = np.maximum(2, np.ceil(np.linalg.norm(b - a, axis=1) / (res / 2)).astype(int) + 1)
+    seg = np.repeat(np.arange(len(sp)), n)
+    t = np.concatenate([np.linspace(0, 1, m) for m in n])
+    samples = a[seg] + t[:, None] * (b - a)[seg]
+    return cell_centres(samples, res)
+
+
+def insert_look(tree: pyoctomap.OcTree, origin, points, covs=None, spans=(),
+                max_range: float = -1.0) -> int:
+    """One look as ONE update of each cell: sight lines free and end points
+    occupied, then each further cell of the grown features and the surface
+    spans occupied once (cells already hit by an end point are not hit again).
+    Returns the number of occupied cells the look added beyond the end points."""
+    res = tree.getResolution()
+    pts = np.asarray(points, float).reshape(-1, 3)
+    insert_rays(tree, pts, origin, max_range)
+    extra = []
+    if covs is not None:
+        extra.append(features_cells(pts, covs, res))
+    extra.append(spans_cells(pts, spans, res))
+    cells = np.vstack(extra) if extra else np.zeros((0, 3))
+    if not len(cells):
+        return 0
+    cells = cell_centres(cells, res)
+    ends = _pack(np.floor(pts / res))
+    new = ~np.isin(_pack(np.floor(cells / res)), ends)
+    return mark_occupied(tree, cells[new])
+
+
+def query(tree: pyoctomap.OcTree, point, free_looks: int = 1) -> int:
+    """FREE, OCCUPIED, UNCERTAIN or UNKNOWN (never seen) at a room point."""
     node = tree.search(np.asarray(point, dtype=np.float64))
     if node is None:
         return UNKNOWN
-    return OCCUPIED if tree.isNodeOccupied(node) else FREE
+    return _state(tree, node, free_below(free_looks))
 
 
-def leaves(tree: pyoctomap.OcTree, bbx_min=None, bbx_max=None):
-    """Every known leaf as ``(centre (3,), size, occupied)`` arrays — the pruned
-    hierarchy, so a large uniform region is one big cell."""
+def leaves(tree: pyoctomap.OcTree, bbx_min=None, bbx_max=None, free_looks: int = 1):
+    """Every known leaf as ``(centre (N, 3), size (N,), state (N,))`` arrays —
+    the pruned hierarchy, so a large uniform region is one big cell."""
+    empty = np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.uint8)
     if tree.size() == 0:
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0, bool)
-    if bbx_min is None:
-        it = tree.begin_leafs()
-    else:
-        it = tree.begin_leafs_bbx(np.asarray(bbx_min, float), np.asarray(bbx_max, float))
-    centres, sizes, occ = [], [], []
-    for leaf in it:
+        return empty
+    centres, sizes, logodds = [], [], []
+    for leaf in tree.begin_leafs():
         centres.append(leaf.getCoordinate())
         sizes.append(leaf.getSize())
-        occ.append(tree.isNodeOccupied(leaf))
+        logodds.append(leaf.current_node.getLogOdds())
     if not centres:
-        return np.zeros((0, 3)), np.zeros(0), np.zeros(0, bool)
-    return np.asarray(centres, float), np.asarray(sizes, float), np.asarray(occ, bool)
+        return empty
+    c, s, lo = np.asarray(centres, float), np.asarray(sizes, float), np.asarray(logodds)
+    if bbx_min is not None:
+        keep = ((c + s[:, None] / 2 > np.asarray(bbx_min)) &
+                (c - s[:, None] / 2 < np.asarray(bbx_max))).all(1)
+        c, s, lo = c[keep], s[keep], lo[keep]
+    state = _classify(lo, tree.getOccupancyThresLog(), free_below(free_looks))
+    return c, s, state
 
 
 def memory_bytes(tree: pyoctomap.OcTree) -> int:

@@ -11,7 +11,7 @@ carries the points into room coordinates: ``p_room = R @ p_cam + c_left``.
 
 :func:`filter_points` keeps what the dissertation trusts: ranges up to 15 ft
 ("for ranges of 15 feet or less" the estimates were "fairly accurate", Ch. V)
-and error bounds within a fraction of the range.  :func:`surface_spans` joins
+and error bounds within a fraction of the range, from 2.5 ft on.  :func:`surface_spans` joins
 consecutive edges of one scan line at the same range within their error
 bounds: the surface between two boundary lines (Chapter IV: occupied where
 "the surfaces between their boundary lines are").
@@ -25,7 +25,8 @@ import numpy as np
 
 FOCAL_128 = 180.0
 CX_128, CY_128 = 64.0, 60.0
-MAX_RANGE_FT = 15.0
+MAX_RANGE_FT = 12.0
+MIN_RANGE_FT = 2.5
 
 
 @dataclass
@@ -57,10 +58,15 @@ def camera_points(points) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarra
     return xyz, cov, line, loc1, ep
 
 
-def filter_points(xyz_cam, ep, max_range: float = MAX_RANGE_FT, max_rel_error: float = 0.25):
-    """Mask of points worth modelling: in front, within range, bounded error."""
+def filter_points(xyz_cam, ep, max_range: float = MAX_RANGE_FT, max_rel_error: float = 0.25,
+                  min_range: float = MIN_RANGE_FT):
+    """Mask of points worth modelling: within range, bounded error.  Nearer than
+    ``min_range`` (a disparity above 54 px) the 1985 matcher's locations are
+    mostly false matches (a repeated false match at 2.3 ft stands in front of
+    the bundled lab's start); the vehicle never needs them, as it only drives into
+    space seen free from farther away."""
     z = xyz_cam[:, 2]
-    return (z > 0.3) & (z <= max_range) & (ep <= max_rel_error * z)
+    return (z >= min_range) & (z <= max_range) & (ep <= max_rel_error * z)
 
 
 def to_room(xyz_cam, cov_cam, R, left_centre):

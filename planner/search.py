@@ -2,8 +2,8 @@
 
 * :func:`clearance_map` — the configuration space of the vehicle's cross
   section: a cell is passable when a disc of the vehicle's radius centred
-  anywhere in it touches no blocked cell.  Unknown cells are blocked or free
-  as the caller states (``unknown="blocked"|"free"``).
+  anywhere in it touches no blocked cell.  Unknown (and uncertain) cells are
+  blocked or free as the caller states (``unknown="blocked"|"free"``).
 * :func:`hierarchical_search` — **the dissertation's search**: "the search
   starts at the vehicle position and 'grows' empty space areas, giving priority
   to those voxels at the higher levels which (1) are nearer the goal, and (2)
@@ -33,7 +33,7 @@ import cv2
 import numpy as np
 
 from .floormap import FloorMap
-from .octree import FREE, OCCUPIED, UNKNOWN
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 
 SQRT2 = math.sqrt(2.0)
 
@@ -53,16 +53,21 @@ class Passable:
     unknown: str
 
 
-def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked") -> Passable:
+def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
+                  uncertain: str | None = None) -> Passable:
     """Grow the blocked cells by ``radius`` (the vehicle's cross section).  The
-    map's border counts as blocked.  A cell is passable when the distance from
+    map's border counts as blocked.  Uncertain cells follow ``unknown`` unless
+    ``uncertain`` says otherwise.  A cell is passable when the distance from
     any point of it to the nearest blocked cell's square is at least ``radius``
     (a lower bound: centre distance less a cell diagonal)."""
     if unknown not in ("blocked", "free"):
         raise ValueError(f"unknown must be 'blocked' or 'free', not {unknown!r}")
+    uncertain = unknown if uncertain is None else uncertain
     blocked = fm.cells == OCCUPIED
     if unknown == "blocked":
         blocked = blocked | (fm.cells == UNKNOWN)
+    if uncertain == "blocked":
+        blocked = blocked | (fm.cells == UNCERTAIN)
     padded = np.pad(~blocked, 1, constant_values=False).astype(np.uint8)
     dt = cv2.distanceTransform(padded, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[1:-1, 1:-1]
     # dt is centre-to-centre in cells; the nearest point of a blocked square is
@@ -80,7 +85,7 @@ def _explain(p: Passable, x: float, z: float, what: str) -> str | None:
     s = fm.cells[i, j]
     if s == OCCUPIED:
         return f"the {what} ({x:.2f}, {z:.2f}) ft is inside an obstacle (occupied cell)"
-    if s == UNKNOWN and p.unknown == "blocked":
+    if s in (UNKNOWN, UNCERTAIN) and p.unknown == "blocked":
         return f"the {what} ({x:.2f}, {z:.2f}) ft is in unknown space (unknown treated as blocked)"
     if not p.ok[i, j]:
         return (f"the {what} ({x:.2f}, {z:.2f}) ft is {p.clearance[i, j]:.2f} ft from an "
@@ -139,7 +144,7 @@ def _no_connection(p: Passable, reached: np.ndarray, start, goal) -> NoPath:
     kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1, 2 * reach + 1))
     zone = cv2.dilate(reached.astype(np.uint8), kernel).astype(bool)
     occ = int((zone & (fm.cells == OCCUPIED)).sum())
-    unk = int((zone & (fm.cells == UNKNOWN) & p.blocked).sum())
+    unk = int((zone & ((fm.cells == UNKNOWN) | (fm.cells == UNCERTAIN)) & p.blocked).sum())
     parts = []
     if occ:
         parts.append(f"{occ} occupied cells")

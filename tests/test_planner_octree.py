@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from planner.floormap import project_octree, true_floor_map
-from planner.octree import (FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, insert_feature,
-                            insert_rays, insert_surface, leaves, memory_bytes, new_octree, query)
+from planner.octree import (FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, insert_feature,
+                            insert_look, insert_rays, insert_surface, leaves, memory_bytes,
+                            new_octree, query)
 
 RES = 0.25
 
@@ -72,8 +73,10 @@ def test_surface_between_boundary_points():
 def test_leaves_and_memory():
     t = tree()
     insert_rays(t, np.array([[0.125, 0.125, 5.125]]), (0.125, 0.125, 0.125))
-    c, s, occ = leaves(t)
+    c, s, state = leaves(t)
+    occ = state == OCCUPIED
     assert occ.sum() == 1 and np.allclose(c[occ][0], (0.125, 0.125, 5.125))
+    assert (state[~occ] == FREE).all()
     assert (s >= RES - 1e-9).all()
     assert memory_bytes(t) > 0
 
@@ -103,3 +106,58 @@ def test_true_floor_map_marks_obstacles_and_walls():
     assert fm.state_at(0.1, 3.0) == FREE
     # a footprint edge on a cell edge does not spill into the neighbour
     assert fm.state_at(0.875, 3.5) == FREE
+
+
+def test_confirm_looks_one_look_is_uncertain_two_are_occupied():
+    t = new_octree(VolumeOfInterest(32.0, 7), confirm_looks=2)
+    far = np.array([[0.125, 0.125, 5.125]])
+    origin = (0.125, 0.125, 0.125)
+    insert_rays(t, far, origin)
+    assert query(t, (0.125, 0.125, 5.125)) == UNCERTAIN   # one hit: not yet believed
+    assert query(t, (0.125, 0.125, 2.0)) == FREE           # one miss: free
+    insert_rays(t, far, origin)
+    assert query(t, (0.125, 0.125, 5.125)) == OCCUPIED
+    # a false point seen once, then seen through twice, is free
+    t2 = new_octree(VolumeOfInterest(32.0, 7), confirm_looks=2)
+    insert_rays(t2, np.array([[0.125, 0.125, 2.125]]), origin)
+    for _ in range(3):
+        insert_rays(t2, far, origin)
+    assert query(t2, (0.125, 0.125, 2.125)) == FREE
+    with pytest.raises(ValueError, match="confirm_looks"):
+        new_octree(confirm_looks=0)
+
+
+def test_insert_look_updates_each_cell_once():
+    t = new_octree(VolumeOfInterest(32.0, 7), confirm_looks=2)
+    pts = np.array([[0.125, 0.125, 5.125], [2.125, 0.125, 5.125]])
+    covs = np.array([np.diag([0.0001, 0.0001, 0.0001])] * 2)
+    extra = insert_look(t, (0.125, 0.125, 0.125), pts, covs, spans=[(0, 1)])
+    assert extra == 7                 # the span's cells between the two end cells
+    # one look: the end points and the span are all hit once -> uncertain
+    for x in (0.125, 1.125, 2.125):
+        assert query(t, (x, 0.125, 5.125)) == UNCERTAIN
+    insert_look(t, (0.125, 0.125, 0.125), pts, covs, spans=[(0, 1)])
+    for x in (0.125, 1.125, 2.125):
+        assert query(t, (x, 0.125, 5.125)) == OCCUPIED
+
+
+def test_vectorised_cells_equal_the_one_at_a_time_ones():
+    from planner.octree import feature_cells, features_cells, spans_cells, surface_cells
+    rng = np.random.default_rng(3)
+    means = rng.uniform(-5, 5, (20, 3))
+    A = rng.normal(0, 0.15, (20, 3, 3))
+    covs = A @ np.transpose(A, (0, 2, 1)) + 0.001 * np.eye(3)
+    one = np.unique(np.vstack([feature_cells(m, c, RES) for m, c in zip(means, covs)]), axis=0)
+    assert np.array_equal(np.unique(features_cells(means, covs, RES), axis=0), one)
+    spans = [(0, 1), (2, 3), (4, 9)]
+    one = np.unique(np.vstack([surface_cells(means[a], means[b], RES) for a, b in spans]), axis=0)
+    assert np.array_equal(np.unique(spans_cells(means, spans, RES), axis=0), one)
+
+
+def test_free_looks_two_misses_needed():
+    t = new_octree(VolumeOfInterest(32.0, 7), confirm_looks=2)
+    far = np.array([[0.125, 0.125, 5.125]])
+    insert_rays(t, far, (0.125, 0.125, 0.125))
+    assert query(t, (0.125, 0.125, 2.0), free_looks=2) == UNKNOWN      # one look through
+    insert_rays(t, far, (0.125, 0.125, 0.125))
+    assert query(t, (0.125, 0.125, 2.0), free_looks=2) == FREE

@@ -17,7 +17,7 @@ from vehicle.commands import Forward, Turn
 
 ROOM = (0.0, 10.0, 0.0, 10.0)
 CELL = 0.25
-R = 1.05          # the default vehicle's planning radius (half diagonal 0.80 + margin 0.25)
+R = 1.05          # a planning radius (a 1.0 x 1.25 ft footprint half diagonal 0.80 + margin 0.25)
 
 
 def room(obstacles=()):

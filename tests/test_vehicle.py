@@ -102,8 +102,8 @@ def test_a_path_forced_through_a_wall_collides_and_stops():
 
 
 def test_profile_default_and_validation():
-    assert DEFAULT.footprint == (1.0, 1.25)
-    assert DEFAULT.radius_ft == pytest.approx(math.hypot(1.0, 1.25) / 2)
-    assert DEFAULT.planning_radius_ft == pytest.approx(DEFAULT.radius_ft + 0.25)
+    assert DEFAULT.footprint == (0.8, 1.0)
+    assert DEFAULT.radius_ft == pytest.approx(math.hypot(0.8, 1.0) / 2)
+    assert DEFAULT.planning_radius_ft == pytest.approx(DEFAULT.radius_ft + 0.15)
     with pytest.raises(ValueError, match="width_ft must be positive"):
         VehicleProfile(width_ft=0)

@@ -1,7 +1,9 @@
 """The vehicle profile: what the planner and the simulated vehicle assume.
 
-Default (:data:`DEFAULT`): a HERO-1-sized base carrying the rig — a footprint
-1.0 ft wide by 1.25 ft long centred under the rig's midpoint, the cameras 3 ft
+Default (:data:`DEFAULT`): a small base carrying the rig (the HERO-1 is about
+1.5 ft across; this one is smaller so that the generated rooms' 1.8 ft gaps
+stay passable) — a footprint 0.8 ft wide by 1.0 ft long centred under the
+rig's midpoint, the cameras 3 ft
 above the floor (room Y = 0, the floor at Y = +3, as in the bundled lab), pivot
 turns (turning radius 0: the HERO-1 turns its single drive wheel across and
 pivots), at most 1.5 ft of forward travel between looks (the Stanford Cart
@@ -17,12 +19,12 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class VehicleProfile:
-    width_ft: float = 1.0            # across (the rig's x axis)
-    length_ft: float = 1.25          # along the forward axis
+    width_ft: float = 0.8            # across (the rig's x axis)
+    length_ft: float = 1.0           # along the forward axis
     camera_height_ft: float = 3.0    # above the floor
     turning_radius_ft: float = 0.0   # 0: pivot turns
     step_ft: float = 1.5             # most forward travel between looks
-    margin_ft: float = 0.25          # added to the radius for planning
+    margin_ft: float = 0.15          # added to the radius for planning
 
     def __post_init__(self):
         for name in ("width_ft", "length_ft", "camera_height_ft", "step_ft"):
