@@ -32,8 +32,9 @@ LEFT 128x120 picture, sampled by one ray through the CENTRE of the pixel (the
 centre of the 2x2 block of 256-px pixels it condenses).  The true disparity in
 128-px columns is ``0.75*180/Z`` (:func:`true_disparity`).
 
-Everything is plain float64 numpy arithmetic and a seeded ``numpy.random``
-generator: no time, threads or platform dependence, so rendering twice gives
+The rays are cast by :mod:`world.render` (which renders this lab, closed
+behind the start, from any pose).  Everything is plain float64 numpy
+arithmetic and a seeded ``numpy.random`` generator: no time, threads or platform dependence, so rendering twice gives
 the same bytes (checked in tests/test_scene.py).
 
 Regenerate the shipped files with ``python -m rig.scene --out rig/data``.
@@ -86,8 +87,17 @@ class Quad:
     shade: Shade
 
 
-def flat(g: int) -> Shade:
-    return lambda X, Y, Z: np.full(X.shape, float(g))
+class flat:
+    """A plain grey ``g`` (a Shade; ``.grey`` lets a renderer fill it without hit points)."""
+
+    def __init__(self, g: int):
+        self.grey = float(g)
+
+    def __call__(self, X, Y, Z):
+        return np.full(np.shape(X), self.grey)
+
+    def __repr__(self):
+        return f"flat({self.grey:g})"
 
 
 def checks(g1: int, g2: int, size: float, u: int, v: int, origin=(0.0, 0.0)) -> Shade:
@@ -239,62 +249,26 @@ def scene_quads() -> list[Quad]:
 
 # --- rendering -----------------------------------------------------------------
 
-def _trace(cam_x: float, px: np.ndarray, py: np.ndarray, quads: list[Quad]):
-    """Cast rays from the camera at (cam_x, 0, 0) through image-plane points
-    ``(px, py)`` (already divided by the focal length: direction (px, py, 1)).
-    Returns (Z of the nearest hit, grey level there).  The room is closed, so
-    every ray hits something."""
-    best = np.full(px.shape, np.inf)
-    which = np.full(px.shape, -1, dtype=np.int32)
-    origin = (cam_x, 0.0, 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for k, qd in enumerate(quads):
-            d = (px, py, None)[qd.axis]
-            if qd.axis == 2:
-                t = np.full(px.shape, qd.c)
-            else:
-                t = (qd.c - origin[qd.axis]) / d
-            P = (cam_x + t * px, t * py, t)
-            others = [a for a in range(3) if a != qd.axis]
-            hit = (t > 0) & (t < best)
-            for a, lo, hi in zip(others, qd.lo, qd.hi):
-                hit &= (P[a] >= lo) & (P[a] <= hi)
-            best = np.where(hit, t, best)
-            which = np.where(hit, k, which)
-    if (which < 0).any():
-        raise AssertionError("a ray left the room")
-    grey = np.zeros(px.shape)
-    for k, qd in enumerate(quads):
-        m = which == k
-        if m.any():
-            t = best[m]
-            grey[m] = qd.shade(cam_x + t * px[m], t * py[m], t)
-    return best, grey
-
+# The ray tracer is world.render's (one tracer for every pose); the bundled pose is a camera
+# at (cam_x, 0, 0) with the identity rotation, for which its arithmetic is exactly the plain
+# (px, py, 1) ray cast this module did alone before (the shipped files are unchanged, checked
+# in tests/test_scene.py and tests/test_world_render.py).  Imported here, not at the top,
+# because world.render builds on this module's Quad and constants.
 
 def render_view(cam_x: float, quads: list[Quad] | None = None) -> np.ndarray:
     """The noise-free 240x256 picture (float, supersampled mean grey 0..15)
     seen by a camera at X = ``cam_x``."""
+    from world.render import render_camera
     quads = scene_quads() if quads is None else quads
-    s = SUPERSAMPLE
-    offs = (np.arange(s) + 0.5) / s
-    u = (np.arange(WIDTH)[:, None] + offs[None, :]).reshape(-1)     # 256*s
-    v = (np.arange(HEIGHT)[:, None] + offs[None, :]).reshape(-1)    # 240*s
-    px = np.broadcast_to(((u - CX) / FOCAL_256)[None, :], (v.size, u.size))
-    py = np.broadcast_to(((v - CY) / FOCAL_256)[:, None], (v.size, u.size))
-    _, grey = _trace(cam_x, np.ascontiguousarray(px), np.ascontiguousarray(py), quads)
-    return grey.reshape(HEIGHT, s, WIDTH, s).mean(axis=(1, 3))
+    return render_camera(quads, np.array([cam_x, 0.0, 0.0]), np.eye(3), SUPERSAMPLE)
 
 
 def true_range_128(cam_x: float = LEFT_X, quads: list[Quad] | None = None) -> np.ndarray:
     """Z (ft) through the centre of each pixel of the 120x128 picture of the
     camera at ``cam_x`` (the centre of the 2x2 block PRE condenses)."""
+    from world.render import range_128
     quads = scene_quads() if quads is None else quads
-    u = 2.0 * np.arange(128) + 1.0          # 128-px centre j+0.5 -> 256-px 2j+1
-    v = 2.0 * np.arange(120) + 1.0
-    px = np.broadcast_to(((u - CX) / FOCAL_256)[None, :], (120, 128))
-    py = np.broadcast_to(((v - CY) / FOCAL_256)[:, None], (120, 128))
-    z, _ = _trace(cam_x, np.ascontiguousarray(px), np.ascontiguousarray(py), quads)
+    z, _ = range_128(quads, np.array([cam_x, 0.0, 0.0]), np.eye(3))
     return z
 
 
