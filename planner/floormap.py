@@ -7,7 +7,11 @@ row ``i`` is Z, column ``j`` is X) whose cells are FREE, OCCUPIED or UNKNOWN.
 :func:`project_octree` projects the octree over the vehicle's height band
 (room Y from the top of the vehicle down to a floor clearance; Y is down):
 a column is OCCUPIED if any leaf in the band is occupied, else UNCERTAIN if
-any is uncertain, else FREE if any is free, else UNKNOWN (never seen).
+any is uncertain, else FREE if a leaf in ``free_band`` (default the band) is
+free, else UNKNOWN.  The closed loop takes ``free_band`` as the lowest part of
+the band: a camera 3 ft up looking level sees nothing of the floor nearer
+than 9 ft and looks over a low box, so a sight line at camera height proves
+nothing about the floor below it.
 :func:`true_floor_map` draws the true room (obstacle footprints, walls) on
 the same grid: the reference the true optimum is measured on.
 """
@@ -77,7 +81,7 @@ def _paint(mask: np.ndarray, fm: FloorMap, cx, cz, half) -> None:
 
 
 def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.0,
-                   free_looks: int = 1) -> FloorMap:
+                   free_looks: int = 1, free_band=None) -> FloorMap:
     """The octree projected over the height band ``band`` = (Y top, Y bottom)
     of the vehicle's passage (room Y, down positive) onto a grid over ``bounds``."""
     res = tree.getResolution()
@@ -90,8 +94,10 @@ def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.
     if len(centres):
         half = sizes / 2
         inband = (centres[:, 1] + half > band[0]) & (centres[:, 1] - half < band[1])
+        fb = band if free_band is None else free_band
+        infree = (centres[:, 1] + half > fb[0]) & (centres[:, 1] - half < fb[1])
         for st, mask in masks.items():
-            m = inband & (state == st)
+            m = (infree if st == FREE else inband) & (state == st)
             _paint(mask, fm, centres[m, 0], centres[m, 2], half[m])
     for st in (FREE, UNCERTAIN, OCCUPIED):           # later wins
         fm.cells[masks[st]] = st

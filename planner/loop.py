@@ -23,11 +23,16 @@ the path as needed during the traversal".
   taut, turned into motion commands;
 * **execute**: the first ``step`` feet of the commands, cut where the
   vehicle would come within its radius of an occupied or uncertain cell, or
-  its centre would enter a cell no sight line has crossed.  ``trust_view``
+  its swept width would enter a cell no sight line has crossed.  ``trust_view``
   (off by default) also lets it into never-seen cells inside the field of view
   just looked at, while it still faces that way: a blank wall gives the
   edge-based eyes no points at all, so this drives into blank walls (measured:
   the bundled lab's back wall) and is kept only as a named experiment.
+
+The vehicle is set down in a clear spot (``start_clear_ft``, 2 ft: the
+generated rooms keep 2.5 ft around the start): the cameras' 39 deg view is
+narrower than the vehicle for its first 2.2 ft, so without this nothing
+beside it would ever have been seen and it could not start.
 
 The room's walls are given as a floor plan (``known_walls``, on by
 default; the furniture is not): the edge-based eyes find no points on a
@@ -56,8 +61,8 @@ from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle
 from .floormap import FLOOR_Y, FloorMap, project_octree, true_floor_map
 from .octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
-    insert_rays, mark_occupied, memory_bytes, new_octree, query, spans_cells
-from .perception import MAX_RANGE_FT, look_to_room
+    mark_free_rays, mark_occupied, memory_bytes, new_octree, spans_cells
+from .perception import MAX_RANGE_FT, floor_scan
 from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
     path_length, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
@@ -75,7 +80,7 @@ class DriveConfig:
     tolerance_ft: float = 0.75            # goal reached when the estimate is this near
     max_looks: int = 60
     max_stuck: int = 8                    # looks without progress before giving up
-    lines: tuple = tuple(range(8, 113, 4))
+    lines: tuple = tuple(range(8, 113, 2))
     voi: VolumeOfInterest = VolumeOfInterest(32.0, 7)
     band: tuple[float, float] = (-0.5, FLOOR_Y - 0.25)   # room Y of the vehicle's passage
     supersample: int = 2                  # render rays per pixel side (1985's pair used 4)
@@ -86,6 +91,14 @@ class DriveConfig:
     keep_ft: float = 3.0                  # keep the old path unless a new one is this much shorter
     trust_view: bool = False              # drive into never-seen cells of the view just looked at
     known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
+    start_clear_ft: float = 2.5           # the vehicle is set down this far from anything
+    eyes: str = "rig"                     # "rig": the 1985 matcher's ranges; "truth": the
+                                          # true range at the same edge pixels (an oracle
+                                          # that separates the planner from the matcher)
+    lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
+    safety: str = "swept"                 # "strict": the whole pivot disc seen free;
+                                          # "swept": the swept width seen free, no known
+                                          # obstacle within the radius
 
 
 @dataclass
@@ -180,9 +193,11 @@ class Perception:
     this adapter uses: the dead-reckoned pose, unchanged."""
 
     def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
-                 free_looks: int = 2):
+                 free_looks: int = 2, near_ft: float = 2.8):
         self.tree = new_octree(voi, confirm_looks)
         self.free_looks = free_looks
+        self.free_band = None
+        self.near_ft = near_ft
         self.voi = voi
         self.band = band
         self.max_range_ft = max_range_ft
@@ -194,34 +209,31 @@ class Perception:
     def estimate(self, look, dead: State) -> State:
         return dead
 
-    def update(self, scan_points, est: State, pose_cls) -> int:
-        """One look into the model: every located point, its covariance growth
-        and the surface spans hit once; then the sight lines to every point
-        whose cell is now confirmed occupied (this look's or an earlier
-        look's, kept ``PENDING_LOOKS`` looks) are carved free."""
-        pose = pose_cls(est.x, est.z, est.heading_deg)
+    def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0) -> int:
+        """One look into the model as a floor range scan
+        (:func:`~planner.perception.floor_scan`): each column's nearest
+        supported point hit (grown by its covariance; surface spans between
+        neighbours at one range), and its sight line carved free from
+        ``near_ft`` on — nearer than that the lowest obstacle would be below
+        the picture, so the look proves nothing there — as are the columns
+        between two neighbours, up to the nearer of them.  One update per cell
+        per look."""
+        pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
-        rp, spans = look_to_room(scan_points, R, left, self.max_range_ft)
+        fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft)
         res = self.tree.getResolution()
-        cells = [cell_centres(rp.xyz, res), features_cells(rp.xyz, rp.cov, res),
-                 spans_cells(rp.xyz, spans, res)]
-        mark_occupied(self.tree, cell_centres(np.vstack(cells), res))
-        self.pending.append((left, rp.xyz))
-        self.pending = self.pending[-PENDING_LOOKS:]
-        kept = []
-        for origin, xyz in self.pending:
-            if not len(xyz):
-                continue
-            ok = np.array([query(self.tree, p) == OCCUPIED for p in xyz], bool)
-            if ok.any():
-                insert_rays(self.tree, xyz[ok], origin, self.max_range_ft)
-            if (~ok).any():
-                kept.append((origin, xyz[~ok]))
-        self.pending = kept
-        self.points = np.vstack([self.points, rp.xyz])
-        self._extend(rp.xyz[:, [0, 2]])
-        return len(rp.xyz)
+        if len(fs.hits):
+            mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends]),
+                           start_ft=self.near_ft)
+            grown = np.vstack([cell_centres(fs.hits, res),
+                               features_cells(fs.hits, fs.hit_cov, res),
+                               spans_cells(fs.hits, fs.spans, res)])
+            grown = grown[np.abs(grown[:, 1] - left[1]) < res]        # the floor slab
+            mark_occupied(self.tree, cell_centres(grown, res))
+        self.points = np.vstack([self.points, fs.hits])
+        self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
+        return len(fs.hits)
 
     def _extend(self, xz):
         if len(xz) == 0:
@@ -238,18 +250,39 @@ class Perception:
         margin = 2.0
         return project_octree(self.tree, (lo[0] - margin, hi[0] + margin, lo[1] - margin,
                                           hi[1] + margin), self.band, margin=0.0,
-                              free_looks=self.free_looks)
+                              free_looks=self.free_looks, free_band=self.free_band)
 
 
-def _mark_track_free(fm: FloorMap, track, radius: float) -> None:
-    """Where the vehicle has stood is free: it pivots there, so nothing is
-    within its radius of every dead-reckoned position (whatever a false match
-    said)."""
+def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0) -> None:
+    """Where the vehicle has stood is free: its footprint rectangle at every
+    dead-reckoned pose (and, with ``disc_ft``, a disc of that radius about the
+    first pose: the clear spot it was set down in)."""
+    from vehicle.collide import footprint_corners
     mask = np.zeros(fm.shape, np.uint8)
     for s in track:
-        i, j = fm.index(s.x, s.z)
-        cv2.circle(mask, (j, i), int(math.ceil(radius / fm.cell)), 1, -1)
+        c = footprint_corners(s.x, s.z, s.heading_deg, footprint)
+        poly = np.stack([(c[:, 0] - fm.x0) / fm.cell, (c[:, 1] - fm.z0) / fm.cell], 1)
+        cv2.fillPoly(mask, [np.round(poly - 0.5).astype(np.int32)], 1)
+    if disc_ft > 0 and len(track):
+        i, j = fm.index(track[0].x, track[0].z)
+        cv2.circle(mask, (j, i), int(math.floor(disc_ft / fm.cell)), 1, -1)
     fm.cells[mask > 0] = FREE
+
+
+def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
+    """Every cell within ``radius`` of (x, z) is FREE: a pivot there is safe."""
+    n = int(math.ceil(radius / fm.cell)) + 1
+    i0, j0 = fm.index(x, z)
+    ii, jj = np.mgrid[i0 - n:i0 + n + 1, j0 - n:j0 + n + 1]
+    cx, cz = fm.centre(ii, jj)
+    # cells whose square comes within the radius
+    dx = np.maximum(np.abs(cx - x) - fm.cell / 2, 0)
+    dz = np.maximum(np.abs(cz - z) - fm.cell / 2, 0)
+    near = np.hypot(dx, dz) <= radius
+    inside = (ii >= 0) & (jj >= 0) & (ii < fm.shape[0]) & (jj < fm.shape[1])
+    if (near & ~inside).any():
+        return False
+    return bool((fm.cells[ii[near], jj[near]] == FREE).all())
 
 
 HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
@@ -271,6 +304,32 @@ def looked_free(fm: FloorMap, est: State, max_range: float) -> FloorMap:
     return out
 
 
+HALF_VFOV_DEG = math.degrees(math.atan(60 / 180))     # half the 120-line picture's height
+
+
+def near_visible_ft(profile: VehicleProfile, lowest_obstacle_ft: float) -> float:
+    """The distance from which an obstacle ``lowest_obstacle_ft`` tall shows in
+    the picture (the lower edge of the view, pitched by the profile, reaches
+    its top): nearer than that a look proves no floor free."""
+    down = -profile.camera_pitch_deg + HALF_VFOV_DEG
+    if down <= 0:
+        return math.inf
+    return (profile.camera_height_ft - lowest_obstacle_ft) / math.tan(math.radians(down))
+
+
+def true_range_points(points, look):
+    """The rig's located edges with their range replaced by the TRUE range at
+    the same pixel (the nearer surface over the edge's +-1 columns): the
+    matcher's false matches removed, everything else the same."""
+    import dataclasses
+    out = []
+    for p in points:
+        c = p.loc1 - 1
+        z = float(look.range_left[p.line, max(c - 1, 0):min(c + 2, 128)].min())
+        out.append(dataclasses.replace(p, dp=z))
+    return out
+
+
 def _mark_walls(fm: FloorMap, bounds) -> None:
     """The floor plan: every cell reaching past the walls is occupied."""
     nz, nx = fm.shape
@@ -282,21 +341,39 @@ def _mark_walls(fm: FloorMap, bounds) -> None:
     fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
 
 
+def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad: float,
+               half_width: float) -> np.ndarray:
+    """For each sample of a straight move: every cell across the vehicle's
+    swept width (``half_width`` each side of the centre line) has been seen."""
+    right = np.array([math.cos(heading_rad), -math.sin(heading_rad)])
+    offs = np.arange(-half_width, half_width + 1e-9, fm.cell / 2)
+    pts = samples[:, None, :] + offs[None, :, None] * right[None, None, :]
+    i = np.floor((pts[..., 1] - fm.z0) / fm.cell).astype(int)
+    j = np.floor((pts[..., 0] - fm.x0) / fm.cell).astype(int)
+    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    ok = np.zeros(i.shape, bool)
+    ok[inside] = known[i[inside], j[inside]]
+    return ok.all(1)
+
+
 def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
-                 seen_eyes: np.ndarray | None = None):
+                 seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
+                 nose_ft: float = 0.5, pivot_ft: float = 0.0):
     """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
     would come nearer than its radius to an occupied or uncertain cell
-    (``safe``), or where its centre would enter a cell never seen (``seen``;
+    (``safe``), or where its swept width (``half_width`` each side) would
+    enter a cell never seen (``seen``;
     ``seen_eyes`` adds the field of view just looked at, used while the vehicle
-    still faces the way it looked).  The flanks of the first feet ahead are
-    outside any picture (the view is 39 deg wide), so they are not required
-    to have been seen.  Turns are pivots (safe anywhere)."""
+    still faces the way it looked).  A turn is a pivot: it needs every cell
+    within ``pivot_ft`` (the footprint's half diagonal) seen free."""
     out = []
     x, z, h = est.x, est.z, est.heading_deg
     turned = 0.0
     fm = safe.fmap
     for c in next_segment(cmds, step):
         if isinstance(c, Turn):
+            if pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
+                break                     # its pivot circle reaches space not seen free
             out.append(c)
             h = wrap(h + c.angle_deg)
             turned += abs(c.angle_deg)
@@ -310,14 +387,22 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
         i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
         j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
         inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        # each position needs the band seen on to the vehicle's nose ahead of it
+        step_s = fm.cell / 4
+        m = int(math.ceil(nose_ft / step_s))
+        ext = np.vstack([s, end + (np.arange(1, m + 1) * step_s)[:, None] *
+                         np.array([math.sin(hr), math.cos(hr)])[None, :]])
+        bs = _band_seen(known, fm, ext, hr, half_width)
+        run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+        seen_band = run_ok
         ok = np.zeros(len(s), bool)
-        ok[inside] = safe.ok[i[inside], j[inside]] & known[i[inside], j[inside]]
+        ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
         # the vehicle may leave a cell it stands in even if a (perhaps false)
         # obstacle came near it, as long as it gets no nearer
         cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
         near = np.zeros(len(s), bool)
         near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
-            known[i[inside], j[inside]]
+            seen_band[inside]
         good = ok | (near & (np.arange(len(s)) * fm.cell / 4 <= 1.0))
         bad = np.flatnonzero(~good)
         if len(bad) == 0:
@@ -398,7 +483,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
 
     prof = cfg.profile
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
-    model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks)
+    model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
+                       near_visible_ft(prof, cfg.lowest_obstacle_ft))
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []
@@ -416,24 +502,31 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 break
             t0 = time.perf_counter()
             tp = veh.true
-            look = render_look(room, Pose(tp.x, tp.z, tp.heading_deg), seed=cfg.look_seed + look_no,
+            look = render_look(room, Pose(tp.x, tp.z, tp.heading_deg, prof.camera_pitch_deg),
+                               seed=cfg.look_seed + look_no,
                                supersample=cfg.supersample)
             t1 = time.perf_counter()
             scan = scan_pair(look.left_bi, look.right_bi, lines=cfg.lines)
+            points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
             est = model.estimate(look, veh.dead)
-            model.update(scan.points, est, Pose)
+            model.update(points, est, Pose, prof.camera_pitch_deg)
             fm = model.floor_map([(est.x, est.z), goal])
-            _mark_track_free(fm, veh.dead_track, prof.radius_ft)
+            _mark_track_free(fm, veh.dead_track, prof.footprint, cfg.start_clear_ft)
             if cfg.known_walls:
                 _mark_walls(fm, room.bounds)
-            safe = clearance_map(fm, prof.planning_radius_ft, "free", uncertain="blocked")
+            safe = clearance_map(fm, prof.planning_radius_ft,
+                                 "blocked" if cfg.safety == "strict" else "free",
+                                 uncertain="blocked")
             seen = fm.cells != UNKNOWN
             seen_eyes = None
             if cfg.trust_view:
                 seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
             try:
                 pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
-                seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes)
+                seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
+                                   prof.width_ft / 2 + prof.margin_ft,
+                                   prof.length_ft / 2 + prof.margin_ft,
+                                   prof.radius_ft)
                 left = path_length(pts)
                 if not any(isinstance(c, Forward) for c in seg):
                     # nothing known free ahead: face the path and look again
@@ -451,8 +544,12 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
-                seg = [Turn(round(t, 2))]
-                note += " (turning to look)"
+                if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+                    seg = [Turn(round(t, 2))]
+                    note += " (turning to look)"
+                else:
+                    seg = []
+                    note += " (cannot turn: space within its radius not seen free)"
             t2 = time.perf_counter()
             before = (veh.true.x, veh.true.z)
             ok = veh.execute(seg)
@@ -489,3 +586,25 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
                        cfg.unknown, cfg.search)
+
+
+def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,
+                cell: float = 0.25, tries: int = 200):
+    """A goal the vehicle can reach from ``start`` in the TRUE room (a path
+    exists at the planner's resolution) at least ``min_ft`` away, or None."""
+    x0, x1, z0, z1 = room.bounds
+    r = profile.planning_radius_ft
+    fm = true_floor_map(room.obstacles, room.bounds, cell)
+    p = clearance_map(fm, r, "blocked")
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    si, sj = fm.index(start.x, start.z)
+    if not fm.inside(si, sj) or comp[si, sj] == 0:
+        return None
+    for _ in range(tries):
+        gx, gz = float(rng.uniform(x0 + r, x1 - r)), float(rng.uniform(z0 + r, z1 - r))
+        if math.hypot(gx - start.x, gz - start.z) < min_ft:
+            continue
+        gi, gj = fm.index(gx, gz)
+        if comp[gi, gj] == comp[si, sj] and room.clearance(gx, gz) >= r:
+            return round(gx, 2), round(gz, 2)
+    return None

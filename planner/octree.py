@@ -275,3 +275,29 @@ def leaves(tree: pyoctomap.OcTree, bbx_min=None, bbx_max=None, free_looks: int =
 def memory_bytes(tree: pyoctomap.OcTree) -> int:
     """OctoMap's own count of the tree's memory."""
     return int(tree.memoryUsage())
+
+
+def mark_free_rays(tree: pyoctomap.OcTree, origin, ends, stop_short: float | None = None,
+                   start_ft: float = 0.0) -> int:
+    """One miss for each cell along the sight lines ``origin -> end`` from
+    ``start_ft`` on, stopping ``stop_short`` (default one cell) before each
+    end; the ends are not hit.  Returns the number of cells."""
+    ends = np.asarray(ends, float).reshape(-1, 3)
+    if not len(ends):
+        return 0
+    res = tree.getResolution()
+    stop = res if stop_short is None else stop_short
+    origin = np.asarray(origin, float)
+    d = ends - origin
+    length = np.linalg.norm(d, axis=1)
+    reach = np.maximum(length - stop - start_ft, 0.0)
+    n = np.where(length - stop > start_ft, np.floor(reach / (res / 2)).astype(int) + 1, 0)
+    if n.sum() == 0:
+        return 0
+    seg = np.repeat(np.arange(len(ends)), n)
+    dist = start_ft + np.concatenate([np.arange(m) for m in n]) * (res / 2)
+    unit = d / np.maximum(length, 1e-12)[:, None]
+    samples = origin + dist[:, None] * unit[seg]
+    cells = cell_centres(samples, res)
+    tree.updateNodes(np.ascontiguousarray(cells), False)
+    return len(cells)

@@ -69,6 +69,23 @@ def filter_points(xyz_cam, ep, max_range: float = MAX_RANGE_FT, max_rel_error: f
     return (z >= min_range) & (z <= max_range) & (ep <= max_rel_error * z)
 
 
+def vertical_support(xyz_cam, ep, line, max_line_gap: int = 8, tol_ft: float = 0.15):
+    """Mask of points with a partner on another scan line at most
+    ``max_line_gap`` lines away whose position agrees across (x) within
+    ``tol_ft`` and in range within both error bounds: a vertical edge (the
+    dissertation's boundary lines) shows on line after line, while a false
+    match rarely repeats at the same place."""
+    n = len(xyz_cam)
+    if n == 0:
+        return np.zeros(0, bool)
+    dl = np.abs(line[:, None] - line[None, :])
+    dx = np.abs(xyz_cam[:, None, 0] - xyz_cam[None, :, 0])
+    dz = np.abs(xyz_cam[:, None, 2] - xyz_cam[None, :, 2])
+    tol_z = np.maximum(ep[:, None] + ep[None, :], tol_ft)
+    ok = (dl > 0) & (dl <= max_line_gap) & (dx <= tol_ft) & (dz <= tol_z)
+    return ok.any(1)
+
+
 def to_room(xyz_cam, cov_cam, R, left_centre):
     """Camera points and covariances into room coordinates."""
     R = np.asarray(R, float)
@@ -93,11 +110,90 @@ def surface_spans(xyz_cam, ep, line, loc1, max_gap_ft: float = 3.0):
     return pairs
 
 
-def look_to_room(points, R, left_centre, max_range: float = MAX_RANGE_FT):
+def look_to_room(points, R, left_centre, max_range: float = MAX_RANGE_FT, vertical: bool = True):
     """rig.scan Points of one look -> (RoomPoints kept, surface span pairs)."""
     xyz_c, cov_c, line, loc1, ep = camera_points(points)
     keep = filter_points(xyz_c, ep, max_range)
     xyz_c, cov_c, line, loc1, ep = xyz_c[keep], cov_c[keep], line[keep], loc1[keep], ep[keep]
+    if vertical:
+        keep = vertical_support(xyz_c, ep, line)
+        xyz_c, cov_c, line, loc1, ep = xyz_c[keep], cov_c[keep], line[keep], loc1[keep], ep[keep]
     spans = surface_spans(xyz_c, ep, line, loc1)
     xyz, cov = to_room(xyz_c, cov_c, R, left_centre)
     return RoomPoints(xyz, cov, line, loc1, np.asarray(left_centre, float)), spans
+
+
+@dataclass
+class FloorScan:
+    """One look projected onto the floor plane (Chapter VI's projection over
+    the vehicle's height band), as a range per picture column."""
+    origin: np.ndarray       # (3,) left camera centre in the room
+    hits: np.ndarray         # (H, 3) nearest located point of each column that has one
+    hit_cov: np.ndarray      # (H, 3, 3)
+    free_ends: np.ndarray    # (F, 3) ends of the free sight lines of the columns between
+    spans: list              # index pairs into hits: one surface between two boundary lines
+
+
+def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
+               max_gap_px: int = 32, min_votes: int = 2) -> FloorScan:
+    """The look as a floor range scan: for every picture column the NEAREST
+    range that at least ``min_votes`` of its located points (in the height
+    band) agree on within their error bounds — a vertical boundary line shows
+    on line after line at one range, a false match seldom twice; the nearest,
+    because the camera looks over low boxes at the wall behind them — moved to
+    the camera's height; between two such
+    columns at most ``max_gap_px`` apart, the columns between are free up to
+    the nearer of the two (the surface between two boundary lines, or a gap
+    whose far side is not seen); two neighbours at one range are joined by a
+    surface span."""
+    R = np.asarray(R, float)
+    origin = np.asarray(left_centre, float)
+    xyz_c, cov_c, line, loc1, ep = camera_points(points)
+    keep = filter_points(xyz_c, ep, max_range)
+    room = xyz_c @ R.T + origin
+    keep &= (room[:, 1] >= band[0]) & (room[:, 1] <= band[1])
+    xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]
+    empty = np.zeros((0, 3))
+    if not len(xyz_c):
+        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
+    cols_all = np.unique(loc1)
+    cols, near = [], []
+    for c in cols_all:
+        idx = np.flatnonzero(loc1 == c)
+        z = xyz_c[idx, 2]
+        tol = np.maximum(ep[idx], 0.05 * z)
+        votes = (np.abs(z[:, None] - z[None, :]) <= tol[:, None]).sum(1)
+        supported = np.flatnonzero(votes >= min_votes)
+        if not len(supported):
+            continue
+        cols.append(c)
+        near.append(idx[supported[np.argmin(z[supported])]])
+    if not cols:
+        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
+    cols, near = np.array(cols), np.array(near)
+    rng = xyz_c[near, 2]
+
+    def to_room(col, z):
+        x = (col - 0.5 - CX_128) * z / FOCAL_128
+        p = np.stack([x, np.zeros_like(z), z], -1) @ R.T + origin
+        p[:, 1] = origin[1]
+        return p
+
+    hits = to_room(cols.astype(float), rng)
+    hit_cov = R @ cov_c[near] @ R.T
+    free_cols, free_rng, spans = [], [], []
+    for k in range(len(cols) - 1):
+        a, b = cols[k], cols[k + 1]
+        if b - a > 1 and b - a <= max_gap_px:
+            between = np.arange(a + 1, b)
+            free_cols.append(between)
+            free_rng.append(np.full(len(between), min(rng[k], rng[k + 1])))
+        if b - a <= max_gap_px:
+            tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
+            if abs(rng[k] - rng[k + 1]) <= tol:
+                spans.append((k, k + 1))
+    if free_cols:
+        free_ends = to_room(np.concatenate(free_cols).astype(float), np.concatenate(free_rng))
+    else:
+        free_ends = empty
+    return FloorScan(origin, hits, hit_cov, free_ends, spans)

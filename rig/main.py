@@ -6,6 +6,7 @@
 * ``rig scan``: a whole-picture scan (lines 8..112 by default) with a progress
   bar: every located edge as a 3-D point with its error bounds and covariance,
   written as CSV and PLY; the accuracy table when the true range is known.
+* ``rig drive``: the robot drives to a goal in a simulated room (rig/drive.py).
 """
 
 from __future__ import annotations
@@ -190,6 +191,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="FIX (not 1985): MARF's refined location with the geometric sign")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_scan)
+    from .drive import add_parser as add_drive_parser
+    add_drive_parser(sub)
     return p
 
 

@@ -6,7 +6,9 @@ stay passable) — a footprint 0.8 ft wide by 1.0 ft long centred under the
 rig's midpoint, the cameras 3 ft
 above the floor (room Y = 0, the floor at Y = +3, as in the bundled lab), pivot
 turns (turning radius 0: the HERO-1 turns its single drive wheel across and
-pivots), at most 1.5 ft of forward travel between looks (the Stanford Cart
+pivots), the rig pitched 25 deg down (like the Stanford Cart's camera: level,
+a camera 3 ft up with the rig's 37 deg tall view sees no floor nearer than
+9 ft), at most 1.5 ft of forward travel between looks (the Stanford Cart
 moved about 2.5 ft per look), forward only.  ``margin_ft`` is added to the
 vehicle's radius when planning, against the error of the position estimate.
 """
@@ -22,6 +24,7 @@ class VehicleProfile:
     width_ft: float = 0.8            # across (the rig's x axis)
     length_ft: float = 1.0           # along the forward axis
     camera_height_ft: float = 3.0    # above the floor
+    camera_pitch_deg: float = -25.0  # the rig looks down (positive: nose up)
     turning_radius_ft: float = 0.0   # 0: pivot turns
     step_ft: float = 1.5             # most forward travel between looks
     margin_ft: float = 0.15          # added to the radius for planning
