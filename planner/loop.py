@@ -96,6 +96,7 @@ class DriveConfig:
                                           # true range at the same edge pixels (an oracle
                                           # that separates the planner from the matcher)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
+    blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
@@ -193,11 +194,12 @@ class Perception:
     this adapter uses: the dead-reckoned pose, unchanged."""
 
     def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
-                 free_looks: int = 2, near_ft: float = 2.8):
+                 free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
         self.tree = new_octree(voi, confirm_looks)
         self.free_looks = free_looks
         self.free_band = None
         self.near_ft = near_ft
+        self.blank_ft = blank_ft
         self.voi = voi
         self.band = band
         self.max_range_ft = max_range_ft
@@ -221,16 +223,18 @@ class Perception:
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
-        fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft)
+        fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
+                        blank_ft=self.blank_ft)
         res = self.tree.getResolution()
-        if len(fs.hits):
+        if len(fs.hits) or len(fs.free_ends):
             mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends]),
                            start_ft=self.near_ft)
             grown = np.vstack([cell_centres(fs.hits, res),
                                features_cells(fs.hits, fs.hit_cov, res),
                                spans_cells(fs.hits, fs.spans, res)])
             grown = grown[np.abs(grown[:, 1] - left[1]) < res]        # the floor slab
-            mark_occupied(self.tree, cell_centres(grown, res))
+            if len(grown):
+                mark_occupied(self.tree, cell_centres(grown, res))
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
@@ -380,6 +384,8 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
             continue
         if not isinstance(c, Forward):
             break
+        if turned > EYES_TURN_DEG and out:
+            break                         # look the new way before driving into it
         known = seen_eyes if (seen_eyes is not None and turned <= EYES_TURN_DEG) else seen
         hr = math.radians(h)
         end = (x + c.distance_ft * math.sin(hr), z + c.distance_ft * math.cos(hr))
@@ -484,7 +490,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     prof = cfg.profile
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
-                       near_visible_ft(prof, cfg.lowest_obstacle_ft))
+                       near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []

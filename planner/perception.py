@@ -135,7 +135,8 @@ class FloorScan:
 
 
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
-               max_gap_px: int = 32, min_votes: int = 2) -> FloorScan:
+               max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None
+               ) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -154,7 +155,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     keep &= (room[:, 1] >= band[0]) & (room[:, 1] <= band[1])
     xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]
     empty = np.zeros((0, 3))
-    if not len(xyz_c):
+    if not len(xyz_c) and not blank_ft:
         return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
     cols_all = np.unique(loc1)
     cols, near = [], []
@@ -168,9 +169,9 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
             continue
         cols.append(c)
         near.append(idx[supported[np.argmin(z[supported])]])
-    if not cols:
+    if not cols and not blank_ft:
         return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
-    cols, near = np.array(cols), np.array(near)
+    cols, near = np.array(cols, int), np.array(near, int)
     rng = xyz_c[near, 2]
 
     def to_room(col, z):
@@ -182,9 +183,10 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     hits = to_room(cols.astype(float), rng)
     hit_cov = R @ cov_c[near] @ R.T
     free_cols, free_rng, spans = [], [], []
+    gap_px = 128 if blank_ft else max_gap_px
     for k in range(len(cols) - 1):
         a, b = cols[k], cols[k + 1]
-        if b - a > 1 and b - a <= max_gap_px:
+        if b - a > 1 and b - a <= gap_px:
             between = np.arange(a + 1, b)
             free_cols.append(between)
             free_rng.append(np.full(len(between), min(rng[k], rng[k + 1])))
@@ -192,6 +194,20 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
             tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
             if abs(rng[k] - rng[k + 1]) <= tol:
                 spans.append((k, k + 1))
+    if blank_ft:
+        # outside the outermost columns that show something: free up to
+        # blank_ft, or up to the outermost hit's range if nearer (an
+        # assumption, off by default: a blank wall shows nothing either, and
+        # a box face wider than the picture too)
+        lo_c = cols[0] if len(cols) else 129
+        hi_c = cols[-1] if len(cols) else 0
+        for side in (np.arange(1, lo_c), np.arange(hi_c + 1, 129)):
+            if len(side):
+                edge_r = rng[0] if (len(cols) and side[0] == 1) else \
+                    (rng[-1] if len(cols) else blank_ft)
+                free_cols.append(side)
+                free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))
+                                        if len(cols) else float(blank_ft)))
     if free_cols:
         free_ends = to_room(np.concatenate(free_cols).astype(float), np.concatenate(free_rng))
     else:

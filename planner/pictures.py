@@ -78,13 +78,23 @@ def drive_map(fm, bounds, obstacles=(), path=(), true_track=(), est_track=(), go
         cv2.arrowedLine(img, px(s.x, s.z), tip, COL_TRUE, 2, cv2.LINE_AA, tipLength=0.3)
     img[:top] = 255
     _text(img, title, (4, 16))
-    y = H + top + 15
-    img[H + top:] = 255
-    x = 4
-    for label, colour in (("occupied", COL_OCC), ("free", (200, 200, 200)),
-                          ("unknown", COL_UNKNOWN), ("uncertain", COL_UNCERTAIN), ("truth", COL_TRUTH), ("path", COL_PATH),
-                          ("true", COL_TRUE), ("estimate", COL_EST)):
-        cv2.rectangle(img, (x, y - 9), (x + 10, y + 1), colour, -1)
-        _text(img, label, (x + 13, y), 0.38)
-        x += 13 + 8 * len(label) + 8
+    items = (("occupied", COL_OCC), ("free", (200, 200, 200)), ("unknown", COL_UNKNOWN),
+             ("uncertain", COL_UNCERTAIN), ("truth", COL_TRUTH), ("path", COL_PATH),
+             ("true", COL_TRUE), ("estimate", COL_EST))
+    rows, row, width = [], [], 4
+    for label, colour in items:
+        w = 13 + 7 * len(label) + 8
+        if row and width + w > W:
+            rows.append(row)
+            row, width = [], 4
+        row.append((label, colour, width))
+        width += w
+    rows.append(row)
+    legend = np.full((16 * len(rows) + 4, W, 3), 255, np.uint8)
+    for r, row in enumerate(rows):
+        y = 13 + 16 * r
+        for label, colour, x in row:
+            cv2.rectangle(legend, (x, y - 9), (x + 10, y + 1), colour, -1)
+            _text(legend, label, (x + 13, y), 0.38)
+    img = np.vstack([img[:H + top], legend])
     return img

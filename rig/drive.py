@@ -119,13 +119,14 @@ def cmd_drive(args) -> int:
             raise SystemExit(f"rig drive: the {what} ({x:g}, {z:g}) ft is {where} in "
                              f"{room.name!r}; the vehicle needs {r:.2f} ft")
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                      max_looks=args.max_looks)
+                      max_looks=args.max_looks, eyes=args.eyes,
+                      blank_ft=args.blank_ft if args.blank_ft > 0 else None)
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     print(f"rig drive: {room.name}, start ({start.x:g}, {start.z:g}) heading "
           f"{start.heading_deg:g} deg, goal ({goal[0]:g}, {goal[1]:g}), unknown space "
-          f"{args.unknown}, search {args.search}, odometry noise "
+          f"{args.unknown}, search {args.search}, eyes {args.eyes}, odometry noise "
           f"{'off' if noise is None else 'on'}")
 
     def line(c):
@@ -179,6 +180,12 @@ def add_parser(sub) -> None:
                         "never drives into it either way")
     d.add_argument("--search", choices=("dissertation", "astar"), default="dissertation",
                    help="the dissertation's hierarchical search (default) or A*")
+    d.add_argument("--eyes", choices=("rig", "truth"), default="rig",
+                   help="rig: the 1985 matcher's ranges (default); truth: the true range at the "
+                        "same edge pixels (an oracle: the planner without the matcher's errors)")
+    d.add_argument("--blank-ft", type=float, default=8.0, metavar="FT",
+                   help="picture columns outside everything the look located count free this "
+                        "far (default 8; 0: off, then blank walls stop the vehicle)")
     d.add_argument("--max-looks", type=int, default=60, metavar="N")
     d.add_argument("--seed", type=int, default=1985, help="odometry noise seed")
     d.add_argument("--no-noise", action="store_true", help="odometry noise off")
