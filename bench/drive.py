@@ -8,9 +8,10 @@ TRUE footprint with the TRUE room along the executed motion, executed path
 length against the true optimum (A* on the true room at the same resolution,
 pulled taut), looks per metre, time per cycle with and without the look's
 rendering, octree memory; and the dissertation's search against A* on the
-same final maps (path length and time).
+same final map of each run, from the start to the goal (path length pulled
+taut, and time).
 
-    python bench/drive.py --rooms 20 --out docs/drive-bench.json
+    python bench/drive.py --rooms 20 [--eyes truth] [--search astar] [--unknown blocked]
 
 Numbers go into docs/planner.md with the command that made them.
 """
@@ -54,6 +55,7 @@ def main(argv=None) -> int:
     ap.add_argument("--unknown", choices=("free", "blocked"), default="free")
     ap.add_argument("--search", choices=("dissertation", "astar"), default="dissertation")
     ap.add_argument("--max-looks", type=int, default=60)
+    ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     args = ap.parse_args(argv)
 
@@ -76,10 +78,11 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                          max_looks=args.max_looks)
+                          max_looks=args.max_looks, eyes=args.eyes)
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
-        side = search_side_by_side(last.fmap, (last.estimate.x, last.estimate.z), goal,
+        # both searches on the final model, from the start to the goal
+        side = search_side_by_side(last.fmap, (start.x, start.z), goal,
                                    DEFAULT.planning_radius_ft) if last else [None] * 6
         ratio = res.travelled_ft / res.optimal_ft if (res.reached and res.optimal_ft) else None
         row = {"room": seed, "goal": goal, "reached": res.reached, "reason": res.reason,
@@ -110,7 +113,7 @@ def main(argv=None) -> int:
     ratios = [r["ratio"] for r in ok if r["ratio"]]
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
-        "rooms": len(rows), "unknown": args.unknown, "search": args.search,
+        "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
