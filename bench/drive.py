@@ -48,6 +48,37 @@ def search_side_by_side(fmap, start, goal, radius):
     return out
 
 
+def true_maps(args) -> int:
+    """The dissertation's search and A* side by side on the true floor map of
+    each room (start to its random goal): length pulled taut, raw length, ms."""
+    from planner.floormap import true_floor_map
+    from planner.loop import random_goal
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.room import generate_room
+    ratios, raw_ratios, t_d, t_a = [], [], [], []
+    print(f"{'room':>4} {'diss ft':>7} {'A* ft':>6} {'diss raw':>8} {'A* raw':>6} {'diss ms':>7} "
+          f"{'A* ms':>6}")
+    for seed in range(args.first, args.first + args.rooms):
+        room = generate_room(seed)
+        s = room.start
+        start = State(s.x, s.z, s.heading_deg)
+        goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+        if goal is None:
+            continue
+        fm = true_floor_map(room.obstacles, room.bounds, 0.25)
+        d, d_raw, dms, a, a_raw, ams = search_side_by_side(fm, (start.x, start.z), goal,
+                                                           DEFAULT.planning_radius_ft)
+        print(f"{seed:>4} {d:>7.2f} {a:>6.2f} {d_raw:>8.2f} {a_raw:>6.2f} {dms:>7.1f} {ams:>6.1f}")
+        ratios.append(d / a)
+        raw_ratios.append(d_raw / a_raw)
+        t_d.append(dms)
+        t_a.append(ams)
+    print(f"dissertation / A*: taut length median {np.median(ratios):.3f} max {np.max(ratios):.3f}; "
+          f"raw {np.median(raw_ratios):.3f}; ms median {np.median(t_d):.1f} / {np.median(t_a):.1f}")
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=20)
@@ -57,7 +88,11 @@ def main(argv=None) -> int:
     ap.add_argument("--max-looks", type=int, default=60)
     ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
+    ap.add_argument("--true-maps", action="store_true",
+                    help="only the two searches on the TRUE floor maps of the rooms (no drive)")
     args = ap.parse_args(argv)
+    if args.true_maps:
+        return true_maps(args)
 
     from planner.loop import DriveConfig, random_goal, run
     from vehicle.profile import DEFAULT
