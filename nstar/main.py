@@ -167,6 +167,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-wrap-percent", action="store_true",
                    help="FIX (not 1985): compute the block-map percentage without "
                         "16-bit overflow")
+    p.add_argument("--bitmap-extensions", action="store_true",
+                   help="BEYOND 1985: answer command codes 11-13 (Appendix B's radial bit map, "
+                        "RBMAP.DT; bit-map operations B-2..B-8, OPMAP.DT); see docs/formats.md")
     return p
 
 
@@ -191,7 +194,8 @@ def main(argv=None) -> int:
             except EOFError:
                 debug = 0
         nova = Nova(debug=debug & 0xFFFF, listing=listing, console=console,
-                    options=Options(no_wrap_percent=args.no_wrap_percent))
+                    options=Options(no_wrap_percent=args.no_wrap_percent,
+                                    bitmap_extensions=args.bitmap_extensions))
         jhdir = args.jhdata or default_jhdata()
         jh = JHData(jhdir, me="NSTAR", peer="ESTAR", timeout=args.timeout)
         jh.lock(LOCK_NAME)                 # two NSTARs would take each other's commands

@@ -18,6 +18,8 @@ from diskfmt.layouts import (BlockMap, decode_ncont, encode_wbmap, encode_block,
                              CODE_SLICE, CODE_NEW_PAIR, CODE_EDGE_MAP)
 from diskfmt.listing import Console, Listing, fi
 from octek_sim import Octek
+from diskfmt.bitmap_files import EXTENSION_CODES
+from . import extensions
 from .bitmaps import block_map, command_geometry, edge_map, edge_map_batch, scale_factors
 from .exqvfl import exqvfl
 from .printouts import prbm
@@ -40,6 +42,7 @@ class Reply:
 class Options:
     """Deliberate departures from 1985, each off by default."""
     no_wrap_percent: bool = False    # command 1: compute ICNT*100 without 16-bit wrap
+    bitmap_extensions: bool = False  # codes 11-13, Appendix B beyond 1985 (nstar/extensions.py)
 
 
 class Nova:
@@ -88,6 +91,8 @@ class Nova:
         ixoff, ixmin, ixmax, iymin, iymax, ixctr, iyctr, ixc, iyc = (
             int(v) for v in command_geometry(imf, ixctr, iyctr))
         iyoff = 0
+        if self.options.bitmap_extensions and code in EXTENSION_CODES:
+            return extensions.execute(self, code, imf, cmd.words()[2], cmd.words()[3], irad, idn)
         if code < -1 or code > 4 or code == 0:
             # IF ((ICODE .LT. -1) .OR. (ICODE .GT. 4)) GOTO 100; code 0 falls
             # through the computed GOTO to GOTO 100.

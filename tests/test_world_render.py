@@ -116,7 +116,9 @@ def test_range_truth_is_camera_z_of_the_face(pose):
 def test_windowed_trace_equals_plain_trace(lab):
     px, py = _grid(1)
     for pose in (Pose(0, 0, 0), Pose(2.0, 6.0, 80.0, 3.0, -4.0), Pose(-3.0, 2.0, -120.0),
-                 Pose(6.0, 17.5, 45.0, 0.0, 0.0), Pose(-3.98, -4.98, 200.0)):
+                 Pose(6.0, 17.5, 45.0, 0.0, 0.0), Pose(-3.615, -4.6, 0.0),
+                 Pose(-3.62, -4.75, 30.0, 2.0, 1.0)):
+        # (the last two: the left camera 1 cm and 5.5 cm from the left wall)
         for side in ("left", "right"):
             o, R = pose.camera_centre(side), pose.rotation()
             t, which, d = trace_grid(lab.quads, o, R, px, py)

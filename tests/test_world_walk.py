@@ -78,3 +78,16 @@ def test_bad_walk_files(text, msg):
 def test_unreadable_walk_file(tmp_path):
     with pytest.raises(ValueError, match="cannot read"):
         read_walk(tmp_path / "missing.csv")
+
+
+def test_a_walk_with_nowhere_to_go_is_refused():
+    from world.room import make_room
+    lab = bundled_lab()
+    # a 3 x 3 ft pen around the start: with 1.2 ft clearance only 0.6 ft of it is free
+    pen = [((-3.0, 3.0), (1.5, 2.5)), ((-3.0, 3.0), (-2.5, -1.5)),
+           ((-3.0, -1.5), (-2.5, 2.5)), ((1.5, 3.0), (-2.5, 2.5))]
+    with pytest.raises(ValueError, match="no goal"):
+        generate_walk(make_room("pen", lab.quads, pen, lab.bounds), 1, 10)
+    tight = [((-3.0, 3.0), (1.0, 2.0))]
+    with pytest.raises(ValueError, match="start"):
+        generate_walk(make_room("tight", lab.quads, tight, lab.bounds), 1, 10)

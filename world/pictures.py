@@ -103,3 +103,61 @@ def look_strip(looks, labels=None, scale: int = 2, per_row: int = 2) -> np.ndarr
             parts += [t, gap]
         rows.append(np.hstack(parts[:-1]))
     return np.vstack(rows)
+
+
+def bitmap_sheet(picture, icntr, maps: dict, radial_raw, orientation: int,
+                 title: str = "") -> np.ndarray:
+    """Appendix B on one region: the 128x120 picture (3x) with the region's ICNTR box; the
+    rectangular map A and its B-2..B-8 maps (``maps``: name -> 16 column words, bit 0 the top
+    row); the radial map (``radial_raw``: 16 sector words clockwise from +x, bit 0 innermost)
+    as a disc, the sector stored first (``orientation``) outlined."""
+    s = 3
+    pic = _grey(picture, s)
+    x0, x1, y0, y1 = icntr[:4]
+    cv2.rectangle(pic, (x0 * s, y0 * s), ((x1 + 1) * s - 1, (y1 + 1) * s - 1), (0, 0, 230), 1)
+    cell, gap = 7, 14
+    tile = 16 * cell
+    grid_w = 4 * tile + 3 * gap
+    grid = np.full((2 * (tile + 22) + gap, grid_w, 3), 255, np.uint8)
+    for n, name in enumerate(("A", "V", "L", "R", "H", "T", "B", "P")):
+        ox, oy = (n % 4) * (tile + gap), (n // 4) * (tile + 22 + gap) + 20
+        _text(grid, name, (ox, oy - 5), 0.5, BLACK)
+        words = [int(w) & 0xFFFF for w in maps[name]]
+        for j in range(16):
+            for i in range(16):
+                on = (words[j] >> i) & 1
+                cv2.rectangle(grid, (ox + j * cell, oy + i * cell),
+                              (ox + j * cell + cell - 2, oy + i * cell + cell - 2),
+                              (40, 40, 40) if on else (225, 225, 225), -1)
+    rad = 150
+    disc = np.full((2 * rad + 30, 2 * rad + 20, 3), 255, np.uint8)
+    cx, cy = rad + 10, rad + 24
+    _text(disc, "radial map", (10, 16), 0.5, BLACK)
+    for sec in range(16):
+        for ring in range(16):
+            on = (int(radial_raw[sec]) >> ring) & 1
+            a0, a1 = sec * 22.5, (sec + 1) * 22.5
+            r0, r1 = ring * rad / 16, (ring + 1) * rad / 16
+            pts = [(cx + r * math.cos(math.radians(a)), cy + r * math.sin(math.radians(a)))
+                   for r, a in ((r0, a0), (r1, a0))]
+            pts += [(cx + r1 * math.cos(math.radians(a)), cy + r1 * math.sin(math.radians(a)))
+                    for a in np.linspace(a0, a1, 5)]
+            pts += [(cx + r0 * math.cos(math.radians(a)), cy + r0 * math.sin(math.radians(a)))
+                    for a in np.linspace(a1, a0, 5)]
+            poly = np.array(pts).round().astype(np.int32)
+            cv2.fillPoly(disc, [poly], (40, 40, 40) if on else (225, 225, 225))
+            cv2.polylines(disc, [poly], True, (255, 255, 255), 1)
+    a0, a1 = orientation * 22.5, (orientation + 1) * 22.5
+    edge = [(cx, cy)] + [(cx + rad * math.cos(math.radians(a)), cy + rad * math.sin(math.radians(a)))
+                         for a in np.linspace(a0, a1, 9)]
+    cv2.polylines(disc, [np.array(edge).round().astype(np.int32)], True, (0, 0, 230), 2)
+    h = max(pic.shape[0], grid.shape[0], disc.shape[0]) + 30
+    parts = []
+    for p in (pic, grid, disc):
+        col = np.full((h - 30, p.shape[1], 3), 255, np.uint8)
+        col[:p.shape[0]] = p
+        parts += [col, np.full((h - 30, 16, 3), 255, np.uint8)]
+    body = np.hstack(parts[:-1])
+    head = np.full((30, body.shape[1], 3), 255, np.uint8)
+    _text(head, title, (4, 20), 0.55, BLACK)
+    return np.vstack([head, body])

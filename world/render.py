@@ -115,6 +115,53 @@ def _window(q: Quad, origin, R, px, py):
     return slice(r0, r1), slice(c0, c1)
 
 
+def _quad_params(quads) -> np.ndarray:
+    """(K, 6): axis, c, lo0, hi0, lo1, hi1 of every quad."""
+    return np.array([(q.axis, q.c, q.lo[0], q.hi[0], q.lo[1], q.hi[1]) for q in quads],
+                    dtype=np.float64).reshape(-1, 6)
+
+
+def _windows(quads, params, origin, R, px, py):
+    """``_window`` for every quad, vectorised for the common case (the camera not close to the
+    quad, all four corners in front of it); the others one by one."""
+    k = len(quads)
+    axis = params[:, 0].astype(np.int64)
+    c, a0, a1, b0, b1 = params[:, 1], params[:, 2], params[:, 3], params[:, 4], params[:, 5]
+    # corners (K, 4, 3) in the in-plane order (a0,b0) (a1,b0) (a1,b1) (a0,b1)
+    aa = np.stack([a0, a1, a1, a0], axis=1)
+    bb = np.stack([b0, b0, b1, b1], axis=1)
+    cc = np.repeat(c[:, None], 4, axis=1)
+    corners = np.empty((k, 4, 3))
+    for ax, (i, j, m) in enumerate(((cc, aa, bb), (aa, cc, bb), (aa, bb, cc))):
+        sel = axis == ax
+        corners[sel, :, 0], corners[sel, :, 1], corners[sel, :, 2] = i[sel], j[sel], m[sel]
+    # distance from the camera to each rectangle
+    o = np.asarray(origin, dtype=np.float64)
+    oa = np.choose(axis, [o[0], o[1], o[2]])
+    o1 = np.where(axis == 0, o[1], o[0])
+    o2 = np.where(axis == 2, o[1], o[2])
+    dist = np.sqrt((oa - c) ** 2 + np.maximum.reduce([a0 - o1, np.zeros(k), o1 - a1]) ** 2
+                   + np.maximum.reduce([b0 - o2, np.zeros(k), o2 - b1]) ** 2)
+    cam = (corners - o) @ R
+    z = cam[..., 2]
+    simple = (z >= _NEAR).all(axis=1) & (dist >= _CLOSE)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u, v = cam[..., 0] / z, cam[..., 1] / z
+    c0 = np.maximum(np.searchsorted(px, u.min(axis=1)) - _PAD, 0)
+    c1 = np.minimum(np.searchsorted(px, u.max(axis=1)) + _PAD, px.size)
+    r0 = np.maximum(np.searchsorted(py, v.min(axis=1)) - _PAD, 0)
+    r1 = np.minimum(np.searchsorted(py, v.max(axis=1)) + _PAD, py.size)
+    out = []
+    for i, q in enumerate(quads):
+        if not simple[i]:
+            out.append(_window(q, o, R, px, py))
+        elif c0[i] >= c1[i] or r0[i] >= r1[i]:
+            out.append(None)
+        else:
+            out.append((slice(int(r0[i]), int(r1[i])), slice(int(c0[i]), int(c1[i]))))
+    return out
+
+
 def _intersect(q: Quad, origin, d, best, which, k):
     """Update (best, which) in place where rays ``d`` from ``origin`` hit ``q`` nearer."""
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -184,10 +231,9 @@ def trace_grid(quads, origin, R, px, py, windowed: bool = True):
 def _trace_windows(quads, o, R, px, py, d):
     best = np.full(d[0].shape, np.inf)
     which = np.full(d[0].shape, -1, dtype=np.int32)
-    windows = [_window(q, o, R, px, py) for q in quads]
+    params = _quad_params(quads)
+    windows = _windows(quads, params, o, R, px, py)
     if JIT_ENABLED and isinstance(d, np.ndarray):
-        params = np.array([(q.axis, q.c, q.lo[0], q.hi[0], q.lo[1], q.hi[1]) for q in quads],
-                          dtype=np.float64).reshape(-1, 6)
         wins = np.array([(0, 0, 0, 0) if w is None else (w[0].start, w[0].stop, w[1].start,
                                                          w[1].stop) for w in windows],
                         dtype=np.int64).reshape(-1, 4)

@@ -77,8 +77,13 @@ class Room:
 # --- building rooms ------------------------------------------------------------------------
 
 def _q(name, axis, c, b1, b2, shade) -> Quad:
+    """A quad on the plane ``coord[axis] == c`` spanning ranges ``b1``, ``b2`` of the two other
+    axes in X, Y, Z order (rig.scene's convention)."""
     return Quad(name, axis, float(c), (float(b1[0]), float(b2[0])),
                 (float(b1[1]), float(b2[1])), shade)
+
+
+quad = _q          # the public name
 
 
 def full_box(name, x, y, z, front, side, top, back=None) -> list[Quad]:
@@ -323,10 +328,13 @@ def bundled_lab() -> Room:
 
 # --- generated rooms -----------------------------------------------------------------------
 
-def _texture(rng, base: int, horizontal_axis: int, lo_h: float, lo_y: float):
-    """A random surface pattern with enough contrast to give edges."""
+def _texture(rng, base: int, horizontal_axis: int, lo_h: float, lo_y: float, avoid=None):
+    """A random surface pattern with enough contrast to give edges (its second grey at least
+    3 levels from ``avoid``, the grey of the wall behind a poster)."""
     kind = rng.choice(["flat", "stripes", "checks", "band"], p=[0.35, 0.25, 0.25, 0.15])
     other = int((base + rng.integers(4, 12)) % 16)
+    if avoid is not None and abs(other - avoid) < 3:
+        other = int((avoid + 8) % 16) if abs((avoid + 8) % 16 - base) >= 3 else int((base + 8) % 16)
     if kind == "flat":
         return flat(base)
     if kind == "stripes":
@@ -351,7 +359,7 @@ def _far_enough(a, b, gap):
 @functools.lru_cache(maxsize=64)
 def generate_room(seed: int) -> Room:
     """A new closed room from ``seed``: walls, floor and ceiling of random greys (floor sometimes
-    tiled), 1-2 doors and 2-6 posters on the walls, 3-7 boxes on the floor (some textured, some
+    tiled), 1-2 doors and up to 9 posters on the walls, 3-7 boxes on the floor (some textured, some
     carrying a smaller box).  The start is Pose(0, 0, 0), at least 2.5 ft from every box and
     wall; every box keeps a 1.8 ft gap to the walls and to other boxes so a robot can pass."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -441,7 +449,7 @@ def generate_room(seed: int) -> Room:
                                     (f"door {i + 1} frame", iv, (top, y1), flat(fg))):
             b1, b2 = ((yiv, hiv) if axis == 0 else (hiv, yiv))
             decals.append(_q(nm, axis, c, b1, b2, shade))
-    for i in range(int(rng.integers(2, 7))):
+    for i in range(int(rng.integers(4, 10))):
         wall = names[int(rng.integers(0, 4))]
         pw = float(rng.uniform(1.0, 3.0))
         iv = slot(wall, pw)
@@ -453,7 +461,7 @@ def generate_room(seed: int) -> Room:
         yiv = (round(ptop, 3), round(ptop + ph, 3))
         wg = wall_g[names.index(wall)]
         pg = int((wg + rng.integers(4, 12)) % 16)
-        shade = _texture(rng, pg, hax, iv[0], yiv[0])
+        shade = _texture(rng, pg, hax, iv[0], yiv[0], avoid=wg)
         b1, b2 = ((yiv, iv) if axis == 0 else (iv, yiv))
         decals.append(_q(f"{wall} poster {i + 1}", axis, c, b1, b2, shade))
     quads += decals

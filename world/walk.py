@@ -163,14 +163,22 @@ def generate_walk(room: Room, seed: int, looks: int, step: float = STEP_FT,
         return tuple(cells[int(np.argmin(d))])
 
     s = room.start
+    if not room.is_free(s.x, s.z, clearance):
+        raise ValueError(f"room {room.name!r}: the start ({s.x:g}, {s.z:g}) is nearer than "
+                         f"{clearance} ft to an obstacle or wall")
     x, z, h = s.x, s.z, s.heading_deg
     poses = [Pose(x, z, h, s.pitch_deg, s.roll_deg, s.y)]
     path: list = []
+    failed = 0
     while len(poses) < looks:
         if not path:
             goal = tuple(cells[int(rng.integers(len(cells)))])
             p = _shortest(free, cell_of(x, z), goal)
             if not p or len(p) < 8:
+                failed += 1
+                if failed > 500:
+                    raise ValueError(f"room {room.name!r}: no goal 2 ft away is reachable from "
+                                     f"({x:.2f}, {z:.2f}) with {clearance} ft clearance")
                 continue
             path = [(float(xs[c[1]]), float(zs[c[0]])) for c in p]
         # the target: the first path point at least 1.5 ft ahead; drop points already passed
