@@ -5,34 +5,35 @@ the path as needed during the traversal".
 
 * **look**: the world renders both cameras at the vehicle's TRUE pose;
 * **scan**: the rig's whole-picture scan (``rig.scan.scan_pair``) of the pair;
-* **model update / camera estimate**: this adapter keeps the located points of
-  every look in room coordinates placed with the dead-reckoned pose (the
-  prior the symbolic model's camera estimate starts from); see
-  :class:`Perception`;
-* **octree**: each look's located points, grown by covariance, and its
-  surface spans hit their cells once (inserting one look into the tree equals
-  regenerating it from all looks while no earlier feature moves, which is the
-  case for the dead-reckoned adapter); a cell is believed occupied once
-  ``confirm_looks`` looks hit it, and only the sight lines to CONFIRMED points
-  are carved free ("free along the sight lines from the camera to what it
-  located").  The 1985 matcher's false matches rarely repeat from another
-  pose; a real edge does; and one false far match would otherwise clear a
-  line through a blank wall, which the edge-based eyes cannot see;
+* **model update / camera estimate**: this adapter (:class:`Perception`) is
+  not the symbolic model of the model issue; its camera estimate is the
+  dead-reckoned pose, and its model the located points of every look;
+* **octree**: each look enters as a floor range scan
+  (:func:`planner.perception.floor_scan`): per picture column the nearest
+  range two located points agree on, hit (grown by its covariance, surfaces
+  between neighbours at one range) and its sight line carved free from
+  ``near_visible_ft`` on (nearer, the lowest obstacle is below the picture);
+  the columns between two such columns free up to the nearer; columns outside
+  all of them free up to ``blank_ft``.  One update per cell per look, so
+  inserting a look equals regenerating the tree from all looks while no
+  earlier feature moves (true of the dead-reckoned adapter).  A cell is
+  believed occupied once ``confirm_looks`` looks hit it (uncertain before);
 * **plan**: the floor map over the vehicle's height band, grown by the
   vehicle's radius, searched by the dissertation's search (or A*), pulled
   taut, turned into motion commands;
 * **execute**: the first ``step`` feet of the commands, cut where the
   vehicle would come within its radius of an occupied or uncertain cell, or
-  its swept width would enter a cell no sight line has crossed.  ``trust_view``
+  its swept width (and nose) would enter a cell not seen free; a pivot needs
+  its circle seen free; after a turn of more than 15 deg it looks first.  ``trust_view``
   (off by default) also lets it into never-seen cells inside the field of view
   just looked at, while it still faces that way: a blank wall gives the
   edge-based eyes no points at all, so this drives into blank walls (measured:
   the bundled lab's back wall) and is kept only as a named experiment.
 
-The vehicle is set down in a clear spot (``start_clear_ft``, 2 ft: the
-generated rooms keep 2.5 ft around the start): the cameras' 39 deg view is
-narrower than the vehicle for its first 2.2 ft, so without this nothing
-beside it would ever have been seen and it could not start.
+The vehicle is set down in a clear spot (``start_clear_ft``, 2.5 ft, as the
+generated rooms keep around the start): a look proves nothing nearer than
+``near_visible_ft`` (2.3 ft with the default profile), so without this it
+could not start.
 
 The room's walls are given as a floor plan (``known_walls``, on by
 default; the furniture is not): the edge-based eyes find no points on a
