@@ -10,6 +10,7 @@
   written as CSV and PLY; the accuracy table when the true range is known.
 * ``rig walk``: the robot walks a room on the rig's eyes and keeps one model
   of it (rig/walk.py).
+* ``rig drive``: the robot drives to a goal in a simulated room (rig/drive.py).
 
 Every option is checked before any work starts; a bad one is one line on
 standard error and exit status 1.
@@ -405,6 +406,8 @@ def build_parser() -> argparse.ArgumentParser:
     q.set_defaults(func=cmd_posit)
     from . import walk as walkmod          # rig walk: the robot's model of its world
     walkmod.add_parser(sub)
+    from .drive import add_parser as add_drive_parser
+    add_drive_parser(sub)
     return p
 
 

@@ -34,23 +34,45 @@ def footprint_corners(x: float, z: float, heading_deg: float, footprint) -> np.n
                      for sr, sf in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
 
 
-def _overlaps(corners: np.ndarray, box) -> bool:
+TOUCH_TOL_FT = 1e-9     # "touching" within floating-point noise
+
+
+def _separated(a: np.ndarray, b: np.ndarray, touching_hits: bool) -> bool:
+    if touching_hits:
+        return a.max() < b.min() or b.max() < a.min()
+    return a.max() <= b.min() + TOUCH_TOL_FT or b.max() <= a.min() + TOUCH_TOL_FT
+
+
+def _overlaps(corners: np.ndarray, box, touching_hits: bool) -> bool:
     x0, x1, z0, z1 = box
     rect = np.array([[x0, z0], [x1, z0], [x1, z1], [x0, z1]])
     axes = [np.array([1.0, 0.0]), np.array([0.0, 1.0]),
             corners[1] - corners[0], corners[3] - corners[0]]
-    for ax in axes:
-        a, b = corners @ ax, rect @ ax
-        if a.max() < b.min() or b.max() < a.min():
-            return False
-    return True
+    return not any(_separated(corners @ ax, rect @ ax, touching_hits) for ax in axes)
+
+
+def footprint_hits_boxes(obstacles, bounds, x: float, z: float, heading_deg: float, footprint,
+                         touching_hits: bool = True) -> bool:
+    """True if the footprint at this pose overlaps one of the floor ``obstacles``
+    (x0, x1, z0, z1) or crosses the walls ``bounds`` (x0, x1, z0, z1).  With
+    ``touching_hits=False`` a footprint that only touches a box or a wall is
+    clear (the simulated vehicle's true collisions: skimming a wall is no crash)."""
+    corners = footprint_corners(x, z, heading_deg, footprint)
+    x0, x1, z0, z1 = bounds
+    cx, cz = corners[:, 0], corners[:, 1]
+    if touching_hits:
+        outside = (cx <= x0).any() or (cx >= x1).any() or (cz <= z0).any() or (cz >= z1).any()
+    else:
+        t = TOUCH_TOL_FT
+        outside = (cx.min() < x0 - t or cx.max() > x1 + t or cz.min() < z0 - t
+                   or cz.max() > z1 + t)
+    if outside:
+        return True
+    return any(_overlaps(corners, box, touching_hits)
+               for box in np.asarray(obstacles, float).reshape(-1, 4))
 
 
 def footprint_hits(room: Room, x: float, z: float, heading_deg: float, footprint) -> bool:
-    """True if the footprint at this pose overlaps an obstacle or crosses a wall."""
-    corners = footprint_corners(x, z, heading_deg, footprint)
-    x0, x1, z0, z1 = room.bounds
-    if (corners[:, 0] <= x0).any() or (corners[:, 0] >= x1).any() or \
-            (corners[:, 1] <= z0).any() or (corners[:, 1] >= z1).any():
-        return True
-    return any(_overlaps(corners, box) for box in room.obstacles)
+    """True if the footprint at this pose overlaps an obstacle or crosses a wall
+    (touching counts as a hit)."""
+    return footprint_hits_boxes(room.obstacles, room.bounds, x, z, heading_deg, footprint)

@@ -1,0 +1,179 @@
+"""Benchmark of the closed loop (``rig drive``) on seeded rooms.
+
+For each of ``--rooms`` generated rooms (seeds 1..N) a random goal the
+vehicle can reach in the TRUE room (a path exists for its planning radius at
+the planner's resolution, at least 6 ft from the start), then the drive with
+odometry noise.  Reported per room and overall: success, collisions of the
+TRUE footprint with the TRUE room along the executed motion, executed path
+length against the true optimum (A* on the true room at the same resolution,
+pulled taut), looks per metre, time per cycle with and without the look's
+rendering, octree memory; and the dissertation's search against A* on the
+same final map of each run, from the start to the goal (path length pulled
+taut, and time).
+
+    python bench/drive.py --rooms 20 [--eyes truth] [--search astar] [--unknown blocked]
+
+Numbers go into docs/planner.md with the command that made them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+FT_PER_M = 3.28084
+
+
+def search_side_by_side(fmap, start, goal, radius):
+    """Both searches on one map: (dissertation ft, ms, A* ft, ms) or Nones."""
+    from planner.search import NoPath, astar, clearance_map, hierarchical_search, path_length
+    from planner.trajectory import shorten
+    p = clearance_map(fmap, radius, "free", uncertain="blocked")
+    out = []
+    for search in (hierarchical_search, astar):
+        t = time.perf_counter()
+        try:
+            raw = search(p, start, goal)
+            ln = path_length(shorten(p, raw))
+            raw_ln = path_length(raw)
+        except NoPath:
+            ln = raw_ln = None
+        out += [ln, raw_ln, 1e3 * (time.perf_counter() - t)]
+    return out
+
+
+def true_maps(args) -> int:
+    """The dissertation's search and A* side by side on the true floor map of
+    each room (start to its random goal): length pulled taut, raw length, ms."""
+    from planner.floormap import true_floor_map
+    from planner.loop import random_goal
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.room import generate_room
+    ratios, raw_ratios, t_d, t_a = [], [], [], []
+    print(f"{'room':>4} {'diss ft':>7} {'A* ft':>6} {'diss raw':>8} {'A* raw':>6} {'diss ms':>7} "
+          f"{'A* ms':>6}")
+    for seed in range(args.first, args.first + args.rooms):
+        room = generate_room(seed)
+        s = room.start
+        start = State(s.x, s.z, s.heading_deg)
+        goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+        if goal is None:
+            continue
+        fm = true_floor_map(room.obstacles, room.bounds, 0.25)
+        d, d_raw, dms, a, a_raw, ams = search_side_by_side(fm, (start.x, start.z), goal,
+                                                           DEFAULT.planning_radius_ft)
+        print(f"{seed:>4} {d:>7.2f} {a:>6.2f} {d_raw:>8.2f} {a_raw:>6.2f} {dms:>7.1f} {ams:>6.1f}")
+        ratios.append(d / a)
+        raw_ratios.append(d_raw / a_raw)
+        t_d.append(dms)
+        t_a.append(ams)
+    print(f"dissertation / A*: taut length median {np.median(ratios):.3f} max {np.max(ratios):.3f}; "
+          f"raw {np.median(raw_ratios):.3f}; ms median {np.median(t_d):.1f} / {np.median(t_a):.1f}")
+    return 0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--rooms", type=int, default=20)
+    ap.add_argument("--first", type=int, default=1, help="first room seed")
+    ap.add_argument("--unknown", choices=("free", "blocked"), default="free")
+    ap.add_argument("--search", choices=("dissertation", "astar"), default="dissertation")
+    ap.add_argument("--max-looks", type=int, default=60)
+    ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
+    ap.add_argument("--out", help="write per-room results and the summary as JSON")
+    ap.add_argument("--true-maps", action="store_true",
+                    help="only the two searches on the TRUE floor maps of the rooms (no drive)")
+    args = ap.parse_args(argv)
+    if args.true_maps:
+        return true_maps(args)
+
+    from planner.loop import DriveConfig, random_goal, run
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    from world.room import generate_room
+
+    rows = []
+    print(f"{'room':>4} {'goal':>14} {'ok':>3} {'coll':>4} {'looks':>5} {'trav ft':>7} "
+          f"{'opt ft':>6} {'ratio':>5} {'ms/cyc':>6} {'+look':>6} {'KiB':>5} "
+          f"{'diss ft':>7} {'A* ft':>6} {'diss ms':>7} {'A* ms':>6}  reason")
+    for seed in range(args.first, args.first + args.rooms):
+        room = generate_room(seed)
+        s = room.start
+        start = State(s.x, s.z, s.heading_deg)
+        goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+        if goal is None:
+            print(f"{seed:>4} no reachable goal; skipped")
+            continue
+        cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+                          max_looks=args.max_looks, eyes=args.eyes)
+        res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
+        last = res.cycles[-1] if res.cycles else None
+        # both searches on the final model, from the start to the goal
+        side = search_side_by_side(last.fmap, (start.x, start.z), goal,
+                                   DEFAULT.planning_radius_ft) if last else [None] * 6
+        ratio = res.travelled_ft / res.optimal_ft if (res.reached and res.optimal_ft) else None
+        row = {"room": seed, "goal": goal, "reached": res.reached, "reason": res.reason,
+               "collisions": res.collisions, "looks": res.looks,
+               "travelled_ft": res.travelled_ft, "optimal_ft": res.optimal_ft,
+               "ratio": ratio, "work_ms_per_cycle": res.work_ms_per_cycle,
+               "ms_per_cycle_with_look": 1e3 * res.seconds_per_cycle,
+               "octree_bytes": res.octree_bytes, "final_true_error_ft": res.final_true_error_ft,
+               "dissertation_ft": side[0], "dissertation_raw_ft": side[1],
+               "dissertation_ms": side[2], "astar_ft": side[3], "astar_raw_ft": side[4],
+               "astar_ms": side[5]}
+        rows.append(row)
+
+        def f(v, w, d=1):
+            return f"{'-':>{w}}" if v is None else f"{v:>{w}.{d}f}"
+        print(f"{seed:>4} ({goal[0]:5.1f},{goal[1]:5.1f}) {'yes' if res.reached else 'no':>3} "
+              f"{res.collisions:>4} {res.looks:>5} {res.travelled_ft:>7.1f} "
+              f"{f(res.optimal_ft, 6)} {f(ratio, 5, 2)} {res.work_ms_per_cycle:>6.0f} "
+              f"{1e3 * res.seconds_per_cycle:>6.0f} {res.octree_bytes / 1024:>5.0f} "
+              f"{f(side[0], 7)} {f(side[3], 6)} {f(side[2], 7)} {f(side[5], 6)}  "
+              f"{res.reason[:70]}", flush=True)
+    if not rows:
+        print("no rooms")
+        return 1
+    ok = [r for r in rows if r["reached"]]
+    trav_m = sum(r["travelled_ft"] for r in rows) / FT_PER_M
+    looks = sum(r["looks"] for r in rows)
+    ratios = [r["ratio"] for r in ok if r["ratio"]]
+    both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
+    summary = {
+        "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
+        "success_rate": len(ok) / len(rows),
+        "collisions": sum(r["collisions"] for r in rows),
+        "ratio_median": float(np.median(ratios)) if ratios else None,
+        "ratio_max": float(np.max(ratios)) if ratios else None,
+        "looks_per_metre": looks / trav_m if trav_m else None,
+        "work_ms_per_cycle_median": float(np.median([r["work_ms_per_cycle"] for r in rows])),
+        "ms_per_cycle_with_look_median": float(np.median([r["ms_per_cycle_with_look"]
+                                                          for r in rows])),
+        "octree_kib_median": float(np.median([r["octree_bytes"] for r in rows])) / 1024,
+        "octree_kib_max": max(r["octree_bytes"] for r in rows) / 1024,
+        "dissertation_over_astar_length_median":
+            float(np.median([r["dissertation_ft"] / r["astar_ft"] for r in both])) if both
+            else None,
+        "dissertation_ms_median": float(np.median([r["dissertation_ms"] for r in both]))
+        if both else None,
+        "astar_ms_median": float(np.median([r["astar_ms"] for r in both])) if both else None,
+        "maps_both_found": len(both),
+    }
+    print()
+    for k, v in summary.items():
+        print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")
+    if args.out:
+        Path(args.out).write_text(json.dumps({"summary": summary, "rooms": rows}, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

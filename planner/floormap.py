@@ -1,0 +1,125 @@
+"""Chapter VI's 2-D floor map: "the 3-dimensional model, then ... the
+2-dimensional projection over the interval volume through which the robot must
+pass".
+
+A :class:`FloorMap` is a grid over the floor (room X across, room Z along;
+row ``i`` is Z, column ``j`` is X) whose cells are FREE, OCCUPIED or UNKNOWN.
+:func:`project_octree` projects the octree over the vehicle's height band
+(room Y from the top of the vehicle down to a floor clearance; Y is down):
+a column is OCCUPIED if any leaf in the band is occupied, else UNCERTAIN if
+any is uncertain, else FREE if a leaf in ``free_band`` (default the band) is
+free, else UNKNOWN.  The closed loop takes ``free_band`` as the lowest part of
+the band: a camera 3 ft up looking level sees nothing of the floor nearer
+than 9 ft and looks over a low box, so a sight line at camera height proves
+nothing about the floor below it.
+:func:`true_floor_map` draws the true room (obstacle footprints, walls) on
+the same grid: the reference the true optimum is measured on.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, leaves
+
+FLOOR_Y = 3.0          # the floor plane in room coordinates (Y down, cameras at Y = 0)
+
+
+@dataclass
+class FloorMap:
+    cells: np.ndarray          # (nz, nx) uint8 of FREE / OCCUPIED / UNKNOWN / UNCERTAIN
+    x0: float                  # room X of the left edge of column 0
+    z0: float                  # room Z of the near edge of row 0
+    cell: float                # cell side, ft
+
+    @property
+    def shape(self):
+        return self.cells.shape
+
+    def index(self, x: float, z: float) -> tuple[int, int]:
+        """(row, column) of the cell holding room point (x, z) (may be outside)."""
+        return int(np.floor((z - self.z0) / self.cell)), int(np.floor((x - self.x0) / self.cell))
+
+    def centre(self, i, j):
+        return self.x0 + (np.asarray(j) + 0.5) * self.cell, self.z0 + (np.asarray(i) + 0.5) * self.cell
+
+    def inside(self, i: int, j: int) -> bool:
+        return 0 <= i < self.cells.shape[0] and 0 <= j < self.cells.shape[1]
+
+    def state_at(self, x: float, z: float) -> int:
+        i, j = self.index(x, z)
+        return int(self.cells[i, j]) if self.inside(i, j) else UNKNOWN
+
+    def extent(self):
+        nz, nx = self.cells.shape
+        return self.x0, self.x0 + nx * self.cell, self.z0, self.z0 + nz * self.cell
+
+
+def empty_map(bounds, cell: float, margin: float = 0.0, fill: int = UNKNOWN) -> FloorMap:
+    """A grid covering ``bounds`` = (x0, x1, z0, z1) plus ``margin``, aligned to
+    multiples of ``cell`` so that it coincides with the octree's cells."""
+    x0, x1, z0, z1 = bounds
+    gx0 = np.floor((x0 - margin) / cell) * cell
+    gz0 = np.floor((z0 - margin) / cell) * cell
+    nx = int(np.ceil((x1 + margin - gx0) / cell))
+    nz = int(np.ceil((z1 + margin - gz0) / cell))
+    return FloorMap(np.full((nz, nx), fill, np.uint8), float(gx0), float(gz0), float(cell))
+
+
+def _paint(mask: np.ndarray, fm: FloorMap, cx, cz, half) -> None:
+    """Set ``mask`` over every grid cell that the squares (centre, half side) overlap."""
+    j0 = np.floor((cx - half - fm.x0) / fm.cell + 1e-9).astype(int)
+    j1 = np.ceil((cx + half - fm.x0) / fm.cell - 1e-9).astype(int)
+    i0 = np.floor((cz - half - fm.z0) / fm.cell + 1e-9).astype(int)
+    i1 = np.ceil((cz + half - fm.z0) / fm.cell - 1e-9).astype(int)
+    nz, nx = mask.shape
+    for a, b, c, d in zip(np.clip(i0, 0, nz), np.clip(i1, 0, nz), np.clip(j0, 0, nx),
+                          np.clip(j1, 0, nx)):
+        mask[a:b, c:d] = True
+
+
+def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.0,
+                   free_looks: int = 1, free_band=None) -> FloorMap:
+    """The octree projected over the height band ``band`` = (Y top, Y bottom)
+    of the vehicle's passage (room Y, down positive) onto a grid over ``bounds``."""
+    res = tree.getResolution()
+    fm = empty_map(bounds, res, margin)
+    ex = fm.extent()
+    lo = np.array([ex[0], band[0], ex[2]])
+    hi = np.array([ex[1], band[1], ex[3]])
+    centres, sizes, state = leaves(tree, lo, hi, free_looks)
+    masks = {st: np.zeros(fm.shape, bool) for st in (FREE, UNCERTAIN, OCCUPIED)}
+    if len(centres):
+        half = sizes / 2
+        inband = (centres[:, 1] + half > band[0]) & (centres[:, 1] - half < band[1])
+        fb = band if free_band is None else free_band
+        infree = (centres[:, 1] + half > fb[0]) & (centres[:, 1] - half < fb[1])
+        for st, mask in masks.items():
+            m = (infree if st == FREE else inband) & (state == st)
+            _paint(mask, fm, centres[m, 0], centres[m, 2], half[m])
+    for st in (FREE, UNCERTAIN, OCCUPIED):           # later wins
+        fm.cells[masks[st]] = st
+    return fm
+
+
+def true_floor_map(obstacles, bounds, cell: float, margin: float = 1.0) -> FloorMap:
+    """The true room on the grid: OCCUPIED where any obstacle footprint
+    (x0, x1, z0, z1) overlaps a cell or the cell reaches outside the walls
+    ``bounds``, FREE elsewhere (nothing unknown)."""
+    fm = empty_map(bounds, cell, margin, fill=FREE)
+    nz, nx = fm.shape
+    xs = fm.x0 + np.arange(nx + 1) * cell          # cell edges
+    zs = fm.z0 + np.arange(nz + 1) * cell
+    bx0, bx1, bz0, bz1 = bounds
+    tol = 1e-9
+    outside_x = (xs[:-1] < bx0 - tol) | (xs[1:] > bx1 + tol)
+    outside_z = (zs[:-1] < bz0 - tol) | (zs[1:] > bz1 + tol)
+    occ = outside_z[:, None] | outside_x[None, :]
+    for ox0, ox1, oz0, oz1 in np.asarray(obstacles, float).reshape(-1, 4):
+        cols = (xs[1:] > ox0 + tol) & (xs[:-1] < ox1 - tol)
+        rows = (zs[1:] > oz0 + tol) & (zs[:-1] < oz1 - tol)
+        occ |= rows[:, None] & cols[None, :]
+    fm.cells[occ] = OCCUPIED
+    return fm

@@ -1,0 +1,618 @@
+"""The closed loop of the goal-achievement system (Chapter I's goal, Chapter
+IV's design): look -> scan -> model update -> camera estimate -> octree ->
+floor map -> plan -> execute the next command segment -> repeat, "modifying
+the path as needed during the traversal".
+
+* **look**: the world renders both cameras at the vehicle's TRUE pose;
+* **scan**: the rig's whole-picture scan of the pair by the eyes (``eyes.scan_pair``, the
+  compiled 1985 frame scan, bit for bit ``rig.scan.scan_pair``);
+* **model update / camera estimate**: this adapter (:class:`Perception`) is
+  not the symbolic model of the model issue; its camera estimate is the
+  dead-reckoned pose, and its model the located points of every look;
+* **octree**: each look enters as a floor range scan
+  (:func:`planner.perception.floor_scan`): per picture column the nearest
+  range two located points agree on, hit (grown by its covariance, surfaces
+  between neighbours at one range) and its sight line carved free from
+  ``near_visible_ft`` on (nearer, the lowest obstacle is below the picture);
+  the columns between two such columns free up to the nearer; columns outside
+  all of them free up to ``blank_ft``.  One update per cell per look, so
+  inserting a look equals regenerating the tree from all looks while no
+  earlier feature moves (true of the dead-reckoned adapter).  A cell is
+  believed occupied once ``confirm_looks`` looks hit it (uncertain before);
+* **plan**: the floor map over the vehicle's height band, grown by the
+  vehicle's radius, searched by the dissertation's search (or A*), pulled
+  taut, turned into motion commands;
+* **execute**: the first ``step`` feet of the commands, cut where the
+  vehicle would come within its radius of an occupied or uncertain cell, or
+  its swept width (and nose) would enter a cell not seen free; a pivot needs
+  its circle seen free; after a turn of more than 15 deg it looks first.  ``trust_view``
+  (off by default) also lets it into never-seen cells inside the field of view
+  just looked at, while it still faces that way: a blank wall gives the
+  edge-based eyes no points at all, so this drives into blank walls (measured:
+  the bundled lab's back wall) and is kept only as a named experiment.
+
+The vehicle is set down in a clear spot (``start_clear_ft``, 2.5 ft, as the
+generated rooms keep around the start): a look proves nothing nearer than
+``near_visible_ft`` (2.3 ft with the default profile), so without this it
+could not start.
+
+The room's walls are given as a floor plan (``known_walls``, on by
+default; the furniture is not): the edge-based eyes find no points on a
+blank wall, and a false far match would otherwise let a sight line through
+it (measured on the bundled lab: without the plan the vehicle drove into the
+left wall).
+
+When no path to the goal exists on the map (with unknown space blocked, or
+the goal looking blocked from afar), the vehicle heads for the reachable cell
+nearest the goal; when it cannot move at all it turns to look
+(toward the goal first, then sweeping), and gives up with the planner's reason
+after ``max_stuck`` looks without progress.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+
+from vehicle.commands import Forward, Turn, format_commands
+from vehicle.profile import DEFAULT, VehicleProfile
+from vehicle.sim import State, Vehicle
+from .floormap import FLOOR_Y, FloorMap, project_octree, true_floor_map
+from .octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
+    mark_free_rays, mark_occupied, memory_bytes, new_octree, spans_cells
+from .perception import MAX_RANGE_FT, floor_scan
+from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
+    path_length, segment_samples
+from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
+
+SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
+PENDING_LOOKS = 6            # how long a located point waits for confirmation
+
+
+@dataclass
+class DriveConfig:
+    goal: tuple[float, float]
+    unknown: str = "free"                 # planning through unknown space: "free" | "blocked"
+    search: str = "dissertation"          # "dissertation" | "astar"
+    profile: VehicleProfile = DEFAULT
+    tolerance_ft: float = 0.75            # goal reached when the estimate is this near
+    max_looks: int = 60
+    max_stuck: int = 8                    # looks without progress before giving up
+    lines: tuple = tuple(range(8, 113, 2))
+    voi: VolumeOfInterest = VolumeOfInterest(32.0, 7)
+    band: tuple[float, float] = (-0.5, FLOOR_Y - 0.25)   # room Y of the vehicle's passage
+    supersample: int = 2                  # render rays per pixel side (1985's pair used 4)
+    look_seed: int = 1985                 # sensor noise of look k uses look_seed + k
+    max_range_ft: float = MAX_RANGE_FT
+    confirm_looks: int = 2                # looks that must hit a cell before it is believed
+    free_looks: int = 1                   # carvings that must cross a cell before it is free
+    keep_ft: float = 3.0                  # keep the old path unless a new one is this much shorter
+    trust_view: bool = False              # drive into never-seen cells of the view just looked at
+    known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
+    start_clear_ft: float = 2.5           # the vehicle is set down this far from anything
+    eyes: str = "rig"                     # "rig": the 1985 matcher's ranges; "truth": the
+                                          # true range at the same edge pixels (an oracle
+                                          # that separates the planner from the matcher)
+    lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
+    blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
+    safety: str = "swept"                 # "strict": the whole pivot disc seen free;
+                                          # "swept": the swept width seen free, no known
+                                          # obstacle within the radius
+
+
+@dataclass
+class Cycle:
+    look: int
+    true: State
+    estimate: State
+    points: int                 # located points in the model
+    leaves: int                 # known octree leaves
+    path_left_ft: float | None
+    command: str
+    note: str
+    render_s: float
+    work_s: float               # scan + model + octree + plan (the look's rendering excluded)
+    path: list = field(default_factory=list)
+    fmap: FloorMap | None = None
+
+
+@dataclass
+class DriveResult:
+    reached: bool
+    reason: str
+    looks: int
+    travelled_ft: float
+    optimal_ft: float | None
+    optimal_grid_ft: float | None
+    collisions: int
+    seconds: float
+    cycles: list
+    true_track: list
+    dead_track: list
+    octree_bytes: int
+    final_true_error_ft: float
+    goal: tuple[float, float]
+    start: State
+    unknown: str
+    search: str
+
+    @property
+    def seconds_per_cycle(self) -> float:
+        return self.seconds / max(1, len(self.cycles))
+
+    @property
+    def work_ms_per_cycle(self) -> float:
+        return 1e3 * float(np.mean([c.work_s for c in self.cycles])) if self.cycles else 0.0
+
+    @property
+    def render_ms_per_cycle(self) -> float:
+        return 1e3 * float(np.mean([c.render_s for c in self.cycles])) if self.cycles else 0.0
+
+    def as_json(self) -> dict:
+        return {
+            "reached": self.reached, "reason": self.reason, "collisions": self.collisions,
+            "looks": self.looks, "travelled_ft": round(self.travelled_ft, 3),
+            "optimal_ft": None if self.optimal_ft is None else round(self.optimal_ft, 3),
+            "optimal_grid_ft": None if self.optimal_grid_ft is None
+            else round(self.optimal_grid_ft, 3),
+            "seconds_per_cycle": round(self.seconds_per_cycle, 4),
+            "work_ms_per_cycle": round(self.work_ms_per_cycle, 2),
+            "render_ms_per_cycle": round(self.render_ms_per_cycle, 2),
+            "seconds": round(self.seconds, 3), "octree_bytes": self.octree_bytes,
+            "final_true_error_ft": round(self.final_true_error_ft, 3),
+            "start": [self.start.x, self.start.z, self.start.heading_deg],
+            "goal": list(self.goal), "unknown": self.unknown, "search": self.search,
+            "true_track": [[round(s.x, 3), round(s.z, 3), round(s.heading_deg, 2)]
+                           for s in self.true_track],
+            "estimated_track": [[round(s.x, 3), round(s.z, 3), round(s.heading_deg, 2)]
+                                for s in self.dead_track],
+            "cycles": [{"look": c.look, "command": c.command, "note": c.note,
+                        "path_left_ft": None if c.path_left_ft is None
+                        else round(c.path_left_ft, 3),
+                        "work_ms": round(1e3 * c.work_s, 2),
+                        "render_ms": round(1e3 * c.render_s, 2)} for c in self.cycles],
+        }
+
+
+def true_optimum(room, start, goal, profile: VehicleProfile, cell: float):
+    """(taut length, A* grid length) of the best path for the vehicle in the
+    TRUE room at the planner's resolution, or (None, None) without one."""
+    fm = true_floor_map(room.obstacles, room.bounds, cell)
+    p = clearance_map(fm, profile.planning_radius_ft, "blocked")
+    try:
+        raw = astar(p, start, goal)
+    except NoPath:
+        return None, None
+    return path_length(shorten(p, raw)), path_length(raw)
+
+
+class Perception:
+    """The model the loop plans on: located points (room coordinates) of every
+    look and the octree built from them.  ``estimate`` is the camera estimate
+    this adapter uses: the dead-reckoned pose, unchanged."""
+
+    def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
+                 free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
+        self.tree = new_octree(voi, confirm_looks)
+        self.free_looks = free_looks
+        self.free_band = None
+        self.near_ft = near_ft
+        self.blank_ft = blank_ft
+        self.voi = voi
+        self.band = band
+        self.max_range_ft = max_range_ft
+        self.points = np.zeros((0, 3))
+        self.lo = None
+        self.hi = None
+        self.pending = []
+
+    def estimate(self, look, dead: State) -> State:
+        return dead
+
+    def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0) -> int:
+        """One look into the model as a floor range scan
+        (:func:`~planner.perception.floor_scan`): each column's nearest
+        supported point hit (grown by its covariance; surface spans between
+        neighbours at one range), and its sight line carved free from
+        ``near_ft`` on — nearer than that the lowest obstacle would be below
+        the picture, so the look proves nothing there — as are the columns
+        between two neighbours, up to the nearer of them.  One update per cell
+        per look."""
+        pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
+        R = pose.rotation()
+        left = pose.camera_centre("left")
+        fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
+                        blank_ft=self.blank_ft)
+        res = self.tree.getResolution()
+        if len(fs.hits) or len(fs.free_ends):
+            mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends]),
+                           start_ft=self.near_ft)
+            grown = np.vstack([cell_centres(fs.hits, res),
+                               features_cells(fs.hits, fs.hit_cov, res),
+                               spans_cells(fs.hits, fs.spans, res)])
+            grown = grown[np.abs(grown[:, 1] - left[1]) < res]        # the floor slab
+            if len(grown):
+                mark_occupied(self.tree, cell_centres(grown, res))
+        self.points = np.vstack([self.points, fs.hits])
+        self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
+        return len(fs.hits)
+
+    def _extend(self, xz):
+        if len(xz) == 0:
+            return
+        lo, hi = xz.min(0), xz.max(0)
+        self.lo = lo if self.lo is None else np.minimum(self.lo, lo)
+        self.hi = hi if self.hi is None else np.maximum(self.hi, hi)
+
+    def floor_map(self, around) -> FloorMap:
+        pts = np.asarray(around, float).reshape(-1, 2)
+        lo, hi = pts.min(0), pts.max(0)
+        if self.lo is not None:
+            lo, hi = np.minimum(lo, self.lo), np.maximum(hi, self.hi)
+        margin = 2.0
+        return project_octree(self.tree, (lo[0] - margin, hi[0] + margin, lo[1] - margin,
+                                          hi[1] + margin), self.band, margin=0.0,
+                              free_looks=self.free_looks, free_band=self.free_band)
+
+
+def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0) -> None:
+    """Where the vehicle has stood is free: its footprint rectangle at every
+    dead-reckoned pose (and, with ``disc_ft``, a disc of that radius about the
+    first pose: the clear spot it was set down in)."""
+    from world.collide import footprint_corners
+    mask = np.zeros(fm.shape, np.uint8)
+    for s in track:
+        c = footprint_corners(s.x, s.z, s.heading_deg, footprint)
+        poly = np.stack([(c[:, 0] - fm.x0) / fm.cell, (c[:, 1] - fm.z0) / fm.cell], 1)
+        cv2.fillPoly(mask, [np.round(poly - 0.5).astype(np.int32)], 1)
+    if disc_ft > 0 and len(track):
+        i, j = fm.index(track[0].x, track[0].z)
+        cv2.circle(mask, (j, i), int(math.floor(disc_ft / fm.cell)), 1, -1)
+    fm.cells[mask > 0] = FREE
+
+
+def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
+    """Every cell within ``radius`` of (x, z) is FREE: a pivot there is safe."""
+    n = int(math.ceil(radius / fm.cell)) + 1
+    i0, j0 = fm.index(x, z)
+    ii, jj = np.mgrid[i0 - n:i0 + n + 1, j0 - n:j0 + n + 1]
+    cx, cz = fm.centre(ii, jj)
+    # cells whose square comes within the radius
+    dx = np.maximum(np.abs(cx - x) - fm.cell / 2, 0)
+    dz = np.maximum(np.abs(cz - z) - fm.cell / 2, 0)
+    near = np.hypot(dx, dz) <= radius
+    inside = (ii >= 0) & (jj >= 0) & (ii < fm.shape[0]) & (jj < fm.shape[1])
+    if (near & ~inside).any():
+        return False
+    return bool((fm.cells[ii[near], jj[near]] == FREE).all())
+
+
+HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
+EYES_TURN_DEG = 15.0         # a smaller turn keeps the way ahead inside the view just seen
+
+
+def looked_free(fm: FloorMap, est: State, max_range: float) -> FloorMap:
+    """A copy of ``fm`` whose never-seen cells inside the field of view just
+    looked at (within ``max_range``) count as free: the look located nothing
+    nearer there.  Occupied and uncertain cells stay as they are."""
+    out = FloorMap(fm.cells.copy(), fm.x0, fm.z0, fm.cell)
+    nz, nx = fm.shape
+    xs, zs = fm.centre(np.arange(nz)[:, None], np.arange(nx)[None, :])
+    dx, dz = xs - est.x, zs - est.z
+    bearing = np.degrees(np.arctan2(dx, dz))
+    off = np.abs((bearing - est.heading_deg + 180.0) % 360.0 - 180.0)
+    wedge = (off <= HALF_FOV_DEG) & (np.hypot(dx, dz) <= max_range)
+    out.cells[wedge & (fm.cells == UNKNOWN)] = FREE
+    return out
+
+
+HALF_VFOV_DEG = math.degrees(math.atan(60 / 180))     # half the 120-line picture's height
+
+
+def near_visible_ft(profile: VehicleProfile, lowest_obstacle_ft: float) -> float:
+    """The distance from which an obstacle ``lowest_obstacle_ft`` tall shows in
+    the picture (the lower edge of the view, pitched by the profile, reaches
+    its top): nearer than that a look proves no floor free."""
+    down = -profile.camera_pitch_deg + HALF_VFOV_DEG
+    if down <= 0:
+        return math.inf
+    return (profile.camera_height_ft - lowest_obstacle_ft) / math.tan(math.radians(down))
+
+
+def true_range_points(points, look):
+    """The rig's located edges with their range replaced by the TRUE range at
+    the same pixel (the nearer surface over the edge's +-1 columns): the
+    matcher's false matches removed, everything else the same."""
+    import dataclasses
+    out = []
+    for p in points:
+        c = p.loc1 - 1
+        z = float(look.range_left[p.line, max(c - 1, 0):min(c + 2, 128)].min())
+        out.append(dataclasses.replace(p, dp=z))
+    return out
+
+
+def _mark_walls(fm: FloorMap, bounds) -> None:
+    """The floor plan: every cell reaching past the walls is occupied."""
+    nz, nx = fm.shape
+    xs = fm.x0 + np.arange(nx + 1) * fm.cell
+    zs = fm.z0 + np.arange(nz + 1) * fm.cell
+    bx0, bx1, bz0, bz1 = bounds
+    out_x = (xs[:-1] < bx0) | (xs[1:] > bx1)
+    out_z = (zs[:-1] < bz0) | (zs[1:] > bz1)
+    fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
+
+
+def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad: float,
+               half_width: float) -> np.ndarray:
+    """For each sample of a straight move: every cell across the vehicle's
+    swept width (``half_width`` each side of the centre line) has been seen."""
+    right = np.array([math.cos(heading_rad), -math.sin(heading_rad)])
+    offs = np.arange(-half_width, half_width + 1e-9, fm.cell / 2)
+    pts = samples[:, None, :] + offs[None, :, None] * right[None, None, :]
+    i = np.floor((pts[..., 1] - fm.z0) / fm.cell).astype(int)
+    j = np.floor((pts[..., 0] - fm.x0) / fm.cell).astype(int)
+    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    ok = np.zeros(i.shape, bool)
+    ok[inside] = known[i[inside], j[inside]]
+    return ok.all(1)
+
+
+def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
+                 seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
+                 nose_ft: float = 0.5, pivot_ft: float = 0.0):
+    """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
+    would come nearer than its radius to an occupied or uncertain cell
+    (``safe``), or where its swept width (``half_width`` each side) would
+    enter a cell never seen (``seen``;
+    ``seen_eyes`` adds the field of view just looked at, used while the vehicle
+    still faces the way it looked).  A turn is a pivot: it needs every cell
+    within ``pivot_ft`` (the footprint's half diagonal) seen free."""
+    out = []
+    x, z, h = est.x, est.z, est.heading_deg
+    turned = 0.0
+    fm = safe.fmap
+    for c in next_segment(cmds, step):
+        if isinstance(c, Turn):
+            if pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
+                break                     # its pivot circle reaches space not seen free
+            out.append(c)
+            h = wrap(h + c.angle_deg)
+            turned += abs(c.angle_deg)
+            continue
+        if not isinstance(c, Forward):
+            break
+        if turned > EYES_TURN_DEG and out:
+            break                         # look the new way before driving into it
+        known = seen_eyes if (seen_eyes is not None and turned <= EYES_TURN_DEG) else seen
+        hr = math.radians(h)
+        end = (x + c.distance_ft * math.sin(hr), z + c.distance_ft * math.cos(hr))
+        s = segment_samples((x, z), end, fm.cell / 4)
+        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        # each position needs the band seen on to the vehicle's nose ahead of it
+        step_s = fm.cell / 4
+        m = int(math.ceil(nose_ft / step_s))
+        ext = np.vstack([s, end + (np.arange(1, m + 1) * step_s)[:, None] *
+                         np.array([math.sin(hr), math.cos(hr)])[None, :]])
+        bs = _band_seen(known, fm, ext, hr, half_width)
+        run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+        seen_band = run_ok
+        ok = np.zeros(len(s), bool)
+        ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
+        # the vehicle may leave a cell it stands in even if a (perhaps false)
+        # obstacle came near it, as long as it gets no nearer
+        cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
+        near = np.zeros(len(s), bool)
+        near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
+            seen_band[inside]
+        good = ok | (near & (np.arange(len(s)) * fm.cell / 4 <= 1.0))
+        bad = np.flatnonzero(~good)
+        if len(bad) == 0:
+            out.append(c)
+            x, z = end
+            continue
+        k = bad[0] - 1
+        d = max(0.0, k * c.distance_ft / (len(s) - 1)) if k > 0 else 0.0
+        if d > 0.05:
+            out.append(Forward(round(d, 3)))
+        break
+    return out
+
+
+def _nearest_reachable(p: Passable, start, goal):
+    """The passable cell reachable from the start that is nearest the goal."""
+    fm = p.fmap
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    si, sj = fm.index(*start)
+    if not fm.inside(si, sj) or comp[si, sj] == 0:
+        return None
+    ii, jj = np.nonzero(comp == comp[si, sj])
+    xs, zs = fm.centre(ii, jj)
+    d = np.hypot(xs - goal[0], zs - goal[1])
+    k = int(np.argmin(d))
+    return float(xs[k]), float(zs[k])
+
+
+def _still_good(p: Passable, prev, start) -> list | None:
+    """The previous path from the vehicle's new position, if still passable."""
+    if not prev or len(prev) < 2:
+        return None
+    # drop the waypoints already passed: continue from the nearest leg's end
+    rest = [tuple(start)] + [tuple(q) for q in prev[1:]]
+    d = [math.hypot(q[0] - start[0], q[1] - start[1]) for q in rest[1:]]
+    k = int(np.argmin(d))
+    if k > 0 and line_of_sight(p, start, rest[k + 1]):
+        rest = [tuple(start)] + rest[k + 1:]
+    if all(line_of_sight(p, a, b) for a, b in zip(rest[:-1], rest[1:])):
+        return rest
+    return None
+
+
+def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
+    """(polyline, commands, note) from the estimate toward the goal, or raise
+    NoPath.  The previous path is kept while it stays passable and is no more
+    than ``keep_ft`` longer than a new one (no dithering between two ways round)."""
+    search = SEARCHES[cfg.search]
+    r = cfg.profile.planning_radius_ft
+    p = clearance_map(fm, r, cfg.unknown, uncertain="blocked")
+    start = (est.x, est.z)
+    try:
+        pts = shorten(p, search(p, start, goal))
+        note = "path to the goal"
+        old = _still_good(p, prev, start) if prev and tuple(prev[-1]) == tuple(goal) else None
+        if old is not None and path_length(old) <= path_length(pts) + cfg.keep_ft:
+            pts, note = old, "path to the goal (kept)"
+        elif prev:
+            note = "path to the goal (replanned)"
+    except NoPath as exc:
+        # the goal itself may look blocked from afar (a far feature's grown
+        # covariance): head for the reachable cell nearest it and look again
+        target = _nearest_reachable(p, start, goal)
+        if target is None or math.hypot(target[0] - start[0], target[1] - start[1]) < 0.3:
+            raise exc
+        pts = shorten(p, search(p, start, target))
+        note = f"goal not reachable ({exc}); toward ({target[0]:.1f}, {target[1]:.1f})"
+    cmds = to_commands(pts, est.heading_deg, cfg.profile.turning_radius_ft, p)
+    return pts, cmds, note
+
+
+def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True
+        ) -> DriveResult:
+    """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room)."""
+    from eyes import scan_pair
+    from world.pose import Pose
+    from world.render import render_look
+
+    prof = cfg.profile
+    veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
+    model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
+                       near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
+    goal = (float(cfg.goal[0]), float(cfg.goal[1]))
+    opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
+    cycles: list[Cycle] = []
+    t_start = time.perf_counter()
+    reached, reason = False, ""
+    stuck = 0
+    last_reason = ""
+    sweep = 0
+    prev_path = None
+    try:
+        for look_no in range(1, cfg.max_looks + 1):
+            est = veh.dead
+            if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
+                reached, reason = True, "goal reached"
+                break
+            t0 = time.perf_counter()
+            tp = veh.true
+            look = render_look(room, Pose(tp.x, tp.z, tp.heading_deg, prof.camera_pitch_deg),
+                               seed=cfg.look_seed + look_no,
+                               supersample=cfg.supersample)
+            t1 = time.perf_counter()
+            scan = scan_pair(look.left_bi, look.right_bi, lines=cfg.lines)
+            points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
+            est = model.estimate(look, veh.dead)
+            model.update(points, est, Pose, prof.camera_pitch_deg)
+            fm = model.floor_map([(est.x, est.z), goal])
+            _mark_track_free(fm, veh.dead_track, prof.footprint, cfg.start_clear_ft)
+            if cfg.known_walls:
+                _mark_walls(fm, room.bounds)
+            safe = clearance_map(fm, prof.planning_radius_ft,
+                                 "blocked" if cfg.safety == "strict" else "free",
+                                 uncertain="blocked")
+            seen = fm.cells != UNKNOWN
+            seen_eyes = None
+            if cfg.trust_view:
+                seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
+            try:
+                pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
+                seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
+                                   prof.width_ft / 2 + prof.margin_ft,
+                                   prof.length_ft / 2 + prof.margin_ft,
+                                   prof.radius_ft)
+                left = path_length(pts)
+                if not any(isinstance(c, Forward) for c in seg):
+                    # nothing known free ahead: face the path and look again
+                    first = pts[1] if len(pts) > 1 else goal
+                    t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
+                    seg = [Turn(round(t, 2))] if abs(t) > 1.0 else []
+                last_reason = ""
+                prev_path = pts
+            except NoPath as exc:
+                pts, left, note, seg = [], None, str(exc), []
+                last_reason = str(exc)
+            if not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0 for c in seg):
+                # no motion: turn to look, toward the goal first, then sweep
+                sweep += 1
+                t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
+                if abs(t) < 10 or sweep > 1:
+                    t = 35.0 if sweep % 2 else -70.0
+                if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+                    seg = [Turn(round(t, 2))]
+                    note += " (turning to look)"
+                else:
+                    seg = []
+                    note += " (cannot turn: space within its radius not seen free)"
+            t2 = time.perf_counter()
+            before = (veh.true.x, veh.true.z)
+            ok = veh.execute(seg)
+            moved = math.hypot(veh.true.x - before[0], veh.true.z - before[1])
+            if moved > 0.05:
+                stuck = 0
+                sweep = 0
+            else:
+                stuck += 1
+            cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
+                        left, format_commands(seg), note, t1 - t0, t2 - t1,
+                        list(pts), fm if keep_maps else None)
+            cycles.append(cyc)
+            if on_cycle:
+                on_cycle(cyc)
+            if not ok:
+                reason = "stopped: the vehicle hit something (true footprint against the room)"
+                break
+            if stuck >= cfg.max_stuck:
+                reason = f"stopped after {cfg.max_stuck} looks without progress: " + \
+                         (last_reason or note)
+                break
+        else:
+            est = veh.dead
+            if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
+                reached, reason = True, "goal reached"
+            else:
+                reason = f"stopped: {cfg.max_looks} looks used up"
+    except KeyboardInterrupt:
+        reason = f"stopped by Ctrl-C after {len(cycles)} looks"
+    seconds = time.perf_counter() - t_start
+    final_err = math.hypot(veh.true.x - goal[0], veh.true.z - goal[1])
+    return DriveResult(reached, reason, len(cycles), veh.travelled_ft, opt, opt_grid,
+                       veh.collisions, seconds, cycles, list(veh.true_track),
+                       list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
+                       cfg.unknown, cfg.search)
+
+
+def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,
+                cell: float = 0.25, tries: int = 200):
+    """A goal the vehicle can reach from ``start`` in the TRUE room (a path
+    exists at the planner's resolution) at least ``min_ft`` away, or None."""
+    x0, x1, z0, z1 = room.bounds
+    r = profile.planning_radius_ft
+    fm = true_floor_map(room.obstacles, room.bounds, cell)
+    p = clearance_map(fm, r, "blocked")
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    si, sj = fm.index(start.x, start.z)
+    if not fm.inside(si, sj) or comp[si, sj] == 0:
+        return None
+    for _ in range(tries):
+        gx, gz = float(rng.uniform(x0 + r, x1 - r)), float(rng.uniform(z0 + r, z1 - r))
+        if math.hypot(gx - start.x, gz - start.z) < min_ft:
+            continue
+        gi, gj = fm.index(gx, gz)
+        if comp[gi, gj] == comp[si, sj] and room.clearance(gx, gz) >= r:
+            return round(gx, 2), round(gz, 2)
+    return None

@@ -1,0 +1,215 @@
+"""The closed loop's perception step, until the symbolic model takes it over:
+one stereo scan of a look turned into room points for the volumetric model.
+
+The rig's LCSL gives each located edge in the left camera's axes (x right,
+y down, z forward).  Its dx, dy are measured from pixel 60 (QUIRKS E6, kept in
+the rig); here the direction is taken from the match's own picture position
+instead — column ``loc1`` (1-based) and line ``IY`` at their pixel centres
+against the principal point (64, 60) of the 128x120 picture, focal 180 px —
+and scaled by LCSL's range dp.  A pose (the prior / dead-reckoned estimate)
+carries the points into room coordinates: ``p_room = R @ p_cam + c_left``.
+
+:func:`filter_points` keeps what the dissertation trusts: ranges up to 15 ft
+("for ranges of 15 feet or less" the estimates were "fairly accurate", Ch. V)
+and error bounds within a fraction of the range, from 2.5 ft on.  :func:`surface_spans` joins
+consecutive edges of one scan line at the same range within their error
+bounds: the surface between two boundary lines (Chapter IV: occupied where
+"the surfaces between their boundary lines are").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+FOCAL_128 = 180.0
+CX_128, CY_128 = 64.0, 60.0
+MAX_RANGE_FT = 12.0
+MIN_RANGE_FT = 2.5
+
+
+@dataclass
+class RoomPoints:
+    xyz: np.ndarray          # (N, 3) room coordinates
+    cov: np.ndarray          # (N, 3, 3) room-frame covariance (A-20 rotated)
+    line: np.ndarray         # (N,) scan line
+    loc1: np.ndarray         # (N,) left column (1-based)
+    origin: np.ndarray       # (3,) left camera centre in the room
+
+
+def camera_points(points) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(xyz_cam (N,3), cov_cam (N,3,3), line, loc1, ep) from rig.scan Points."""
+    n = len(points)
+    line = np.array([p.line for p in points], int).reshape(n)
+    loc1 = np.array([p.loc1 for p in points], float).reshape(n)
+    dp = np.array([p.dp for p in points], float).reshape(n)
+    ep = np.array([p.ep for p in points], float).reshape(n)
+    ex = np.array([p.ex for p in points], float).reshape(n)
+    ey = np.array([p.ey for p in points], float).reshape(n)
+    x = (loc1 - 0.5 - CX_128) * dp / FOCAL_128
+    y = (line + 0.5 - CY_128) * dp / FOCAL_128
+    xyz = np.stack([x, y, dp], -1)
+    # A-20: the bounds are two standard deviations, (range, x, y) -> (x, y, z)
+    cov = np.zeros((n, 3, 3))
+    cov[:, 0, 0] = (ex / 2) ** 2
+    cov[:, 1, 1] = (ey / 2) ** 2
+    cov[:, 2, 2] = (ep / 2) ** 2
+    return xyz, cov, line, loc1, ep
+
+
+def filter_points(xyz_cam, ep, max_range: float = MAX_RANGE_FT, max_rel_error: float = 0.25,
+                  min_range: float = MIN_RANGE_FT):
+    """Mask of points worth modelling: within range, bounded error.  Nearer than
+    ``min_range`` (a disparity above 54 px) the 1985 matcher's locations are
+    mostly false matches (a repeated false match at 2.3 ft stands in front of
+    the bundled lab's start); the vehicle never needs them, as it only drives into
+    space seen free from farther away."""
+    z = xyz_cam[:, 2]
+    return (z >= min_range) & (z <= max_range) & (ep <= max_rel_error * z)
+
+
+def vertical_support(xyz_cam, ep, line, max_line_gap: int = 8, tol_ft: float = 0.15):
+    """Mask of points with a partner on another scan line at most
+    ``max_line_gap`` lines away whose position agrees across (x) within
+    ``tol_ft`` and in range within both error bounds: a vertical edge (the
+    dissertation's boundary lines) shows on line after line, while a false
+    match rarely repeats at the same place."""
+    n = len(xyz_cam)
+    if n == 0:
+        return np.zeros(0, bool)
+    dl = np.abs(line[:, None] - line[None, :])
+    dx = np.abs(xyz_cam[:, None, 0] - xyz_cam[None, :, 0])
+    dz = np.abs(xyz_cam[:, None, 2] - xyz_cam[None, :, 2])
+    tol_z = np.maximum(ep[:, None] + ep[None, :], tol_ft)
+    ok = (dl > 0) & (dl <= max_line_gap) & (dx <= tol_ft) & (dz <= tol_z)
+    return ok.any(1)
+
+
+def to_room(xyz_cam, cov_cam, R, left_centre):
+    """Camera points and covariances into room coordinates."""
+    R = np.asarray(R, float)
+    xyz = xyz_cam @ R.T + np.asarray(left_centre, float)
+    cov = R @ cov_cam @ R.T
+    return xyz, cov
+
+
+def surface_spans(xyz_cam, ep, line, loc1, max_gap_ft: float = 3.0):
+    """Pairs (a, b) of point indices: neighbours along one scan line (in left
+    column order) whose ranges agree within their summed error bounds (and at
+    least 5 % of the range) and that are at most ``max_gap_ft`` apart."""
+    pairs = []
+    for y in np.unique(line):
+        idx = np.flatnonzero(line == y)
+        idx = idx[np.argsort(loc1[idx], kind="stable")]
+        for a, b in zip(idx[:-1], idx[1:]):
+            za, zb = xyz_cam[a, 2], xyz_cam[b, 2]
+            tol = max(ep[a] + ep[b], 0.05 * min(za, zb))
+            if abs(za - zb) <= tol and np.linalg.norm(xyz_cam[a] - xyz_cam[b]) <= max_gap_ft:
+                pairs.append((int(a), int(b)))
+    return pairs
+
+
+def look_to_room(points, R, left_centre, max_range: float = MAX_RANGE_FT, vertical: bool = True):
+    """rig.scan Points of one look -> (RoomPoints kept, surface span pairs)."""
+    xyz_c, cov_c, line, loc1, ep = camera_points(points)
+    keep = filter_points(xyz_c, ep, max_range)
+    xyz_c, cov_c, line, loc1, ep = xyz_c[keep], cov_c[keep], line[keep], loc1[keep], ep[keep]
+    if vertical:
+        keep = vertical_support(xyz_c, ep, line)
+        xyz_c, cov_c, line, loc1, ep = xyz_c[keep], cov_c[keep], line[keep], loc1[keep], ep[keep]
+    spans = surface_spans(xyz_c, ep, line, loc1)
+    xyz, cov = to_room(xyz_c, cov_c, R, left_centre)
+    return RoomPoints(xyz, cov, line, loc1, np.asarray(left_centre, float)), spans
+
+
+@dataclass
+class FloorScan:
+    """One look projected onto the floor plane (Chapter VI's projection over
+    the vehicle's height band), as a range per picture column."""
+    origin: np.ndarray       # (3,) left camera centre in the room
+    hits: np.ndarray         # (H, 3) nearest located point of each column that has one
+    hit_cov: np.ndarray      # (H, 3, 3)
+    free_ends: np.ndarray    # (F, 3) ends of the free sight lines of the columns between
+    spans: list              # index pairs into hits: one surface between two boundary lines
+
+
+def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
+               max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None
+               ) -> FloorScan:
+    """The look as a floor range scan: for every picture column the NEAREST
+    range that at least ``min_votes`` of its located points (in the height
+    band) agree on within their error bounds — a vertical boundary line shows
+    on line after line at one range, a false match seldom twice; the nearest,
+    because the camera looks over low boxes at the wall behind them — moved to
+    the camera's height; between two such
+    columns at most ``max_gap_px`` apart, the columns between are free up to
+    the nearer of the two (the surface between two boundary lines, or a gap
+    whose far side is not seen); two neighbours at one range are joined by a
+    surface span."""
+    R = np.asarray(R, float)
+    origin = np.asarray(left_centre, float)
+    xyz_c, cov_c, line, loc1, ep = camera_points(points)
+    keep = filter_points(xyz_c, ep, max_range)
+    room = xyz_c @ R.T + origin
+    keep &= (room[:, 1] >= band[0]) & (room[:, 1] <= band[1])
+    xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]
+    empty = np.zeros((0, 3))
+    if not len(xyz_c) and not blank_ft:
+        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
+    cols_all = np.unique(loc1)
+    cols, near = [], []
+    for c in cols_all:
+        idx = np.flatnonzero(loc1 == c)
+        z = xyz_c[idx, 2]
+        tol = np.maximum(ep[idx], 0.05 * z)
+        votes = (np.abs(z[:, None] - z[None, :]) <= tol[:, None]).sum(1)
+        supported = np.flatnonzero(votes >= min_votes)
+        if not len(supported):
+            continue
+        cols.append(c)
+        near.append(idx[supported[np.argmin(z[supported])]])
+    if not cols and not blank_ft:
+        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
+    cols, near = np.array(cols, int), np.array(near, int)
+    rng = xyz_c[near, 2]
+
+    def to_room(col, z):
+        x = (col - 0.5 - CX_128) * z / FOCAL_128
+        p = np.stack([x, np.zeros_like(z), z], -1) @ R.T + origin
+        p[:, 1] = origin[1]
+        return p
+
+    hits = to_room(cols.astype(float), rng)
+    hit_cov = R @ cov_c[near] @ R.T
+    free_cols, free_rng, spans = [], [], []
+    gap_px = 128 if blank_ft else max_gap_px
+    for k in range(len(cols) - 1):
+        a, b = cols[k], cols[k + 1]
+        if b - a > 1 and b - a <= gap_px:
+            between = np.arange(a + 1, b)
+            free_cols.append(between)
+            free_rng.append(np.full(len(between), min(rng[k], rng[k + 1])))
+        if b - a <= max_gap_px:
+            tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
+            if abs(rng[k] - rng[k + 1]) <= tol:
+                spans.append((k, k + 1))
+    if blank_ft:
+        # outside the outermost columns that show something: free up to
+        # blank_ft, or up to the outermost hit's range if nearer (an
+        # assumption, off by default: a blank wall shows nothing either, and
+        # a box face wider than the picture too)
+        lo_c = cols[0] if len(cols) else 129
+        hi_c = cols[-1] if len(cols) else 0
+        for side in (np.arange(1, lo_c), np.arange(hi_c + 1, 129)):
+            if len(side):
+                edge_r = rng[0] if (len(cols) and side[0] == 1) else \
+                    (rng[-1] if len(cols) else blank_ft)
+                free_cols.append(side)
+                free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))
+                                        if len(cols) else float(blank_ft)))
+    if free_cols:
+        free_ends = to_room(np.concatenate(free_cols).astype(float), np.concatenate(free_rng))
+    else:
+        free_ends = empty
+    return FloorScan(origin, hits, hit_cov, free_ends, spans)

@@ -1,0 +1,380 @@
+"""Chapter IV, "Path and Trajectory Generation": the searches over the floor map.
+
+* :func:`clearance_map` — the configuration space of the vehicle's cross
+  section: a cell is passable when a disc of the vehicle's radius centred
+  anywhere in it touches no blocked cell.  Unknown (and uncertain) cells are
+  blocked or free as the caller states (``unknown="blocked"|"free"``).
+* :func:`hierarchical_search` — **the dissertation's search**: "the search
+  starts at the vehicle position and 'grows' empty space areas, giving priority
+  to those voxels at the higher levels which (1) are nearer the goal, and (2)
+  allow the vehicle cross section to pass freely along the volume toward the
+  goal".  The passable map is decomposed into a quadtree (the floor map's
+  hierarchy: uniform blocks merged level by level); growth is best-first over
+  adjacent passable blocks, keyed by the distance from the block's edge to the
+  goal (so bigger blocks nearer the goal come first); only blocks wholly
+  passable are grown into, so the cross section passes anywhere in them.
+  Waypoints are the midpoints of the shared sides of consecutive blocks.
+* :func:`astar` — the baseline: A* over the same cells (8-connected, no
+  corner cutting, octile heuristic), optimal on the grid.
+* :func:`cross_section_test` — "once a path is found ... it is tested for
+  minimum cross section to ensure the path can be traversed": the smallest
+  clearance along the polyline, refused when below the vehicle's radius.
+
+No path raises :class:`NoPath` naming what is in the way.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from .floormap import FloorMap
+from .octree import OCCUPIED, UNCERTAIN, UNKNOWN
+
+SQRT2 = math.sqrt(2.0)
+
+
+class NoPath(Exception):
+    """No path for the vehicle; the message says which part is blocked or unknown."""
+
+
+@dataclass
+class Passable:
+    """The configuration space on a floor map."""
+    ok: np.ndarray            # (nz, nx) bool: the vehicle's centre may be in this cell
+    clearance: np.ndarray     # (nz, nx) float: lower bound, ft, from any point of the cell to a blocked cell
+    blocked: np.ndarray       # (nz, nx) bool: blocked cells before growing (occupied [+ unknown])
+    fmap: FloorMap
+    radius: float
+    unknown: str
+
+
+def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
+                  uncertain: str | None = None) -> Passable:
+    """Grow the blocked cells by ``radius`` (the vehicle's cross section).  The
+    map's border counts as blocked.  Uncertain cells follow ``unknown`` unless
+    ``uncertain`` says otherwise.  A cell is passable when the distance from
+    any point of it to the nearest blocked cell's square is at least ``radius``
+    (a lower bound: centre distance less a cell diagonal)."""
+    if unknown not in ("blocked", "free"):
+        raise ValueError(f"unknown must be 'blocked' or 'free', not {unknown!r}")
+    uncertain = unknown if uncertain is None else uncertain
+    blocked = fm.cells == OCCUPIED
+    if unknown == "blocked":
+        blocked = blocked | (fm.cells == UNKNOWN)
+    if uncertain == "blocked":
+        blocked = blocked | (fm.cells == UNCERTAIN)
+    padded = np.pad(~blocked, 1, constant_values=False).astype(np.uint8)
+    dt = cv2.distanceTransform(padded, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[1:-1, 1:-1]
+    # dt is centre-to-centre in cells; the nearest point of a blocked square is
+    # at most half a diagonal nearer, and any point of this cell another half
+    # diagonal: so the vehicle may stand ANYWHERE in a passable cell.
+    clearance = np.maximum(dt - SQRT2, 0.0) * fm.cell
+    return Passable(clearance >= radius - 1e-9, clearance, blocked, fm, radius, unknown)
+
+
+def _explain(p: Passable, x: float, z: float, what: str) -> str | None:
+    fm = p.fmap
+    i, j = fm.index(x, z)
+    if not fm.inside(i, j):
+        return f"the {what} ({x:.2f}, {z:.2f}) ft is outside the map"
+    s = fm.cells[i, j]
+    if s == OCCUPIED:
+        return f"the {what} ({x:.2f}, {z:.2f}) ft is inside an obstacle (occupied cell)"
+    if s in (UNKNOWN, UNCERTAIN) and p.unknown == "blocked":
+        return f"the {what} ({x:.2f}, {z:.2f}) ft is in unknown space (unknown treated as blocked)"
+    if not p.ok[i, j]:
+        return (f"the {what} ({x:.2f}, {z:.2f}) ft is {p.clearance[i, j]:.2f} ft from an "
+                f"obstacle; the vehicle needs {p.radius:.2f} ft")
+    return None
+
+
+def check_ends(p: Passable, start, goal) -> None:
+    for what, (x, z) in (("start", start), ("goal", goal)):
+        why = _explain(p, x, z, what)
+        if why:
+            raise NoPath(why)
+
+
+def _bottleneck(p: Passable, start, goal) -> tuple[float, tuple[float, float]]:
+    """The widest clearance w at which start and goal still connect (cells with
+    clearance >= w), and the cell of that width nearest the straight route."""
+    fm = p.fmap
+    si, sj = fm.index(*start)
+    gi, gj = fm.index(*goal)
+    free = ~p.blocked
+    levels = np.unique(p.clearance[free])
+    lo, hi = 0, len(levels) - 1                  # levels[lo] connects; find the largest
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        _, comp = cv2.connectedComponents((free & (p.clearance >= levels[mid])).astype(np.uint8),
+                                          connectivity=8)
+        if comp[si, sj] > 0 and comp[si, sj] == comp[gi, gj]:
+            lo = mid
+        else:
+            hi = mid - 1
+    w = float(levels[lo])
+    _, comp = cv2.connectedComponents((free & (p.clearance >= w)).astype(np.uint8), connectivity=8)
+    nxt = levels[lo + 1] if lo + 1 < len(levels) else np.inf
+    ii, jj = np.nonzero((comp == comp[si, sj]) & (p.clearance < nxt))
+    xs, zs = fm.centre(ii, jj)
+    detour = np.hypot(xs - start[0], zs - start[1]) + np.hypot(xs - goal[0], zs - goal[1])
+    k = int(np.argmin(detour))
+    return w, (float(xs[k]), float(zs[k]))
+
+
+def _no_connection(p: Passable, reached: np.ndarray, start, goal) -> NoPath:
+    """Say why the goal cannot be reached: a way exists for a point but is
+    narrower than the vehicle somewhere, or occupied / unknown cells close the
+    reachable region off."""
+    fm = p.fmap
+    n_comp, comp = cv2.connectedComponents((~p.blocked).astype(np.uint8), connectivity=8)
+    si, sj = fm.index(*start)
+    gi, gj = fm.index(*goal)
+    if comp[si, sj] == comp[gi, gj] and comp[si, sj] > 0:
+        w, (x, z) = _bottleneck(p, start, goal)
+        return NoPath(f"no path: the way from the start to the goal is narrower than the "
+                      f"vehicle ({2 * p.radius:.2f} ft) near ({x:.2f}, {z:.2f}) ft, where it "
+                      f"leaves {2 * w:.2f} ft")
+    reach = int(math.ceil(p.radius / fm.cell)) + 2
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * reach + 1, 2 * reach + 1))
+    zone = cv2.dilate(reached.astype(np.uint8), kernel).astype(bool)
+    occ = int((zone & (fm.cells == OCCUPIED)).sum())
+    unk = int((zone & ((fm.cells == UNKNOWN) | (fm.cells == UNCERTAIN)) & p.blocked).sum())
+    parts = []
+    if occ:
+        parts.append(f"{occ} occupied cells")
+    if unk:
+        parts.append(f"{unk} unknown cells (unknown treated as blocked)")
+    return NoPath(f"no path: the {int(reached.sum())} cells reachable from the start are "
+                  f"closed off by " + (" and ".join(parts) or "the map's edge"))
+
+
+# --- the A* baseline ------------------------------------------------------------
+
+_STEPS = [(-1, 0, 1.0), (1, 0, 1.0), (0, -1, 1.0), (0, 1, 1.0),
+          (-1, -1, SQRT2), (-1, 1, SQRT2), (1, -1, SQRT2), (1, 1, SQRT2)]
+
+
+def astar(p: Passable, start, goal) -> list[tuple[float, float]]:
+    """A* over the passable cells from the start's cell to the goal's cell;
+    returns the polyline start, cell centres..., goal (room x, z)."""
+    check_ends(p, start, goal)
+    fm = p.fmap
+    si, sj = fm.index(*start)
+    gi, gj = fm.index(*goal)
+    ok = p.ok
+    nz, nx = ok.shape
+    g = np.full(ok.shape, np.inf)
+    parent = np.full(ok.shape + (2,), -1, np.int32)
+    closed = np.zeros(ok.shape, bool)
+    g[si, sj] = 0.0
+
+    def h(i, j):
+        di, dj = abs(i - gi), abs(j - gj)
+        return (di + dj) + (SQRT2 - 2) * min(di, dj)
+
+    heap = [(h(si, sj), 0.0, si, sj)]
+    while heap:
+        _, gc, i, j = heapq.heappop(heap)
+        if closed[i, j]:
+            continue
+        closed[i, j] = True
+        if (i, j) == (gi, gj):
+            break
+        for di, dj, w in _STEPS:
+            a, b = i + di, j + dj
+            if not (0 <= a < nz and 0 <= b < nx) or not ok[a, b] or closed[a, b]:
+                continue
+            if di and dj and not (ok[i + di, j] and ok[i, j + dj]):
+                continue
+            ng = gc + w
+            if ng < g[a, b]:
+                g[a, b] = ng
+                parent[a, b] = (i, j)
+                heapq.heappush(heap, (ng + h(a, b), ng, a, b))
+    if not closed[gi, gj]:
+        raise _no_connection(p, closed, start, goal)
+    cells = [(gi, gj)]
+    while cells[-1] != (si, sj):
+        cells.append(tuple(parent[cells[-1]]))
+    cells.reverse()
+    xs, zs = fm.centre(np.array([c[0] for c in cells]), np.array([c[1] for c in cells]))
+    pts = [tuple(map(float, start))] + list(zip(xs[1:-1].tolist(), zs[1:-1].tolist())) \
+        + [tuple(map(float, goal))]
+    return pts
+
+
+# --- the dissertation's hierarchical search -------------------------------------
+
+@dataclass
+class Quadtree:
+    """Leaves of the passable map's quadtree: block ``k`` covers rows
+    ``i0[k] .. i0[k]+size[k]-1`` and the same run of columns from ``j0[k]``."""
+    i0: np.ndarray
+    j0: np.ndarray
+    size: np.ndarray
+    label: np.ndarray          # (nz, nx) int: block id of each passable cell, -1 elsewhere
+    levels: int
+
+
+def quadtree(ok: np.ndarray) -> Quadtree:
+    """Merge passable cells into the largest aligned uniform square blocks,
+    level by level (a block is kept at a level when its four children are all
+    wholly passable)."""
+    nz, nx = ok.shape
+    levels = max(1, int(math.ceil(math.log2(max(nz, nx)))))
+    n = 2 ** levels
+    full = np.zeros((n, n), bool)
+    full[:nz, :nx] = ok
+    uniform = [full]
+    for _ in range(levels):
+        u = uniform[-1]
+        m = u.shape[0] // 2
+        uniform.append(u.reshape(m, 2, m, 2).all(axis=(1, 3)))
+    taken = np.zeros((n, n), bool)
+    I0, J0, S = [], [], []
+    for lev in range(levels, -1, -1):
+        s = 2 ** lev
+        u = uniform[lev]
+        cover = taken.reshape(n // s, s, n // s, s).any(axis=(1, 3))
+        ii, jj = np.nonzero(u & ~cover)
+        for a, b in zip(ii, jj):
+            taken[a * s:(a + 1) * s, b * s:(b + 1) * s] = True
+        I0.extend((ii * s).tolist())
+        J0.extend((jj * s).tolist())
+        S.extend([s] * len(ii))
+    label = np.full((n, n), -1, np.int64)
+    for k, (a, b, s) in enumerate(zip(I0, J0, S)):
+        label[a:a + s, b:b + s] = k
+    return Quadtree(np.array(I0, int), np.array(J0, int), np.array(S, int),
+                    label[:nz, :nx], levels)
+
+
+def _adjacency(label: np.ndarray) -> dict[int, set[int]]:
+    adj: dict[int, set[int]] = {}
+    for a, b in ((label[:, :-1], label[:, 1:]), (label[:-1, :], label[1:, :])):
+        m = (a >= 0) & (b >= 0) & (a != b)
+        pairs = np.unique(np.stack([a[m], b[m]], 1), axis=0)
+        for u, v in pairs.tolist():
+            adj.setdefault(u, set()).add(v)
+            adj.setdefault(v, set()).add(u)
+    return adj
+
+
+def _portal(qt: Quadtree, fm: FloorMap, u: int, v: int) -> tuple[float, float]:
+    """Midpoint of the side shared by blocks u and v, room (x, z)."""
+    ui, uj, us = qt.i0[u], qt.j0[u], qt.size[u]
+    vi, vj, vs = qt.i0[v], qt.j0[v], qt.size[v]
+    c = fm.cell
+    if uj + us == vj or vj + vs == uj:                 # side by side in X
+        xe = (vj if uj + us == vj else uj) * c + fm.x0
+        lo, hi = max(ui, vi), min(ui + us, vi + vs)
+        return xe, fm.z0 + (lo + hi) / 2 * c
+    ze = (vi if ui + us == vi else ui) * c + fm.z0
+    lo, hi = max(uj, vj), min(uj + us, vj + vs)
+    return fm.x0 + (lo + hi) / 2 * c, ze
+
+
+def hierarchical_search(p: Passable, start, goal, qt: Quadtree | None = None
+                        ) -> list[tuple[float, float]]:
+    """The dissertation's search (see the module docstring); returns the
+    polyline start, portals..., goal."""
+    check_ends(p, start, goal)
+    fm = p.fmap
+    qt = quadtree(p.ok) if qt is None else qt
+    si, sj = fm.index(*start)
+    gi, gj = fm.index(*goal)
+    s_blk, g_blk = int(qt.label[si, sj]), int(qt.label[gi, gj])
+    adj = _adjacency(qt.label)
+    gx, gz = goal
+    c = fm.cell
+
+    def key(k):
+        # distance from the block's nearest point to the goal: larger blocks
+        # reach nearer, so they are preferred at equal centre distance
+        x0 = fm.x0 + qt.j0[k] * c
+        z0 = fm.z0 + qt.i0[k] * c
+        s = qt.size[k] * c
+        dx = max(x0 - gx, 0.0, gx - (x0 + s))
+        dz = max(z0 - gz, 0.0, gz - (z0 + s))
+        return math.hypot(dx, dz), -int(qt.size[k])
+
+    parent = {s_blk: -1}
+    heap = [(key(s_blk), s_blk)]
+    done = set()
+    while heap:
+        _, k = heapq.heappop(heap)
+        if k in done:
+            continue
+        done.add(k)
+        if k == g_blk:
+            break
+        for v in adj.get(k, ()):
+            if v not in parent:
+                parent[v] = k
+                heapq.heappush(heap, (key(v), v))
+    if g_blk not in done:
+        reached = np.isin(qt.label, np.fromiter(done, int))
+        raise _no_connection(p, reached, start, goal)
+    chain = [g_blk]
+    while parent[chain[-1]] != -1:
+        chain.append(parent[chain[-1]])
+    chain.reverse()
+    pts = [tuple(map(float, start))]
+    pts += [_portal(qt, fm, u, v) for u, v in zip(chain[:-1], chain[1:])]
+    pts.append(tuple(map(float, goal)))
+    return pts
+
+
+# --- tests on paths ---------------------------------------------------------------
+
+def path_length(pts) -> float:
+    a = np.asarray(pts, float)
+    return float(np.hypot(*np.diff(a, axis=0).T).sum()) if len(a) > 1 else 0.0
+
+
+def segment_samples(a, b, step: float) -> np.ndarray:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    n = max(2, int(math.ceil(np.linalg.norm(b - a) / step)) + 1)
+    return a + np.linspace(0, 1, n)[:, None] * (b - a)
+
+
+def min_clearance(p: Passable, pts) -> tuple[float, tuple[float, float]]:
+    """The smallest clearance (ft) sampled along the polyline, and where."""
+    fm = p.fmap
+    best, where = math.inf, tuple(pts[0])
+    for a, b in zip(pts[:-1], pts[1:]):
+        s = segment_samples(a, b, fm.cell / 4)
+        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (i < fm.shape[0]) & (j >= 0) & (j < fm.shape[1])
+        cl = np.zeros(len(s))
+        cl[inside] = p.clearance[i[inside], j[inside]]
+        k = int(np.argmin(cl))
+        if cl[k] < best:
+            best, where = float(cl[k]), (float(s[k, 0]), float(s[k, 1]))
+    return best, where
+
+
+def line_of_sight(p: Passable, a, b) -> bool:
+    """Every cell the segment a-b passes (sampled at a quarter cell) is passable."""
+    fm = p.fmap
+    s = segment_samples(a, b, fm.cell / 4)
+    i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+    j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+    if (i < 0).any() or (j < 0).any() or (i >= fm.shape[0]).any() or (j >= fm.shape[1]).any():
+        return False
+    return bool(p.ok[i, j].all())
+
+
+def cross_section_test(p: Passable, pts) -> None:
+    """Refuse a path whose clearance anywhere is below the vehicle's radius."""
+    cl, (x, z) = min_clearance(p, pts)
+    if cl < p.radius - 1e-9:
+        raise NoPath(f"the path's cross section at ({x:.2f}, {z:.2f}) ft is {2 * cl:.2f} ft, "
+                     f"narrower than the vehicle ({2 * p.radius:.2f} ft)")

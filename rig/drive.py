@@ -1,0 +1,184 @@
+"""``rig drive`` — the 1985 design drives a robot through a simulated room.
+
+The closed loop of :mod:`planner.loop` (look -> scan -> model update ->
+camera estimate -> octree -> plan -> execute the next command segment ->
+repeat) with a per-cycle line, the ending sentence ("goal reached in N looks,
+D ft travelled, T s" or the reason it stopped), pictures (the last map and an
+animated GIF of the run, written with Pillow) and ``--json FILE``.  Ctrl-C
+stops cleanly after the cycle under way and still writes what it has.
+
+The perception step is this project's adapter (:class:`planner.loop.Perception`):
+the look rendered at the TRUE pose, scanned by the rig, placed in the room with
+the dead-reckoned pose as the camera estimate.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from diskfmt.rdos import write_atomic
+
+DEFAULT_LAB_GOAL = (4.5, 11.0)
+
+
+def _numbers(text: str, what: str, counts) -> list[float]:
+    """``X,Z`` style option values; one clear error otherwise."""
+    import math
+    try:
+        vals = [float(v) for v in text.split(",")]
+    except ValueError:
+        vals = []
+    if len(vals) not in counts or not all(math.isfinite(v) for v in vals):
+        need = " or ".join(str(c) for c in counts)
+        raise SystemExit(f"rig drive: {what} {text!r} must be {need} numbers separated by commas")
+    return vals
+
+
+def write_gif(path: Path, frames, ms_per_frame: int = 500) -> None:
+    """An animated GIF (Pillow), written to a temporary name and renamed."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+    imgs = [Image.fromarray(np.ascontiguousarray(f[:, :, ::-1])) for f in frames]
+    buf = io.BytesIO()
+    imgs[0].save(buf, format="GIF", save_all=True, append_images=imgs[1:],
+                 duration=ms_per_frame, loop=0)
+    write_atomic(path, buf.getvalue())
+
+
+def frames_of(result, room):
+    from planner.pictures import drive_map
+    frames = []
+    for k, c in enumerate(result.cycles):
+        title = f"look {c.look}: {c.command or '-'}"
+        frames.append(drive_map(c.fmap, room.bounds, room.obstacles, c.path,
+                                result.true_track[:k + 2], result.dead_track[:k + 2],
+                                result.goal, title[:60], heading=True))
+    return frames
+
+
+def cmd_drive(args) -> int:
+    from planner.loop import DriveConfig, run
+    from rig.pictures import save_png
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    from world.room import bundled_lab, generate_room
+
+    if args.room is None:
+        room = bundled_lab()
+    else:
+        try:
+            room = generate_room(args.room)
+        except ValueError as exc:
+            raise SystemExit(f"rig drive: --room: {exc}")
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    if args.start:
+        v = _numbers(args.start, "--start", (2, 3))
+        start = State(v[0], v[1], v[2] if len(v) == 3 else 0.0)
+    if args.goal:
+        goal = tuple(_numbers(args.goal, "--goal", (2,)))
+    elif args.room is None:
+        goal = DEFAULT_LAB_GOAL
+    else:
+        import numpy as np
+        from planner.loop import random_goal
+        goal = random_goal(room, start, DEFAULT, np.random.default_rng(args.room))
+        if goal is None:
+            raise SystemExit(f"rig drive: room {args.room} has no reachable goal from the start; "
+                             f"give --goal X,Z")
+    r = DEFAULT.planning_radius_ft
+    for what, (x, z) in (("start", (start.x, start.z)), ("goal", goal)):
+        c = room.clearance(x, z)
+        if c < r:
+            where = "inside an obstacle or outside the walls" if c < 0 else \
+                f"{c:.2f} ft from an obstacle or wall"
+            raise SystemExit(f"rig drive: the {what} ({x:g}, {z:g}) ft is {where} in "
+                             f"{room.name!r}; the vehicle needs {r:.2f} ft")
+    cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+                      max_looks=args.max_looks, eyes=args.eyes,
+                      blank_ft=args.blank_ft if args.blank_ft > 0 else None)
+    noise = None if args.no_noise else OdometryNoise(seed=args.seed)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"rig drive: {room.name}, start ({start.x:g}, {start.z:g}) heading "
+          f"{start.heading_deg:g} deg, goal ({goal[0]:g}, {goal[1]:g}), unknown space "
+          f"{args.unknown}, search {args.search}, eyes {args.eyes}, odometry noise "
+          f"{'off' if noise is None else 'on'}")
+
+    def line(c):
+        left = "-" if c.path_left_ft is None else f"{c.path_left_ft:5.1f} ft"
+        print(f"look {c.look:2d}: est ({c.estimate.x:6.2f}, {c.estimate.z:6.2f}, "
+              f"{c.estimate.heading_deg:6.1f}) true ({c.true.x:6.2f}, {c.true.z:6.2f}, "
+              f"{c.true.heading_deg:6.1f})  model {c.points:5d} pts {c.leaves:6d} cells  "
+              f"path left {left}  cmd {c.command or '-'}"
+              + ("" if args.quiet_notes else f"  [{c.note}]"), flush=True)
+
+    res = run(room, start, cfg, noise=noise, on_cycle=line)
+    if res.reached:
+        print(f"goal reached in {res.looks} looks, {res.travelled_ft:.1f} ft travelled, "
+              f"{res.seconds:.1f} s")
+    else:
+        print(f"goal not reached: {res.reason} ({res.looks} looks, {res.travelled_ft:.1f} ft "
+              f"travelled, {res.seconds:.1f} s)")
+    opt = "-" if res.optimal_ft is None else f"{res.optimal_ft:.1f} ft"
+    print(f"true optimum {opt}; collisions {res.collisions}; {res.work_ms_per_cycle:.0f} ms per "
+          f"cycle without the look's rendering, {1e3 * res.seconds_per_cycle:.0f} ms with it; "
+          f"octree {res.octree_bytes / 1024:.0f} KiB; true distance to goal "
+          f"{res.final_true_error_ft:.2f} ft")
+    if res.cycles:
+        frames = frames_of(res, room)
+        save_png(out / "drive-map.png", frames[-1])
+        write_gif(out / "drive.gif", frames)
+        print(f"pictures: {out / 'drive-map.png'}, {out / 'drive.gif'}")
+    if args.json:
+        write_atomic(Path(args.json), (json.dumps(res.as_json(), indent=1) + "\n").encode())
+        print(f"json: {args.json}")
+    if res.reason.startswith("stopped by Ctrl-C"):
+        return 130
+    return 0 if res.reached else 3
+
+
+def add_parser(sub) -> None:
+    d = sub.add_parser("drive", help="drive the robot to a goal in a simulated room (closed loop)",
+                       description="The goal-achievement loop of Chapter IV: look (render at the "
+                                   "true pose), scan, model, octree, plan, execute the next "
+                                   "command segment, repeat until the estimate is within 0.75 "
+                                   "ft of the goal.  Exit 0 when reached, 3 when not, 130 on "
+                                   "Ctrl-C.")
+    d.add_argument("--room", type=int, metavar="SEED",
+                   help="a generated room (default: the bundled lab)")
+    d.add_argument("--start", metavar="X,Z[,HEADING]", help="start (ft, deg; default the room's)")
+    d.add_argument("--goal", metavar="X,Z",
+                   help=f"goal (ft; default {DEFAULT_LAB_GOAL} in the lab, a random reachable "
+                        f"one in a generated room)")
+    d.add_argument("--unknown", choices=("free", "blocked"), default="free",
+                   help="plan through never-seen space as free (default) or blocked; the vehicle "
+                        "never drives into it either way")
+    d.add_argument("--search", choices=("dissertation", "astar"), default="dissertation",
+                   help="the dissertation's hierarchical search (default) or A*")
+    d.add_argument("--eyes", choices=("rig", "truth"), default="rig",
+                   help="rig: the 1985 matcher's ranges (default); truth: the true range at the "
+                        "same edge pixels (an oracle: the planner without the matcher's errors)")
+    d.add_argument("--blank-ft", type=float, default=8.0, metavar="FT",
+                   help="picture columns outside everything the look located count free this "
+                        "far (default 8; 0: off, then blank walls stop the vehicle)")
+    d.add_argument("--max-looks", type=int, default=60, metavar="N")
+    d.add_argument("--seed", type=int, default=1985, help="odometry noise seed")
+    d.add_argument("--no-noise", action="store_true", help="odometry noise off")
+    d.add_argument("--out", default="out", help="where the pictures go (default ./out)")
+    d.add_argument("--json", metavar="FILE", help="write the result as JSON")
+    d.add_argument("--quiet-notes", action="store_true", help="no planner note per cycle")
+    d.set_defaults(func=cmd_drive)
+
+
+if __name__ == "__main__":
+    p = argparse.ArgumentParser(prog="rig")
+    add_parser(p.add_subparsers(dest="command", required=True))
+    a = p.parse_args()
+    sys.exit(a.func(a))

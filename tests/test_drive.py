@@ -1,0 +1,120 @@
+"""The closed loop (look -> scan -> model -> octree -> plan -> execute) end to
+end, its perception step on hand-made points, and ``rig drive``."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from planner.loop import DriveConfig, near_visible_ft, run, true_optimum
+from planner.perception import floor_scan
+from planner.tiny import GOAL, tiny_room
+from rig.scan import Point
+from vehicle.profile import DEFAULT
+from vehicle.sim import State
+from world.odometry import OdometryNoise
+
+
+def test_tiny_room_true_optimum_is_the_straight_line():
+    # nothing within the planning radius of the straight line x = 0
+    room = tiny_room()
+    assert room.clearance(0.0, 3.5) > DEFAULT.planning_radius_ft
+    opt, grid = true_optimum(room, (0.0, 0.0), GOAL, DEFAULT, 0.25)
+    assert 7.0 <= opt <= 7.1                  # start and goal inside their cells
+    assert grid >= opt
+
+
+def test_closed_loop_reaches_the_goal_in_the_tiny_room():
+    """The loop's machinery with an oracle for the matcher (the true range at
+    the rig's own edge pixels): deterministic, no collision, near the optimum."""
+    room = tiny_room()
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth"),
+              noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert res.final_true_error_ft <= 0.75 + 0.5          # tolerance plus dead-reckoning drift
+    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    assert 2 <= res.looks <= 12
+    cmds = [c.command for c in res.cycles]
+    assert all(c for c in cmds)                            # every cycle issued a command
+
+
+def test_closed_loop_with_the_rig_eyes_reaches_the_lab_goal():
+    """The 1985 eyes (rig.scan) drive the bundled lab to the default goal."""
+    from rig.drive import DEFAULT_LAB_GOAL
+    from world.room import bundled_lab
+    room = bundled_lab()
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=DEFAULT_LAB_GOAL),
+              noise=OdometryNoise(seed=1985))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    # the estimate is the dead-reckoned pose: it drifts from the truth
+    assert res.true_track[-1] != res.dead_track[-1]
+
+
+def test_ctrl_c_stops_cleanly_with_what_it_has():
+    room = tiny_room()
+
+    def interrupt(cycle):
+        if cycle.look == 2:
+            raise KeyboardInterrupt
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth"),
+              on_cycle=interrupt)
+    assert not res.reached
+    assert res.reason == "stopped by Ctrl-C after 2 looks"
+    assert len(res.cycles) == 2 and res.as_json()["looks"] == 2
+
+
+def _pt(line, loc1, dp, ep=0.05):
+    return Point(line, 1, loc1, loc1 - 10, dp, 0.0, 0.0, ep, 0.01, 0.01)
+
+
+def test_floor_scan_nearest_supported_range_per_column():
+    R = np.eye(3)
+    origin = np.array([-0.375, 0.0, 0.0])
+    pts = [_pt(50, 40, 5.0), _pt(52, 40, 5.02),           # column 40: an edge at 5 ft (2 lines)
+           _pt(54, 40, 3.0),                               # a lone false match nearer: no vote
+           _pt(50, 60, 4.0), _pt(52, 60, 4.01),            # column 60: an edge at 4 ft
+           _pt(60, 100, 9.0)]                              # column 100: one point only
+    fs = floor_scan(pts, R, origin, band=(-1.0, 2.75), blank_ft=None)
+    ranges = sorted(np.round(fs.hits[:, 2], 2).tolist())
+    assert ranges == [4.0, 5.0]                            # nearest SUPPORTED point per column
+    assert np.allclose(fs.hits[:, 1], 0.0)                 # moved to the camera's height
+    # the columns between 40 and 60 are free up to the nearer of the two (4 ft)
+    assert len(fs.free_ends) == 19
+    assert np.allclose(fs.free_ends[:, 2], 4.0)
+    # x of column 40 at 5 ft: (40 - 0.5 - 64) * 5 / 180 from the left camera
+    k = int(np.argmax(fs.hits[:, 2]))
+    assert fs.hits[k, 0] == pytest.approx(-0.375 + (40 - 0.5 - 64) * 5.0 / 180)
+
+
+def test_near_visible_distance_from_the_profile():
+    # pitched 25 deg down with a half height of atan(60/180): an obstacle 0.8 ft
+    # tall shows from (3 - 0.8) / tan(25 + 18.43 deg) = 2.33 ft
+    d = near_visible_ft(DEFAULT, 0.8)
+    assert d == pytest.approx(2.2 / math.tan(math.radians(25 + math.degrees(math.atan(1 / 3)))))
+
+
+def test_rig_drive_command_json_and_bad_goal(tmp_path, capsys):
+    from rig.main import main
+    out = tmp_path / "out"
+    js = tmp_path / "drive.json"
+    rc = main(["drive", "--out", str(out), "--json", str(js), "--quiet-notes"])
+    text = capsys.readouterr().out
+    assert rc == 0
+    assert "look  1:" in text and "goal reached in" in text
+    data = json.loads(js.read_text())
+    for key in ("reached", "reason", "collisions", "looks", "travelled_ft", "optimal_ft",
+                "seconds_per_cycle"):
+        assert key in data
+    assert data["reached"] is True and data["collisions"] == 0
+    assert (out / "drive-map.png").stat().st_size > 0
+    from PIL import Image
+    with Image.open(out / "drive.gif") as gif:
+        assert gif.n_frames == data["looks"]
+    with pytest.raises(SystemExit, match=r"the goal \(0, 4\) ft is inside an obstacle"):
+        main(["drive", "--goal", "0,4", "--out", str(out)])
+    with pytest.raises(SystemExit, match=r"--goal 'x,4' must be 2 numbers"):
+        main(["drive", "--goal", "x,4", "--out", str(out)])

@@ -1,0 +1,161 @@
+"""The searches of Chapter IV on hand-made floor maps: known shortest paths,
+a gap narrower than the vehicle, a goal inside an obstacle, no path, unknown
+space as a stated choice, and the path optimisation."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.floormap import FloorMap, true_floor_map
+from planner.octree import FREE, OCCUPIED, UNKNOWN
+from planner.search import (NoPath, astar, clearance_map, cross_section_test,
+                            hierarchical_search, line_of_sight, min_clearance, path_length,
+                            quadtree)
+from planner.trajectory import next_segment, polyline, shorten, to_commands
+from vehicle.commands import Forward, Turn
+
+ROOM = (0.0, 10.0, 0.0, 10.0)
+CELL = 0.25
+R = 1.05          # a planning radius (a 1.0 x 1.25 ft footprint half diagonal 0.80 + margin 0.25)
+
+
+def room(obstacles=()):
+    return true_floor_map(obstacles, ROOM, CELL, margin=0.0)
+
+
+def test_astar_octile_distance_on_an_empty_map():
+    p = clearance_map(room(), 0.5)
+    # cell centres 8 columns and 4 rows apart: 4 diagonal + 4 straight steps
+    pts = astar(p, (3.125, 3.125), (5.125, 4.125))
+    assert path_length(pts) == pytest.approx(CELL * (4 * math.sqrt(2) + 4))
+
+
+def test_straight_line_when_nothing_is_in_the_way():
+    p = clearance_map(room(), R)
+    for search in (astar, hierarchical_search):
+        pts = shorten(p, search(p, (2.0, 2.0), (8.0, 2.0)))
+        assert pts == [(2.0, 2.0), (8.0, 2.0)]
+        assert path_length(pts) == pytest.approx(6.0)
+
+
+def _around_wall_end(rho):
+    """Exact shortest path for a disc of radius rho from (2,2) to (2,8) past
+    a thin wall x <= 6 at z = 5: tangent, arc about the wall's end C = (6, 5),
+    tangent.  Seen from C, S lies at -143.13 deg and G at +143.13 deg (in the
+    x-z plane); the path wraps the side away from the wall, less the two
+    tangent angles acos(rho / |CS|)."""
+    d = math.hypot(4, 3)
+    a_s = abs(math.atan2(-3, -4))
+    arc = 2 * a_s - 2 * math.acos(rho / d)
+    return 2 * math.sqrt(d * d - rho * rho) + rho * arc
+
+
+def test_shortest_path_around_a_wall_end_matches_geometry():
+    wall = [(0.0, 6.0, 4.9, 5.1)]
+    p = clearance_map(room(wall), R)
+    for search in (astar, hierarchical_search):
+        pts = shorten(p, search(p, (2.0, 2.0), (2.0, 8.0)))
+        L = path_length(pts)
+        # no path can be shorter than the exact one (the wall is 0.1 ft thick
+        # each side of z = 5); the grid is conservative by the wall's raster
+        # (0.25 ft cells) and the passable test's cell diagonal
+        lower = _around_wall_end(R + 0.1)
+        upper = _around_wall_end(R + 0.25 + math.sqrt(2) * CELL) + 0.3
+        assert lower <= L <= upper, (search.__name__, L, lower, upper)
+        cross_section_test(p, pts)
+        assert min(x for x, z in polyline_points(pts) if abs(z - 5.0) < 0.3) > 6.0 + R
+
+
+def test_search_prefers_the_way_round_of_the_goal():
+    # the dissertation's greedy growth is not optimal in general, but its path
+    # is passable and A*'s is never longer
+    obst = [(3.5, 7.0, 4.0, 6.0)]
+    p = clearance_map(room(obst), R)
+    a = shorten(p, astar(p, (5.0, 1.5), (5.0, 8.5)))
+    h = shorten(p, hierarchical_search(p, (5.0, 1.5), (5.0, 8.5)))
+    cross_section_test(p, h)
+    assert path_length(a) <= path_length(h) + 1e-9
+
+
+def test_gap_narrower_than_the_vehicle_refused():
+    def wall_with_gap(w):
+        return [(0.0, 5.0 - w / 2, 4.9, 5.1), (5.0 + w / 2, 10.0, 4.9, 5.1)]
+    narrow = clearance_map(room(wall_with_gap(2.0)), R)       # 2 ft < 2.1 ft vehicle
+    for search in (astar, hierarchical_search):
+        with pytest.raises(NoPath, match=r"no path: the way from the start to the goal is narrower than the vehicle \(2.10 ft\) near \([45].\d\d, [45].\d\d\) ft, where it leaves \d.\d\d ft"):
+            search(narrow, (5.0, 2.0), (5.0, 8.0))
+    wide = clearance_map(room(wall_with_gap(3.5)), R)
+    for search in (astar, hierarchical_search):
+        pts = shorten(wide, search(wide, (5.0, 2.0), (5.0, 8.0)))
+        cross_section_test(wide, pts)
+        crossing = [x for x, z in polyline_points(pts) if abs(z - 5.0) < 0.05]
+        assert all(5.0 - 1.75 + R - 1e-6 <= x <= 5.0 + 1.75 - R + 1e-6 for x in crossing)
+
+
+def polyline_points(pts, step=0.01):
+    out = []
+    for a, b in zip(pts[:-1], pts[1:]):
+        n = max(2, int(math.hypot(b[0] - a[0], b[1] - a[1]) / step))
+        for s in np.linspace(0, 1, n):
+            out.append((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])))
+    return out
+
+
+def test_goal_inside_an_obstacle_refused():
+    p = clearance_map(room([(4.0, 6.0, 4.0, 6.0)]), R)
+    for search in (astar, hierarchical_search):
+        with pytest.raises(NoPath, match=r"goal \(5.00, 5.00\) ft is inside an obstacle"):
+            search(p, (1.5, 1.5), (5.0, 5.0))
+        with pytest.raises(NoPath, match=r"goal \(5.00, 6.50\) ft is 0.\d\d ft from an obstacle"):
+            search(p, (1.5, 1.5), (5.0, 6.5))
+
+
+def test_no_path_names_what_blocks_it():
+    p = clearance_map(room([(0.0, 10.0, 4.5, 5.5)]), R)
+    with pytest.raises(NoPath, match=r"no path: the \d+ cells reachable from the start are "
+                                     r"closed off by .*occupied"):
+        astar(p, (5.0, 2.0), (5.0, 8.0))
+
+
+def test_unknown_space_is_a_stated_choice():
+    fm = room()
+    fm.cells[18:22, :] = UNKNOWN                 # z 4.5 .. 5.5 never seen
+    blocked = clearance_map(fm, R, unknown="blocked")
+    with pytest.raises(NoPath, match=r"closed off by \d+ unknown cells \(unknown treated as blocked\)"):
+        astar(blocked, (5.0, 2.0), (5.0, 8.0))
+    free = clearance_map(fm, R, unknown="free")
+    assert path_length(shorten(free, astar(free, (5.0, 2.0), (5.0, 8.0)))) == pytest.approx(6.0)
+    with pytest.raises(ValueError, match="unknown must be"):
+        clearance_map(fm, R, unknown="maybe")
+
+
+def test_cross_section_test_refuses_a_path_through_a_wall():
+    p = clearance_map(room([(0.0, 10.0, 4.9, 5.1)]), R)
+    with pytest.raises(NoPath, match="narrower than the vehicle"):
+        cross_section_test(p, [(5.0, 2.0), (5.0, 8.0)])
+    assert not line_of_sight(p, (5.0, 2.0), (5.0, 8.0))
+    cl, where = min_clearance(p, [(5.0, 2.0), (5.0, 8.0)])
+    assert cl == 0.0 and 4.0 <= where[1] < 5.0    # the first sample touching the wall
+
+
+def test_quadtree_covers_every_passable_cell_once():
+    fm = room([(2.0, 3.0, 2.0, 7.0)])
+    p = clearance_map(fm, 0.3)
+    qt = quadtree(p.ok)
+    assert ((qt.label >= 0) == p.ok).all()
+    area = int((qt.size ** 2).sum())
+    assert area == int(p.ok.sum())
+    assert qt.size.max() >= 8            # big blocks where the room is open
+
+
+def test_commands_follow_the_path_exactly():
+    pts = [(0.0, 0.0), (0.0, 3.0), (4.0, 6.0)]
+    cmds = to_commands(pts, heading_deg=90.0)
+    assert cmds[0] == Turn(-90.0) and cmds[1] == Forward(3.0)
+    assert cmds[2].angle_deg == pytest.approx(math.degrees(math.atan2(4, 3)))
+    assert cmds[3].distance_ft == pytest.approx(5.0)
+    end = polyline(cmds, 0.0, 0.0, 90.0)[-1]
+    assert end == pytest.approx((4.0, 6.0))
+    seg = next_segment(cmds, 4.0)
+    assert seg[:2] == [Turn(-90.0), Forward(3.0)] and seg[3].distance_ft == pytest.approx(1.0)

@@ -1,0 +1,53 @@
+"""The vehicle profile: what the planner and the simulated vehicle assume.
+
+Default (:data:`DEFAULT`): a small base carrying the rig (the HERO-1 is about
+1.5 ft across; this one is smaller so that the generated rooms' 1.8 ft gaps
+stay passable) — a footprint 0.8 ft wide by 1.0 ft long centred under the
+rig's midpoint, the cameras 3 ft
+above the floor (room Y = 0, the floor at Y = +3, as in the bundled lab), pivot
+turns (turning radius 0: the HERO-1 turns its single drive wheel across and
+pivots), the rig pitched 25 deg down (like the Stanford Cart's camera: level,
+a camera 3 ft up with the rig's 37 deg tall view sees no floor nearer than
+9 ft), at most 1.5 ft of forward travel between looks (the Stanford Cart
+moved about 2.5 ft per look), forward only.  ``margin_ft`` is added to the
+vehicle's radius when planning, against the error of the position estimate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class VehicleProfile:
+    width_ft: float = 0.8            # across (the rig's x axis)
+    length_ft: float = 1.0           # along the forward axis
+    camera_height_ft: float = 3.0    # above the floor
+    camera_pitch_deg: float = -25.0  # the rig looks down (positive: nose up)
+    turning_radius_ft: float = 0.0   # 0: pivot turns
+    step_ft: float = 1.5             # most forward travel between looks
+    margin_ft: float = 0.15          # added to the radius for planning
+
+    def __post_init__(self):
+        for name in ("width_ft", "length_ft", "camera_height_ft", "step_ft"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"vehicle {name} must be positive, got {getattr(self, name)!r}")
+        if self.turning_radius_ft < 0 or self.margin_ft < 0:
+            raise ValueError("turning radius and margin must not be negative")
+
+    @property
+    def footprint(self) -> tuple[float, float]:
+        return (self.width_ft, self.length_ft)
+
+    @property
+    def radius_ft(self) -> float:
+        """The circle the footprint sweeps turning in place (half its diagonal)."""
+        return math.hypot(self.width_ft, self.length_ft) / 2
+
+    @property
+    def planning_radius_ft(self) -> float:
+        return self.radius_ft + self.margin_ft
+
+
+DEFAULT = VehicleProfile()

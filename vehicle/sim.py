@@ -1,0 +1,140 @@
+"""A simulated vehicle executing motion commands in the true room.
+
+State: the **true** pose (where the next look is rendered) and the
+**dead-reckoned** pose (what the wheels report, integrated: the prior for the
+camera estimate), both ``(x, z, heading_deg)`` in room coordinates.  Each
+command moves the true pose exactly as commanded; the odometry reports the
+motion through ``noise.measure(distance_ft, turn_deg)`` (the world's
+``OdometryNoise``: a fraction of each distance and some degrees of each turn),
+and the dead-reckoned pose integrates what it reports (one report per command).  ``noise=None`` is
+noise off: both poses follow the commands exactly.
+
+Every motion is swept in small steps (``sweep_ft``, ``sweep_deg``) and the true
+footprint is checked against the true room at each; at the first hit the
+vehicle stops there (its bumper), the collision is counted and the rest of the
+string is dropped.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from world.collide import footprint_hits_boxes
+from .commands import Arc, Forward, Stop, Turn, parse
+from .profile import DEFAULT, VehicleProfile
+
+
+def _wrap(deg: float) -> float:
+    return (deg + 180.0) % 360.0 - 180.0
+
+
+@dataclass(frozen=True)
+class State:
+    x: float
+    z: float
+    heading_deg: float
+
+
+def advance(s: State, cmd) -> State:
+    """The pose after one command, exactly (no noise)."""
+    h = math.radians(s.heading_deg)
+    if isinstance(cmd, Forward):
+        return State(s.x + cmd.distance_ft * math.sin(h), s.z + cmd.distance_ft * math.cos(h),
+                     s.heading_deg)
+    if isinstance(cmd, Turn):
+        return State(s.x, s.z, _wrap(s.heading_deg + cmd.angle_deg))
+    if isinstance(cmd, Arc):
+        # centre of the circle to the right (positive angle) or left of the vehicle
+        sgn = 1.0 if cmd.angle_deg >= 0 else -1.0
+        r = cmd.radius_ft
+        cx = s.x + sgn * r * math.cos(h)
+        cz = s.z - sgn * r * math.sin(h)
+        h2 = h + math.radians(cmd.angle_deg)
+        return State(cx - sgn * r * math.cos(h2), cz + sgn * r * math.sin(h2),
+                     _wrap(s.heading_deg + cmd.angle_deg))
+    if isinstance(cmd, Stop):
+        return s
+    raise TypeError(f"not a motion command: {cmd!r}")
+
+
+def _pieces(cmd, sweep_ft: float, sweep_deg: float):
+    """``cmd`` cut into small commands of the same kind."""
+    if isinstance(cmd, Forward):
+        n = max(1, math.ceil(cmd.distance_ft / sweep_ft))
+        return [Forward(cmd.distance_ft / n)] * n
+    if isinstance(cmd, Turn):
+        n = max(1, math.ceil(abs(cmd.angle_deg) / sweep_deg))
+        return [Turn(cmd.angle_deg / n)] * n
+    if isinstance(cmd, Arc):
+        length = cmd.radius_ft * math.radians(abs(cmd.angle_deg))
+        n = max(1, math.ceil(max(length / sweep_ft, abs(cmd.angle_deg) / sweep_deg)))
+        return [Arc(cmd.radius_ft, cmd.angle_deg / n)] * n
+    return []
+
+
+@dataclass
+class Vehicle:
+    obstacles: object                    # (K, 4) true floor footprints
+    bounds: tuple                        # true walls (x0, x1, z0, z1)
+    true: State
+    profile: VehicleProfile = DEFAULT
+    noise: object = None                 # .measure(distance_ft, turn_deg) -> (d, t), or None
+    dead: State | None = None
+    sweep_ft: float = 0.05
+    sweep_deg: float = 2.0
+    collisions: int = 0
+    travelled_ft: float = 0.0
+    true_track: list = field(default_factory=list)
+    dead_track: list = field(default_factory=list)
+
+    def __post_init__(self):
+        if self.dead is None:
+            self.dead = self.true
+        self.true_track.append(self.true)
+        self.dead_track.append(self.dead)
+
+    def hits(self, s: State) -> bool:
+        return footprint_hits_boxes(self.obstacles, self.bounds, s.x, s.z, s.heading_deg,
+                                    self.profile.footprint, touching_hits=False)
+
+    def execute(self, commands) -> bool:
+        """Run a command string or list; False when a collision stopped it."""
+        cmds = parse(commands) if isinstance(commands, str) else list(commands)
+        for cmd in cmds:
+            if isinstance(cmd, Stop):
+                break
+            if not self._one(cmd):
+                return False
+        return True
+
+    def _one(self, cmd) -> bool:
+        """Sweep one command; the odometry reports it once (as the wheels would
+        for one commanded motion), also when a collision cut it short."""
+        start = self.true
+        dist = 0.0
+        ok = True
+        for piece in _pieces(cmd, self.sweep_ft, self.sweep_deg):
+            nxt = advance(self.true, piece)
+            if self.hits(nxt):
+                self.collisions += 1
+                ok = False
+                break
+            dist += math.hypot(nxt.x - self.true.x, nxt.z - self.true.z)
+            self.true = nxt
+        turn = _wrap(self.true.heading_deg - start.heading_deg)
+        if isinstance(cmd, Arc):
+            done = abs(turn) / max(abs(cmd.angle_deg), 1e-12)
+            dist = cmd.radius_ft * math.radians(abs(cmd.angle_deg)) * done
+        self.travelled_ft += dist
+        if dist > 0 or abs(turn) > 0:
+            md, mt = self.noise.measure(dist, turn) if self.noise is not None else (dist, turn)
+            # dead reckoning of one motion: move along the mean heading
+            h = math.radians(self.dead.heading_deg + mt / 2)
+            chord = md if abs(mt) < 1e-9 or not isinstance(cmd, Arc) else \
+                2 * (md / math.radians(abs(mt))) * math.sin(math.radians(abs(mt)) / 2)
+            self.dead = State(self.dead.x + chord * math.sin(h), self.dead.z + chord * math.cos(h),
+                              _wrap(self.dead.heading_deg + mt))
+        self.true_track.append(self.true)
+        self.dead_track.append(self.dead)
+        return ok
