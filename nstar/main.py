@@ -47,9 +47,15 @@ def _ask_int(console: Console, prompt: str) -> int:
 
 
 def load_picture(path: str):
-    """A .BI picture (120x128), or FormatError naming the file (checked to be a
-    regular file of 30,720 bytes before anything is read)."""
-    return decode_bi(read_file(path, limit=BI_BYTES), str(path))
+    """A .BI picture (120x128), or FormatError naming the file: checked to be a
+    regular file of at most 1 MiB before anything is read, and a file of another
+    size named for what it is, with the command that makes a .BI of it."""
+    from pre.files import how_to_make_bi, what_file_is
+    data = read_file(path, limit=1 << 20)
+    if len(data) != BI_BYTES:
+        raise FormatError(str(path), f"not a .BI picture: {what_file_is(data)}; "
+                                     f"{how_to_make_bi(data)}")
+    return decode_bi(data, str(path))
 
 
 def new_images_dialogue(nova: Nova, console: Console) -> None:

@@ -338,7 +338,8 @@ def test_damaged_ncont_stops_nstar_and_is_left_in_place(rig, size):
 
 
 @pytest.mark.parametrize("damage,problem", [
-    (lambda d: b"", "0 bytes, expected 30720"),
+    (lambda d: b"", "not a .BI picture: an empty file; make a pair with `pre pair LEFT.jpg "
+                    "RIGHT.jpg -o NAME` (NAME-L.BI, NAME-R.BI)"),
     (lambda d: d[:200] + b"\x00\x10" + d[202:], "pixel at row 0, column 100 is 16, not a 4-bit "
                                                 "grey level 0..15 (1 such words)"),
 ])
