@@ -599,7 +599,7 @@ class JHData:
         self.write_temp(temp_name, data)
         try:
             os.replace(self.dir / temp_name, self.dir / name)
-        except OSError:
+        except BaseException:                 # a Ctrl-C too: leave no temporary
             self.delete(temp_name)
             raise
 

@@ -19,7 +19,11 @@ from estar.masl import Options as MaslOptions
 from estar.program import file_link_estar
 
 REPO = Path(__file__).resolve().parent.parent
-_IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT")
+# Every name a scan's two programs write in jhdata/ but POSIT.DT (the last
+# line's result, kept): the temporaries ECONT.DT, NDAT.DT and EDAT.DT (PNPL's,
+# between its write and its rename over POSIT.DT) included.
+_IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT",
+              "EDAT.DT")
 
 
 def child_env() -> dict:
