@@ -526,11 +526,17 @@ def test_a_picture_that_is_not_a_file_is_one_line_from_nstar_rig_and_pre(tmp_pat
 
 
 def test_a_huge_sparse_slice_is_moved_aside_unread_and_stays_sparse(rig):
+    """9.10's "keep at most what the format allows plus a note": the file is
+    moved by rename (the same inode: not one byte read, copied or written, so
+    nothing beyond the peer's own blocks is kept) and the one line is the note
+    (docs/robustness.md, QUIRKS M19)."""
     tmp, jh = rig
+    planted = {}
 
     def huge(data):
         with open(jh / "HUGE.TMP", "wb") as fh:
             fh.truncate(200 << 20)
+        planted["ino"] = os.stat(jh / "HUGE.TMP").st_ino
         os.rename(jh / "HUGE.TMP", jh / "SLICE.DT")
         return None
 
@@ -540,7 +546,9 @@ def test_a_huge_sparse_slice_is_moved_aside_unread_and_stays_sparse(rig):
     assert one_line(err) == (f"estar: {jh / 'SLICE.DT'}: 209715200 bytes, expected 1024 or "
                              f"512; kept as {kept}")
     st = os.stat(kept)
+    assert st.st_ino == planted["ino"]                                  # moved, not copied
     assert st.st_size == 200 << 20 and st.st_blocks * 512 < 1 << 20     # still sparse
+    assert sorted(x.name for x in (jh / "STALE").iterdir()) == ["SLICE.DT.bad.0"]
 
 
 # --- 11. one line, not a traceback ----------------------------------------------------------------
