@@ -248,3 +248,31 @@ def test_ctrl_c_just_after_pnpl_wrote_its_temporary_leaves_no_file(rig, monkeypa
     left = sorted(x.name for x in jh.iterdir())
     assert left == ["ESTAR.LCK", "NSTAR.BSY", "NSTAR.LCK", "POSIT.DT"], left
     assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])   # line 45's, whole
+
+
+def test_ctrl_c_during_the_terminate_still_stops_nstar_and_tidies(rig, monkeypatch):
+    """A Ctrl-C just after the terminate was sent: before, rig neither killed
+    its NSTAR nor tidied (the end was taken as the clean one), leaving the
+    terminate or its TERM.DT behind."""
+    from diskfmt.rdos import JHData, NSTAR_LOCK
+    from estar.program import Eclipse
+    from rig.session import file_link_eclipse
+    tmp, jh = rig
+    terminate = Eclipse.terminate
+
+    def interrupted(self):
+        terminate(self)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Eclipse, "terminate", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        with file_link_eclipse(jh, tmp / "L.BI", tmp / "R.BI", timeout=30) as ecl:
+            ecl.lcln(45)
+    probe = JHData(jh, me="test", peer="NSTAR", use_events=False)
+    try:
+        assert not probe.held(NSTAR_LOCK)                       # NSTAR is gone
+    finally:
+        probe.close()
+    left = sorted(x.name for x in jh.iterdir())
+    assert left == ["ESTAR.LCK", "NSTAR.BSY", "NSTAR.LCK", "POSIT.DT"], left
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])
