@@ -331,6 +331,17 @@ class UnwritableDirectory(_Said, PermissionError):
     pass
 
 
+class ReadOnlyDirectory(_Said, OSError):
+    pass
+
+
+def _read_only_file_system(d: Path) -> bool:
+    try:
+        return bool(os.statvfs(d).f_flag & os.ST_RDONLY)
+    except (OSError, AttributeError):
+        return False
+
+
 def check_directory(directory) -> Path:
     """``directory`` as a usable JHDATA, or one clear OSError saying why not."""
     d = Path(directory)
@@ -343,6 +354,10 @@ def check_directory(directory) -> Path:
         raise NotADirectory(errno.ENOTDIR, f"jhdata {d} is not a directory "
                                            f"(give --jhdata DIR)")
     if not os.access(d, os.W_OK | os.X_OK):
+        if _read_only_file_system(d):         # root too is refused there: say the cause
+            raise ReadOnlyDirectory(errno.EROFS, f"jhdata directory {d} is on a read-only "
+                                                 f"file system (remount it read-write, or "
+                                                 f"give --jhdata DIR)")
         raise UnwritableDirectory(errno.EACCES, f"jhdata directory {d} is not writable by "
                                                 f"this user (see jhdata/README.md for a "
                                                 f"shared setup)")
@@ -599,7 +614,7 @@ class JHData:
         self.write_temp(temp_name, data)
         try:
             os.replace(self.dir / temp_name, self.dir / name)
-        except OSError:
+        except BaseException:                 # a Ctrl-C too: leave no temporary
             self.delete(temp_name)
             raise
 

@@ -164,6 +164,8 @@ def _check_scan(args):
         check_output_dir(args.line_pictures, "--line-pictures")
     if args.link == "file" and args.jhdata is not None:
         check_output_dir(args.jhdata, "--jhdata")
+    if not args.timeout >= 0:                  # also refuses nan
+        raise UsageError(f"--timeout {args.timeout:g}: give seconds >= 0 (0 waits forever)")
     lp, rp, left, right = _load_pair(args.left, args.right)
     truth = _truth_for(args, args.left is None)
     return lines, lp, rp, left, right, truth
@@ -203,7 +205,7 @@ def cmd_scan(args) -> int:
     if args.link == "file":
         with rig_jhdata(args.jhdata) as jhdata, \
                 file_link_eclipse(jhdata, lp, rp, args.separation, args.virtual_distance,
-                                  options, matcher=matcher) as ecl:
+                                  options, timeout=args.timeout, matcher=matcher) as ecl:
             result = scanmod.run_lines(ecl, lines, progress=not args.quiet)
     elif args.engine == "eyes" and matcher is None:   # the compiled 1985 frame scan, bit for bit
         from eyes import scan_pair as eyes_scan_pair
@@ -352,6 +354,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="with --link file: the shared directory for the NSTAR rig starts "
                         "(default: a private temporary one; refused if an nstar already "
                         "runs there)")
+    s.add_argument("--timeout", type=float, default=30.0, metavar="SECONDS",
+                   help="with --link file: how long to wait for NSTAR to take a command or "
+                        "answer it before giving up with one line (default 30; 0 = forever)")
     s.add_argument("--separation", default="0.75", metavar="DS",
                    help="camera separation, any unit > 0; ranges come out in the same unit "
                         "(default: 0.75, feet, the bundled pair's)")

@@ -19,7 +19,12 @@ from estar.masl import Options as MaslOptions
 from estar.program import file_link_estar
 
 REPO = Path(__file__).resolve().parent.parent
-_IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT")
+# Every name a scan's two programs write in jhdata/ but POSIT.DT (the last
+# line's result, kept): the temporaries ECONT.DT, NDAT.DT and EDAT.DT (PNPL's,
+# between its write and its rename over POSIT.DT) included, and the terminate's
+# reply when the end itself was interrupted.
+_IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT", "BLOCK.DT",
+              "EDAT.DT", "TRM.DT", "TERM.DT")
 
 
 def child_env() -> dict:
@@ -93,21 +98,24 @@ def file_link_eclipse(jhdata: Path, left: Path, right: Path, ds: str = "0.75",
     link = start_file_link(jhdata, timeout=timeout, say=say)
     try:
         proc = start_nstar(jhdata, left, right, quiet=True)
-        ok = False
+        ok = ended = False
         try:
             ecl = file_link_estar(link, ds, dv, options=options, matcher=matcher)
             yield ecl
             ok = True
         finally:
-            if ok and proc.poll() is None:
-                ecl.terminate()
-                stop_process(proc)
-            else:                          # interrupted or failed: stop now, and tidy
-                if proc.poll() is None:        # the directory (every protocol file in
-                    proc.kill()                # it is ours or our NSTAR's)
-                proc.wait()
-                for name in _IN_FLIGHT:
-                    link.jh.delete(name)
+            try:
+                if ok and proc.poll() is None:
+                    ecl.terminate()
+                    stop_process(proc)
+                    ended = True
+            finally:                       # interrupted or failed (the terminate too):
+                if not ended:                  # stop now, and tidy the directory (every
+                    if proc.poll() is None:    # protocol file in it is ours or our NSTAR's)
+                        proc.kill()
+                    proc.wait()
+                    for name in _IN_FLIGHT:
+                        link.jh.delete(name)
     finally:
         link.close()
 

@@ -409,3 +409,41 @@ def test_second_estar_is_refused_while_the_first_works_and_the_first_is_unharmed
     assert "Found" not in second.stdout                  # it touched nothing
     assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [int(y) for y in lines])
     assert not (jh / "STALE").exists()
+
+
+# --- a timed-out file link in rig (issue 8.14) --------------------------------------------------
+
+def test_rig_file_scan_with_a_frozen_nstar_times_out_in_one_line_and_tidies(rig):
+    """rig's own NSTAR stops answering mid-scan (frozen, as a stalled machine
+    leaves it): after --timeout, one line naming the file it waited for, exit 1,
+    the frozen NSTAR killed and no command left in jhdata/."""
+    import types
+    tmp, jh = rig
+
+    def nstar_pid():
+        try:
+            return int((jh / "NSTAR.LCK").read_text() or 0)
+        except (FileNotFoundError, ValueError):
+            return 0
+
+    p = subprocess.Popen([sys.executable, "-m", "rig.main", "scan", "--link", "file",
+                          "--jhdata", str(jh), "--timeout", "2", "--quiet", "--left",
+                          str(tmp / "L.BI"), "--right", str(tmp / "R.BI"), "--line",
+                          *BOX_LINES], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, env=env())
+    try:
+        wait_until(lambda: nstar_pid() != 0, 120, "rig's NSTAR")
+        served = types.SimpleNamespace(pid=nstar_pid())
+        # frozen while a command waits for it: it can never be taken
+        freeze_when(served, lambda: (jh / "NCONT.DT").exists(), timeout=120)
+        out, err = p.communicate(timeout=120)
+    finally:
+        cleanup(p)
+    assert p.returncode == 1, err
+    assert "Traceback" not in err
+    assert err == (f"rig: NCONT.DT not taken by NSTAR after 2 s — is nstar running on this "
+                   f"jhdata directory ({jh})?\n")
+    with pytest.raises(ProcessLookupError):           # killed and reaped by rig
+        os.kill(served.pid, 0)
+    left = {x.name for x in jh.iterdir()}
+    assert left <= {"ESTAR.LCK", "NSTAR.LCK", "NSTAR.BSY", "POSIT.DT"}, left

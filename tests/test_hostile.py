@@ -526,11 +526,17 @@ def test_a_picture_that_is_not_a_file_is_one_line_from_nstar_rig_and_pre(tmp_pat
 
 
 def test_a_huge_sparse_slice_is_moved_aside_unread_and_stays_sparse(rig):
+    """9.10's "keep at most what the format allows plus a note": the file is
+    moved by rename (the same inode: not one byte read, copied or written, so
+    nothing beyond the peer's own blocks is kept) and the one line is the note
+    (docs/robustness.md, QUIRKS M19)."""
     tmp, jh = rig
+    planted = {}
 
     def huge(data):
         with open(jh / "HUGE.TMP", "wb") as fh:
             fh.truncate(200 << 20)
+        planted["ino"] = os.stat(jh / "HUGE.TMP").st_ino
         os.rename(jh / "HUGE.TMP", jh / "SLICE.DT")
         return None
 
@@ -540,7 +546,9 @@ def test_a_huge_sparse_slice_is_moved_aside_unread_and_stays_sparse(rig):
     assert one_line(err) == (f"estar: {jh / 'SLICE.DT'}: 209715200 bytes, expected 1024 or "
                              f"512; kept as {kept}")
     st = os.stat(kept)
+    assert st.st_ino == planted["ino"]                                  # moved, not copied
     assert st.st_size == 200 << 20 and st.st_blocks * 512 < 1 << 20     # still sparse
+    assert sorted(x.name for x in (jh / "STALE").iterdir()) == ["SLICE.DT.bad.0"]
 
 
 # --- 11. one line, not a traceback ----------------------------------------------------------------
@@ -715,3 +723,94 @@ def test_jhdata_that_is_a_file_says_so(tmp_path):
     done = run_estar(f, "--line", "45")
     assert done.returncode == 1
     assert one_line(done.stderr) == (f"estar: jhdata {f} is not a directory (give --jhdata DIR)")
+
+
+_READ_ONLY = r"""
+import json, os, signal, subprocess, sys, time
+sys.path.insert(0, sys.argv[2])
+from pathlib import Path
+from rigtools import env, freeze, hold_estar_lock, send_raw, wait_until
+from rig.session import nstar_command
+from diskfmt.layouts import Command
+
+
+def read_only(d):           # a read-only bind mount over the directory itself
+    subprocess.run(["mount", "--bind", str(d), str(d)], check=True)
+    subprocess.run(["mount", "-o", "remount,bind,ro", str(d)], check=True)
+
+
+def run(argv):
+    d = subprocess.run(argv, capture_output=True, text=True, env=env(), timeout=120,
+                       stdin=subprocess.DEVNULL)
+    return {"rc": d.returncode, "out": d.stdout, "err": d.stderr}
+
+
+tmp = Path(sys.argv[1])
+got = {}
+# 1. read-only from the start (a lock file left by an earlier run in it)
+ro = tmp / "ro"
+ro.mkdir()
+(ro / "NSTAR.LCK").write_text("")
+read_only(ro)
+got["nstar"] = run(nstar_command(ro, tmp / "L.BI", tmp / "R.BI", idle_timeout=10))
+got["estar"] = run([sys.executable, "-m", "estar.main", "--jhdata", str(ro), "--separation",
+                    "0.75", "--virtual-distance", "180", "--debug", "0", "--line", "45"])
+got["rig"] = run([sys.executable, "-m", "rig.main", "scan", "--link", "file", "--jhdata",
+                  str(ro), "--line", "45"])
+# 2. made read-only under a serving NSTAR, a command just found
+mid = tmp / "mid"
+mid.mkdir()
+live = hold_estar_lock(mid)
+n = subprocess.Popen(nstar_command(mid, tmp / "L.BI", tmp / "R.BI", idle_timeout=60),
+                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                     stderr=subprocess.PIPE, text=True, env=env())
+wait_until(lambda: (mid / "NSTAR.BSY").exists(), 60, "NSTAR")
+time.sleep(1.0)                                    # its start-up sweep done
+freeze(n)
+send_raw(mid, Command(2, 1, 0, 45, 128, 0))
+read_only(mid)
+os.kill(n.pid, signal.SIGCONT)
+got["mid"] = {"rc": n.wait(timeout=60), "err": n.stderr.read(),
+              "left": sorted(p.name for p in mid.iterdir())}
+live.close()
+print(json.dumps(got))
+"""
+
+
+def test_a_read_only_jhdata_is_one_line_from_each_program(rig):
+    """jhdata/ on a read-only mount (EROFS, root included), from the start and
+    made so under a serving NSTAR (a read-only bind mount in a private mount
+    namespace).  Before: "not writable by this user", the wrong cause."""
+    import json
+    tmp, jh = rig
+    if os.geteuid() != 0 or shutil.which("unshare") is None:
+        pytest.skip("needs root and unshare to mount")
+    if subprocess.run(["unshare", "-m", "true"], capture_output=True).returncode != 0:
+        pytest.skip("no mount namespaces here")
+    script = tmp / "ro.py"
+    script.write_text(_READ_ONLY)
+    done = subprocess.run(["unshare", "-m", sys.executable, str(script), str(tmp),
+                           str(Path(__file__).parent)], capture_output=True, text=True,
+                          env=env(), timeout=400)
+    assert done.returncode == 0, done.stderr
+    got = json.loads(done.stdout.strip().splitlines()[-1])
+    ro, mid = tmp / "ro", tmp / "mid"
+    for program in ("nstar", "estar"):
+        assert got[program]["rc"] == 1, got[program]
+        assert one_line(got[program]["err"]) == (
+            f"{program}: jhdata directory {ro} is on a read-only file system (remount it "
+            f"read-write, or give --jhdata DIR)")
+        assert got[program]["out"] == ""                         # nothing asked first
+    assert got["rig"]["rc"] == 1
+    assert one_line(got["rig"]["err"]) == f"rig: --jhdata {ro}: directory is not writable"
+    assert sorted(p.name for p in ro.iterdir()) == ["NSTAR.LCK"]         # nothing written
+    # under a serving NSTAR: the reply cannot be published nor the command deleted
+    assert got["mid"]["rc"] == 1
+    lines = got["mid"]["err"].strip().splitlines()
+    assert "Traceback" not in got["mid"]["err"]
+    assert lines == [
+        f"nstar: cannot publish SLICE.DT: {mid / 'NDAT.DT'}: Read-only file system. This "
+        f"reply is lost.",
+        f"nstar: cannot delete {mid / 'NCONT.DT'} after carrying it out (Read-only file "
+        f"system); stopping, as the same command would be carried out again"]
+    assert got["mid"]["left"] == ["ESTAR.LCK", "NCONT.DT", "NSTAR.BSY", "NSTAR.LCK"]

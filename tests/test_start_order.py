@@ -215,3 +215,64 @@ def test_ctrl_c_in_rig_scan_stops_at_once_and_tidily(tmp_path, link):
     if link == "file":
         left = sorted(x.name for x in jh.iterdir())
         assert set(left) <= {"ESTAR.LCK", "NSTAR.LCK", "NSTAR.BSY", "POSIT.DT"}, left
+
+
+def test_ctrl_c_just_after_pnpl_wrote_its_temporary_leaves_no_file(rig, monkeypatch):
+    """The race behind a rare failure of the test above on a loaded machine:
+    a Ctrl-C that lands between PNPL's write of EDAT.DT and its rename over
+    POSIT.DT left EDAT.DT behind (the tidy-up did not know the name).  The
+    interrupt is raised at exactly that moment here, with a real NSTAR."""
+    from diskfmt.rdos import JHData, NSTAR_LOCK
+    from rig.session import file_link_eclipse
+    tmp, jh = rig
+    write_temp = JHData.write_temp
+    lines_done = []
+
+    def interrupted_after(self, temp_name, data):
+        write_temp(self, temp_name, data)
+        if temp_name == "EDAT.DT" and lines_done:     # the second line's POSIT.DT
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(JHData, "write_temp", interrupted_after)
+    with pytest.raises(KeyboardInterrupt):
+        with file_link_eclipse(jh, tmp / "L.BI", tmp / "R.BI", timeout=30) as ecl:
+            for y in (45, 60):
+                ecl.lcln(y)
+                lines_done.append(y)
+    assert lines_done == [45]
+    probe = JHData(jh, me="test", peer="NSTAR", use_events=False)
+    try:
+        assert not probe.held(NSTAR_LOCK)                       # NSTAR is gone
+    finally:
+        probe.close()
+    left = sorted(x.name for x in jh.iterdir())
+    assert left == ["ESTAR.LCK", "NSTAR.BSY", "NSTAR.LCK", "POSIT.DT"], left
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])   # line 45's, whole
+
+
+def test_ctrl_c_during_the_terminate_still_stops_nstar_and_tidies(rig, monkeypatch):
+    """A Ctrl-C just after the terminate was sent: before, rig neither killed
+    its NSTAR nor tidied (the end was taken as the clean one), leaving the
+    terminate or its TERM.DT behind."""
+    from diskfmt.rdos import JHData, NSTAR_LOCK
+    from estar.program import Eclipse
+    from rig.session import file_link_eclipse
+    tmp, jh = rig
+    terminate = Eclipse.terminate
+
+    def interrupted(self):
+        terminate(self)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Eclipse, "terminate", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        with file_link_eclipse(jh, tmp / "L.BI", tmp / "R.BI", timeout=30) as ecl:
+            ecl.lcln(45)
+    probe = JHData(jh, me="test", peer="NSTAR", use_events=False)
+    try:
+        assert not probe.held(NSTAR_LOCK)                       # NSTAR is gone
+    finally:
+        probe.close()
+    left = sorted(x.name for x in jh.iterdir())
+    assert left == ["ESTAR.LCK", "NSTAR.BSY", "NSTAR.LCK", "POSIT.DT"], left
+    assert (jh / "POSIT.DT").read_bytes() == reference(tmp, [45])
