@@ -98,6 +98,8 @@ def check_output_dir(path, option: str) -> Path:
     except OSError as exc:
         raise UsageError(f"{option} {path}: cannot make the directory "
                          f"({exc.strerror})") from None
+    if os.statvfs(p).f_flag & os.ST_RDONLY:
+        raise UsageError(f"{option} {path}: directory is on a read-only file system")
     if not os.access(p, os.W_OK | os.X_OK):
         raise UsageError(f"{option} {path}: directory is not writable")
     return p

@@ -802,7 +802,8 @@ def test_a_read_only_jhdata_is_one_line_from_each_program(rig):
             f"read-write, or give --jhdata DIR)")
         assert got[program]["out"] == ""                         # nothing asked first
     assert got["rig"]["rc"] == 1
-    assert one_line(got["rig"]["err"]) == f"rig: --jhdata {ro}: directory is not writable"
+    assert one_line(got["rig"]["err"]) == (f"rig: --jhdata {ro}: directory is on a read-only "
+                                           f"file system")
     assert sorted(p.name for p in ro.iterdir()) == ["NSTAR.LCK"]         # nothing written
     # under a serving NSTAR: the reply cannot be published nor the command deleted
     assert got["mid"]["rc"] == 1
