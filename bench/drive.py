@@ -23,6 +23,7 @@ Numbers go into docs/planner.md with the command that made them.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -95,6 +96,9 @@ def main(argv=None) -> int:
                     help="the loop's camera estimate (rig drive --pose)")
     ap.add_argument("--pose-method", default="robust",
                     help="the fix fused under --pose fused (rig drive --pose-method)")
+    ap.add_argument("--margin", type=float, default=None, metavar="FT",
+                    help="the vehicle profile's planning margin in the loop (default: the "
+                         "profile's); the goals are drawn with the default profile either way")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -122,7 +126,9 @@ def main(argv=None) -> int:
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
-                          pose_method=args.pose_method)
+                          pose_method=args.pose_method,
+                          profile=DEFAULT if args.margin is None else
+                          dataclasses.replace(DEFAULT, margin_ft=args.margin))
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal
@@ -164,7 +170,7 @@ def main(argv=None) -> int:
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
-        "pose": args.pose, "pose_method": args.pose_method,
+        "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
