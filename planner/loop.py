@@ -478,13 +478,35 @@ def _still_good(p: Passable, prev, start) -> list | None:
     return None
 
 
+ESCAPE_FT = 1.0              # as far as _safe_prefix lets the vehicle leave a too-near spot
+
+
+def _escape_start(p: Passable, start) -> Passable:
+    """When the estimate stands nearer an obstacle than the planning radius
+    (a feature seen late, or a fix that moved the estimate), the cells within
+    ``ESCAPE_FT`` of it that are no nearer to any obstacle count passable, so
+    the search can lead the vehicle away; :func:`_safe_prefix` allows exactly
+    those moves.  Otherwise the planner refuses the start and the vehicle
+    stays put until it gives up."""
+    fm = p.fmap
+    i0, j0 = fm.index(*start)
+    if not fm.inside(i0, j0) or p.ok[i0, j0] or p.blocked[i0, j0]:
+        return p
+    cl0 = p.clearance[i0, j0]
+    ii, jj = np.indices(fm.shape)
+    cx, cz = fm.centre(ii, jj)
+    near = np.hypot(cx - start[0], cz - start[1]) <= ESCAPE_FT
+    ok = p.ok | (near & ~p.blocked & (p.clearance >= cl0 - 1e-9))
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown)
+
+
 def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     """(polyline, commands, note) from the estimate toward the goal, or raise
     NoPath.  The previous path is kept while it stays passable and is no more
     than ``keep_ft`` longer than a new one (no dithering between two ways round)."""
     search = SEARCHES[cfg.search]
     r = cfg.profile.planning_radius_ft
-    p = clearance_map(fm, r, cfg.unknown, uncertain="blocked")
+    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked"), (est.x, est.z))
     start = (est.x, est.z)
     try:
         pts = shorten(p, search(p, start, goal))

@@ -147,3 +147,26 @@ def test_fused_pose_stays_nearer_the_true_track_than_dead_reckoning():
 def test_unknown_pose_is_refused():
     with pytest.raises(ValueError, match="unknown camera estimate 'gps'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, pose="gps"))
+
+
+def test_a_start_too_near_an_obstacle_may_be_left_but_not_approached():
+    """The planner leads the vehicle away from an obstacle it stands too near
+    (within 1 ft, never nearer to anything) instead of refusing the start."""
+    from planner.floormap import FloorMap
+    from planner.loop import _escape_start
+    from planner.octree import FREE, OCCUPIED
+    from planner.search import astar, clearance_map
+    cells = np.full((40, 40), FREE, np.uint8)          # 10 ft square, 0.25 ft cells
+    cells[20, 20] = OCCUPIED                           # an obstacle at (0.125, 0.125)
+    fm = FloorMap(cells, -5.0, -5.0, 0.25)
+    start = (0.125, -0.375)                            # 0.5 ft from it: inside the radius
+    p = clearance_map(fm, DEFAULT.planning_radius_ft, "blocked")
+    i, j = fm.index(*start)
+    assert not p.ok[i, j]
+    q = _escape_start(p, start)
+    assert q.ok[i, j]
+    # nothing nearer the obstacle than the start became passable
+    assert not (q.ok & ~p.ok & (p.clearance < p.clearance[i, j])).any()
+    path = astar(q, start, (0.125, -4.0))              # away from the obstacle: found
+    assert math.hypot(path[-1][0] - 0.125, path[-1][1] + 4.0) < 0.25
+    assert _escape_start(q, start) is q                # an allowed start is left alone
