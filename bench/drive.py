@@ -11,7 +11,11 @@ rendering, octree memory; and the dissertation's search against A* on the
 same final map of each run, from the start to the goal (path length pulled
 taut, and time).
 
-    python bench/drive.py --rooms 20 [--eyes truth] [--search astar] [--unknown blocked]
+    python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
+
+The camera estimate's error (``--pose``: the symbolic model's fused pose or
+dead reckoning) is reported against the true track, with the dead-reckoned
+pose's error on the same run beside it.
 
 Numbers go into docs/planner.md with the command that made them.
 """
@@ -19,6 +23,7 @@ Numbers go into docs/planner.md with the command that made them.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -87,6 +92,13 @@ def main(argv=None) -> int:
     ap.add_argument("--search", choices=("dissertation", "astar"), default="dissertation")
     ap.add_argument("--max-looks", type=int, default=60)
     ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
+    ap.add_argument("--pose", choices=("fused", "dead_reckoning"), default="dead_reckoning",
+                    help="the loop's camera estimate (rig drive --pose)")
+    ap.add_argument("--pose-method", default="robust",
+                    help="the fix fused under --pose fused (rig drive --pose-method)")
+    ap.add_argument("--margin", type=float, default=None, metavar="FT",
+                    help="the vehicle profile's planning margin in the loop (default: the "
+                         "profile's); the goals are drawn with the default profile either way")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -103,7 +115,7 @@ def main(argv=None) -> int:
     rows = []
     print(f"{'room':>4} {'goal':>14} {'ok':>3} {'coll':>4} {'looks':>5} {'trav ft':>7} "
           f"{'opt ft':>6} {'ratio':>5} {'ms/cyc':>6} {'+look':>6} {'KiB':>5} "
-          f"{'diss ft':>7} {'A* ft':>6} {'diss ms':>7} {'A* ms':>6}  reason")
+          f"{'diss ft':>7} {'A* ft':>6} {'diss ms':>7} {'A* ms':>6} {'est err':>7} {'dr err':>6}  reason")
     for seed in range(args.first, args.first + args.rooms):
         room = generate_room(seed)
         s = room.start
@@ -113,7 +125,10 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                          max_looks=args.max_looks, eyes=args.eyes)
+                          max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
+                          pose_method=args.pose_method,
+                          profile=DEFAULT if args.margin is None else
+                          dataclasses.replace(DEFAULT, margin_ft=args.margin))
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal
@@ -128,7 +143,12 @@ def main(argv=None) -> int:
                "octree_bytes": res.octree_bytes, "final_true_error_ft": res.final_true_error_ft,
                "dissertation_ft": side[0], "dissertation_raw_ft": side[1],
                "dissertation_ms": side[2], "astar_ft": side[3], "astar_raw_ft": side[4],
-               "astar_ms": side[5]}
+               "astar_ms": side[5],
+               # mean and final distance of the estimate / dead reckoning from the truth
+               "estimate_error_ft_mean": float(np.mean(res.track_errors())),
+               "estimate_error_ft_final": float(res.track_errors()[-1]),
+               "dead_error_ft_mean": float(np.mean(res.track_errors(res.dead_track))),
+               "dead_error_ft_final": float(res.track_errors(res.dead_track)[-1])}
         rows.append(row)
 
         def f(v, w, d=1):
@@ -137,7 +157,8 @@ def main(argv=None) -> int:
               f"{res.collisions:>4} {res.looks:>5} {res.travelled_ft:>7.1f} "
               f"{f(res.optimal_ft, 6)} {f(ratio, 5, 2)} {res.work_ms_per_cycle:>6.0f} "
               f"{1e3 * res.seconds_per_cycle:>6.0f} {res.octree_bytes / 1024:>5.0f} "
-              f"{f(side[0], 7)} {f(side[3], 6)} {f(side[2], 7)} {f(side[5], 6)}  "
+              f"{f(side[0], 7)} {f(side[3], 6)} {f(side[2], 7)} {f(side[5], 6)} "
+              f"{row['estimate_error_ft_final']:>7.2f} {row['dead_error_ft_final']:>6.2f}  "
               f"{res.reason[:70]}", flush=True)
     if not rows:
         print("no rooms")
@@ -149,6 +170,7 @@ def main(argv=None) -> int:
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
+        "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
@@ -166,6 +188,14 @@ def main(argv=None) -> int:
         if both else None,
         "astar_ms_median": float(np.median([r["astar_ms"] for r in both])) if both else None,
         "maps_both_found": len(both),
+        "estimate_error_ft_final_median": float(np.median([r["estimate_error_ft_final"]
+                                                           for r in rows])),
+        "estimate_error_ft_final_max": float(np.max([r["estimate_error_ft_final"] for r in rows])),
+        "dead_error_ft_final_median": float(np.median([r["dead_error_ft_final"] for r in rows])),
+        "dead_error_ft_final_max": float(np.max([r["dead_error_ft_final"] for r in rows])),
+        "estimate_error_ft_mean_median": float(np.median([r["estimate_error_ft_mean"]
+                                                          for r in rows])),
+        "dead_error_ft_mean_median": float(np.median([r["dead_error_ft_mean"] for r in rows])),
     }
     print()
     for k, v in summary.items():

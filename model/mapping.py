@@ -66,6 +66,9 @@ class WalkConfig:
     shape_max_bits: int | None = 64
     odometry_distance_fraction: float = 0.02
     odometry_turn_deg: float = 1.0
+    # the rig's known mounting pitch, for the prior's rotation (0: level, as the walk; the
+    # drive's vehicle carries the rig pitched down)
+    camera_pitch_deg: float = 0.0
     camera: Camera = Camera()
 
 
@@ -185,7 +188,7 @@ def observed_truth(obs, range_left, true_left, true_R, corners, camera: Camera):
 
 # --- the loop ------------------------------------------------------------------------
 
-def _compose_step(prev_est_xzh, dr_prev, dr_now):
+def compose_step(prev_est_xzh, dr_prev, dr_now):
     """The prior: the previous estimate moved by the odometry's step, i.e. the
     dead-reckoned motion from dr_prev to dr_now expressed in the vehicle frame."""
     h0 = np.radians(dr_prev.heading_deg)
@@ -199,6 +202,9 @@ def _compose_step(prev_est_xzh, dr_prev, dr_now):
             float(wrap_deg(h + turn))), float(np.hypot(dx, dz)), abs(turn)
 
 
+_compose_step = compose_step          # the name the walk's tests know
+
+
 def _rotation(heading, pitch=0.0, roll=0.0):
     return rotation_from_angles(heading, pitch, roll)
 
@@ -206,42 +212,82 @@ def _rotation(heading, pitch=0.0, roll=0.0):
 def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = WalkConfig(),
              progress: Callable[[int], None] | None = None, seed: int = 0) -> WalkResult:
     """Walk the poses: ``render(room, pose, look_index)`` gives the world's Look
-    (``left_bi``, ``right_bi``, ``range_left``, ``pose``)."""
-    from eyes import scan_pair as eyes_scan_pair
-    from matching.mode import make_matcher
-    from rig.scan import scan_pair
-    if config.driver not in ESTIMATORS:
-        raise ValueError(f"unknown driving method {config.driver!r}; one of {', '.join(ESTIMATORS)}")
-    methods = tuple(dict.fromkeys((*config.methods, config.driver)))
-    for m in methods:
-        if m not in ESTIMATORS:
-            raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
-    if config.kalman not in ("a30", "a29", "ci"):
-        raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30, a29 or ci")
-    matcher = MATCHERS.get(config.model_matcher)
-    if matcher is None:
-        raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
-                         f"{', '.join(MATCHERS)}")
-    if config.match not in ("1985", "improved"):
-        raise ValueError(f"--match {config.match!r}: choose 1985 or improved")
-    model = SymbolicModel()
-    corners = truth_points(room)
-    history: dict[int, list[float]] = {}
-    records: list[LookRecord] = []
-    lines = list(config.lines)
-    rows = (min(lines), max(lines) + 1)
-    prev_xzh = None
-    prev_cov = None
-    P = np.zeros((3, 3))              # covariance of the pose (x, z, heading rad) carried on
+    (``left_bi``, ``right_bi``, ``range_left``, ``pose``); each look goes
+    through :meth:`Walker.step`."""
+    walker = Walker(room, config)
     for k, true_pose in enumerate(poses):
         look = render(room, true_pose, k)
-        t_start = time.perf_counter()
+        walker.step(look, true_pose, dead_reckoned[k], dead_reckoned[k - 1] if k else None)
+        if progress is not None:
+            progress(k)
+    return walker.result()
+
+
+class Walker:
+    """One look at a time into one symbolic model: the per-look step of the
+    walk (:func:`run_walk`) and of the closed loop (``rig drive``'s
+    ``--pose fused``).  The first look's pose is given (the true pose), every
+    later one is the driving method's fix fused with the odometry's prior."""
+
+    def __init__(self, room, config: WalkConfig = WalkConfig()):
+        if config.driver not in ESTIMATORS:
+            raise ValueError(f"unknown driving method {config.driver!r}; one of {', '.join(ESTIMATORS)}")
+        self.methods = tuple(dict.fromkeys((*config.methods, config.driver)))
+        for m in self.methods:
+            if m not in ESTIMATORS:
+                raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
+        if config.kalman not in ("a30", "a29", "ci"):
+            raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30, a29 or ci")
+        self.matcher = MATCHERS.get(config.model_matcher)
+        if self.matcher is None:
+            raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
+                             f"{', '.join(MATCHERS)}")
+        if config.match not in ("1985", "improved"):
+            raise ValueError(f"--match {config.match!r}: choose 1985 or improved")
+        self.config = config
+        self.model = SymbolicModel()
+        self.corners = truth_points(room)
+        self.history: dict[int, list[float]] = {}
+        self.records: list[LookRecord] = []
+        self.lines = list(config.lines)
+        self.rows = (min(self.lines), max(self.lines) + 1)
+        self.prev_xzh = None
+        self.prev_cov = None
+        self.P = np.zeros((3, 3))         # covariance of the pose (x, z, heading rad) carried on
+        self.last_dead = None             # the dead-reckoned pose at the last look
+
+    def result(self) -> WalkResult:
+        return WalkResult(self.config, self.records, self.model, self.history)
+
+    def predict(self, dead_now) -> tuple[float, float, float]:
+        """The last estimate moved by the odometry's step since the last look."""
+        return compose_step(self.prev_xzh, self.last_dead, dead_now)[0]
+
+    def scan(self, look):
+        """The rig's scan of the look's pair (the eyes for the 1985 matcher)."""
+        from eyes import scan_pair as eyes_scan_pair
+        from matching.mode import make_matcher
+        from rig.scan import scan_pair
+        config = self.config
         ds, dv = str(config.camera.ds), f"{config.camera.dv:g}"
         if config.match == "1985":        # the compiled 1985 frame scan (the eyes), bit for bit
-            scan = eyes_scan_pair(look.left_bi, look.right_bi, lines, ds, dv)
-        else:                             # the improved stereo matcher (package matching)
-            scan = scan_pair(look.left_bi, look.right_bi, lines, ds, dv,
-                             matcher=make_matcher("improved"))
+            return eyes_scan_pair(look.left_bi, look.right_bi, self.lines, ds, dv)
+        # the improved stereo matcher (package matching)
+        return scan_pair(look.left_bi, look.right_bi, self.lines, ds, dv,
+                         matcher=make_matcher("improved"))
+
+    def step(self, look, true_pose, dr, dr_prev=None, scan=None) -> LookRecord:
+        """One look: scan (unless ``scan`` is given, the rig's ScanResult of
+        this look over ``config.lines``), group, match to the model, estimate
+        the pose, update the model.  ``dr``/``dr_prev``: the dead-reckoned
+        poses at this look and the last (None at the first look)."""
+        config, model, methods, matcher = self.config, self.model, self.methods, self.matcher
+        corners, history, lines, rows = self.corners, self.history, self.lines, self.rows
+        prev_xzh, prev_cov, P = self.prev_xzh, self.prev_cov, self.P
+        k = len(self.records)
+        t_start = time.perf_counter()
+        if scan is None:
+            scan = self.scan(look)
         t_scan = time.perf_counter()
         edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
                                      right_picture=look.right_bi)
@@ -256,7 +302,6 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         times = {"scan": (t_scan - t_start) * 1e3, "group": (t_group - t_scan) * 1e3}
         estimates: dict[str, tuple | None] = {}
         refusals: dict[str, str] = {}
-        dr = dead_reckoned[k]
         driver_refused = None
         pairs_used: list[tuple[int, int]] = []
         if k == 0:
@@ -269,8 +314,8 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
                 estimates[m] = prior_xzh
             times["match"] = (time.perf_counter() - t_group) * 1e3
         else:
-            prior_xzh, P = _predict(prev_xzh, P, dead_reckoned[k - 1], dr, config)
-            prior_R = _rotation(prior_xzh[2])
+            prior_xzh, P = _predict(prev_xzh, P, dr_prev, dr, config)
+            prior_R = _rotation(prior_xzh[2], config.camera_pitch_deg)
             prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
             cov6 = _cov6(P)
             match = matcher(model, obs, prior_left, prior_R, cov6, rows=rows,
@@ -329,13 +374,13 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         prev_xzh, prev_cov = est_xzh, est_cov
         wrong = _wrong(model, match.pairs, obs_truth)
         used_wrong = _wrong(model, pairs_used, obs_truth)
-        records.append(LookRecord(
+        rec = LookRecord(
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
-            len(model.vertices), match.predicted_in_view, times, vel, driver_refused))
-        if progress is not None:
-            progress(k)
-    return WalkResult(config, records, model, history)
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused)
+        self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
+        self.records.append(rec)
+        return rec
 
 
 ODOMETRY_GATE_CHI2 = 16.27     # 99.9 %, 3 degrees of freedom
@@ -347,7 +392,7 @@ def _predict(prev_xzh, P, dr_prev, dr_now, config: WalkConfig):
     """The prior pose and its covariance: the last pose moved by the odometry's
     step; the step's noise (a share of the distance, degrees per turn) and the
     heading's uncertainty carried into position by the usual linearisation."""
-    xzh, step_ft, turn = _compose_step(prev_xzh, dr_prev, dr_now)
+    xzh, step_ft, turn = compose_step(prev_xzh, dr_prev, dr_now)
     h = np.radians(xzh[2])
     F = np.array([[1.0, 0.0, step_ft * np.cos(h)], [0.0, 1.0, -step_ft * np.sin(h)], [0, 0, 1.0]])
     G = np.array([[np.sin(h), 0.0], [np.cos(h), 0.0], [0.0, 1.0]])

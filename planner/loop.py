@@ -6,9 +6,13 @@ the path as needed during the traversal".
 * **look**: the world renders both cameras at the vehicle's TRUE pose;
 * **scan**: the rig's whole-picture scan of the pair by the eyes (``eyes.scan_pair``, the
   compiled 1985 frame scan, bit for bit ``rig.scan.scan_pair``);
-* **model update / camera estimate**: this adapter (:class:`Perception`) is
-  not the symbolic model of the model issue; its camera estimate is the
-  dead-reckoned pose, and its model the located points of every look;
+* **model update / camera estimate**: ``pose="fused"`` (``rig drive --pose
+  fused``) runs the walk's per-look step (:class:`model.mapping.Walker`) on the
+  same scan: vertical edges and vertices into the symbolic model, matched to it
+  from the odometry's prior, the driving method's fix fused with that prior by
+  their covariances; that pose places the look.  ``pose="dead_reckoning"``
+  places it at the dead-reckoned pose, unchanged.  Either way the octree is
+  built from the located points of every look (:class:`Perception`);
 * **octree**: each look enters as a floor range scan
   (:func:`planner.perception.floor_scan`): per picture column the nearest
   range two located points agree on, hit (grown by its covariance, surfaces
@@ -70,6 +74,7 @@ from .search import NoPath, Passable, astar, clearance_map, hierarchical_search,
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
 
 SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
+POSES = ("fused", "dead_reckoning")
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -102,6 +107,10 @@ class DriveConfig:
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
+    pose: str = "dead_reckoning"          # the camera estimate: "fused" (the symbolic
+                                          # model's, model.mapping.Walker) or
+                                          # "dead_reckoning" (the odometry alone)
+    pose_method: str = "robust"           # the walk's driving method under "fused"
 
 
 @dataclass
@@ -139,6 +148,14 @@ class DriveResult:
     start: State
     unknown: str
     search: str
+    estimate_track: list = field(default_factory=list)   # the camera estimate, as dead_track
+    pose: str = "dead_reckoning"
+
+    def track_errors(self, track=None) -> np.ndarray:
+        """Distance (ft) of each point of a track (default: the estimate's) from
+        the true track at the same step."""
+        track = self.estimate_track if track is None else track
+        return np.array([math.hypot(a.x - t.x, a.z - t.z) for a, t in zip(track, self.true_track)])
 
     @property
     def seconds_per_cycle(self) -> float:
@@ -166,10 +183,16 @@ class DriveResult:
             "final_true_error_ft": round(self.final_true_error_ft, 3),
             "start": [self.start.x, self.start.z, self.start.heading_deg],
             "goal": list(self.goal), "unknown": self.unknown, "search": self.search,
+            "pose": self.pose,
+            "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
+            "dead_reckoning_error_ft_final":
+                round(float(self.track_errors(self.dead_track)[-1]), 3),
             "true_track": [[round(s.x, 3), round(s.z, 3), round(s.heading_deg, 2)]
                            for s in self.true_track],
             "estimated_track": [[round(s.x, 3), round(s.z, 3), round(s.heading_deg, 2)]
-                                for s in self.dead_track],
+                                for s in self.estimate_track],
+            "dead_reckoned_track": [[round(s.x, 3), round(s.z, 3), round(s.heading_deg, 2)]
+                                    for s in self.dead_track],
             "cycles": [{"look": c.look, "command": c.command, "note": c.note,
                         "path_left_ft": None if c.path_left_ft is None
                         else round(c.path_left_ft, 3),
@@ -193,7 +216,8 @@ def true_optimum(room, start, goal, profile: VehicleProfile, cell: float):
 class Perception:
     """The model the loop plans on: located points (room coordinates) of every
     look and the octree built from them.  ``estimate`` is the camera estimate
-    this adapter uses: the dead-reckoned pose, unchanged."""
+    this adapter uses: the dead-reckoned pose, unchanged (``run`` replaces it
+    with the walk's fused pose under ``pose="fused"``)."""
 
     def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
                  free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
@@ -454,13 +478,35 @@ def _still_good(p: Passable, prev, start) -> list | None:
     return None
 
 
+ESCAPE_FT = 1.0              # as far as _safe_prefix lets the vehicle leave a too-near spot
+
+
+def _escape_start(p: Passable, start) -> Passable:
+    """When the estimate stands nearer an obstacle than the planning radius
+    (a feature seen late, or a fix that moved the estimate), the cells within
+    ``ESCAPE_FT`` of it that are no nearer to any obstacle count passable, so
+    the search can lead the vehicle away; :func:`_safe_prefix` allows exactly
+    those moves.  Otherwise the planner refuses the start and the vehicle
+    stays put until it gives up."""
+    fm = p.fmap
+    i0, j0 = fm.index(*start)
+    if not fm.inside(i0, j0) or p.ok[i0, j0] or p.blocked[i0, j0]:
+        return p
+    cl0 = p.clearance[i0, j0]
+    ii, jj = np.indices(fm.shape)
+    cx, cz = fm.centre(ii, jj)
+    near = np.hypot(cx - start[0], cz - start[1]) <= ESCAPE_FT
+    ok = p.ok | (near & ~p.blocked & (p.clearance >= cl0 - 1e-9))
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown)
+
+
 def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     """(polyline, commands, note) from the estimate toward the goal, or raise
     NoPath.  The previous path is kept while it stays passable and is no more
     than ``keep_ft`` longer than a new one (no dithering between two ways round)."""
     search = SEARCHES[cfg.search]
     r = cfg.profile.planning_radius_ft
-    p = clearance_map(fm, r, cfg.unknown, uncertain="blocked")
+    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked"), (est.x, est.z))
     start = (est.x, est.z)
     try:
         pts = shorten(p, search(p, start, goal))
@@ -490,7 +536,24 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     from world.render import render_look
 
     prof = cfg.profile
+    if cfg.pose not in POSES:
+        raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
+    walker = None
+    if cfg.pose == "fused":
+        from model.mapping import WalkConfig, Walker, compose_step
+        walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
+                                         lines=tuple(cfg.lines),
+                                         camera_pitch_deg=prof.camera_pitch_deg))
+    est_track = [veh.dead]
+    look_est = look_dead = None           # the estimate and the dead-reckoned pose at the last look
+
+    def current() -> State:
+        """The camera estimate now: the last look's moved by the odometry since."""
+        if walker is None or look_est is None:
+            return veh.dead
+        return State(*compose_step((look_est.x, look_est.z, look_est.heading_deg), look_dead,
+                                   veh.dead)[0])
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                        near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
@@ -504,7 +567,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     prev_path = None
     try:
         for look_no in range(1, cfg.max_looks + 1):
-            est = veh.dead
+            est = current()
             if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
                 reached, reason = True, "goal reached"
                 break
@@ -516,10 +579,15 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             t1 = time.perf_counter()
             scan = scan_pair(look.left_bi, look.right_bi, lines=cfg.lines)
             points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
-            est = model.estimate(look, veh.dead)
+            if walker is None:
+                est = veh.dead
+            else:
+                rec = walker.step(look, look.pose, veh.dead, look_dead, scan=scan)
+                est = State(*rec.estimates["fused"])
+            look_est, look_dead = est, veh.dead
             model.update(points, est, Pose, prof.camera_pitch_deg)
             fm = model.floor_map([(est.x, est.z), goal])
-            _mark_track_free(fm, veh.dead_track, prof.footprint, cfg.start_clear_ft)
+            _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft)
             if cfg.known_walls:
                 _mark_walls(fm, room.bounds)
             safe = clearance_map(fm, prof.planning_radius_ft,
@@ -560,7 +628,11 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     note += " (cannot turn: space within its radius not seen free)"
             t2 = time.perf_counter()
             before = (veh.true.x, veh.true.z)
+            n_before = len(veh.dead_track)
             ok = veh.execute(seg)
+            for d in veh.dead_track[n_before:]:
+                est_track.append(d if walker is None else State(*compose_step(
+                    (est.x, est.z, est.heading_deg), look_dead, d)[0]))
             moved = math.hypot(veh.true.x - before[0], veh.true.z - before[1])
             if moved > 0.05:
                 stuck = 0
@@ -581,7 +653,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                          (last_reason or note)
                 break
         else:
-            est = veh.dead
+            est = current()
             if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
                 reached, reason = True, "goal reached"
             else:
@@ -593,7 +665,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     return DriveResult(reached, reason, len(cycles), veh.travelled_ft, opt, opt_grid,
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
-                       cfg.unknown, cfg.search)
+                       cfg.unknown, cfg.search, est_track, cfg.pose)
 
 
 def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,

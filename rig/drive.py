@@ -7,9 +7,10 @@ D ft travelled, T s" or the reason it stopped), pictures (the last map and an
 animated GIF of the run, written with Pillow) and ``--json FILE``.  Ctrl-C
 stops cleanly after the cycle under way and still writes what it has.
 
-The perception step is this project's adapter (:class:`planner.loop.Perception`):
-the look rendered at the TRUE pose, scanned by the rig, placed in the room with
-the dead-reckoned pose as the camera estimate.
+The perception step: the look rendered at the TRUE pose, scanned by the rig,
+placed in the room with the camera estimate of ``--pose``: the symbolic model's
+fused pose (the walk's per-look step, :class:`model.mapping.Walker`) or the
+dead-reckoned pose.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ def frames_of(result, room):
     for k, c in enumerate(result.cycles):
         title = f"look {c.look}: {c.command or '-'}"
         frames.append(drive_map(c.fmap, room.bounds, room.obstacles, c.path,
-                                result.true_track[:k + 2], result.dead_track[:k + 2],
+                                result.true_track[:k + 2], result.estimate_track[:k + 2],
                                 result.goal, title[:60], heading=True))
     return frames
 
@@ -102,13 +103,14 @@ def cmd_drive(args) -> int:
                              f"{room.name!r}; the vehicle needs {r:.2f} ft")
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                       max_looks=args.max_looks, eyes=args.eyes,
+                      pose=args.pose, pose_method=args.pose_method,
                       blank_ft=args.blank_ft if args.blank_ft > 0 else None)
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     print(f"rig drive: {room.name}, start ({start.x:g}, {start.z:g}) heading "
           f"{start.heading_deg:g} deg, goal ({goal[0]:g}, {goal[1]:g}), unknown space "
-          f"{args.unknown}, search {args.search}, eyes {args.eyes}, odometry noise "
+          f"{args.unknown}, search {args.search}, eyes {args.eyes}, pose {args.pose}, odometry noise "
           f"{'off' if noise is None else 'on'}")
 
     def line(c):
@@ -130,7 +132,9 @@ def cmd_drive(args) -> int:
     print(f"true optimum {opt}; collisions {res.collisions}; {res.work_ms_per_cycle:.0f} ms per "
           f"cycle without the look's rendering, {1e3 * res.seconds_per_cycle:.0f} ms with it; "
           f"octree {res.octree_bytes / 1024:.0f} KiB; true distance to goal "
-          f"{res.final_true_error_ft:.2f} ft")
+          f"{res.final_true_error_ft:.2f} ft; estimate off the truth by "
+          f"{res.track_errors()[-1]:.2f} ft at the end (dead reckoning "
+          f"{res.track_errors(res.dead_track)[-1]:.2f} ft)")
     if res.cycles:
         frames = frames_of(res, room)
         save_png(out / "drive-map.png", frames[-1])
@@ -165,6 +169,13 @@ def add_parser(sub) -> None:
     d.add_argument("--eyes", choices=("rig", "truth"), default="rig",
                    help="rig: the 1985 matcher's ranges (default); truth: the true range at the "
                         "same edge pixels (an oracle: the planner without the matcher's errors)")
+    d.add_argument("--pose", choices=("fused", "dead_reckoning"), default="dead_reckoning",
+                   help="the camera estimate that places each look: fused: the symbolic model's "
+                        "(the walk's step: the robust fix on matched vertices fused with the "
+                        "odometry's prior); dead_reckoning: the odometry alone (default)")
+    from model.pose import ESTIMATORS
+    d.add_argument("--pose-method", default="robust", choices=ESTIMATORS,
+                   help="the fix fused under --pose fused (rig walk's --method; default robust)")
     d.add_argument("--blank-ft", type=float, default=8.0, metavar="FT",
                    help="picture columns outside everything the look located count free this "
                         "far (default 8; 0: off, then blank walls stop the vehicle)")

@@ -118,3 +118,55 @@ def test_rig_drive_command_json_and_bad_goal(tmp_path, capsys):
         main(["drive", "--goal", "0,4", "--out", str(out)])
     with pytest.raises(SystemExit, match=r"--goal 'x,4' must be 2 numbers"):
         main(["drive", "--goal", "x,4", "--out", str(out)])
+
+
+def test_fused_pose_stays_nearer_the_true_track_than_dead_reckoning():
+    """``--pose fused``: the walk's per-look step (model.mapping.Walker) places
+    each look; in the tiny room its track stays nearer the TRUE track than the
+    odometry alone on the same run (the same noise draws: the commands differ
+    only by what the estimate plans)."""
+    room = tiny_room()
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth", pose="fused"),
+              noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert res.pose == "fused"
+    assert len(res.estimate_track) == len(res.true_track) == len(res.dead_track)
+    est, dead = res.track_errors(), res.track_errors(res.dead_track)
+    assert est[0] == dead[0] == 0.0                     # the start is given
+    assert np.mean(est[1:]) < np.mean(dead[1:])
+    assert est[-1] < dead[-1]
+    # the estimate is not the dead-reckoned pose renamed
+    assert any(abs(a.x - d.x) + abs(a.z - d.z) > 1e-3
+               for a, d in zip(res.estimate_track, res.dead_track))
+    data = res.as_json()
+    assert data["pose"] == "fused"
+    assert data["estimate_error_ft_final"] < data["dead_reckoning_error_ft_final"]
+
+
+def test_unknown_pose_is_refused():
+    with pytest.raises(ValueError, match="unknown camera estimate 'gps'"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, pose="gps"))
+
+
+def test_a_start_too_near_an_obstacle_may_be_left_but_not_approached():
+    """The planner leads the vehicle away from an obstacle it stands too near
+    (within 1 ft, never nearer to anything) instead of refusing the start."""
+    from planner.floormap import FloorMap
+    from planner.loop import _escape_start
+    from planner.octree import FREE, OCCUPIED
+    from planner.search import astar, clearance_map
+    cells = np.full((40, 40), FREE, np.uint8)          # 10 ft square, 0.25 ft cells
+    cells[20, 20] = OCCUPIED                           # an obstacle at (0.125, 0.125)
+    fm = FloorMap(cells, -5.0, -5.0, 0.25)
+    start = (0.125, -0.375)                            # 0.5 ft from it: inside the radius
+    p = clearance_map(fm, DEFAULT.planning_radius_ft, "blocked")
+    i, j = fm.index(*start)
+    assert not p.ok[i, j]
+    q = _escape_start(p, start)
+    assert q.ok[i, j]
+    # nothing nearer the obstacle than the start became passable
+    assert not (q.ok & ~p.ok & (p.clearance < p.clearance[i, j])).any()
+    path = astar(q, start, (0.125, -4.0))              # away from the obstacle: found
+    assert math.hypot(path[-1][0] - 0.125, path[-1][1] + 4.0) < 0.25
+    assert _escape_start(q, start) is q                # an allowed start is left alone
