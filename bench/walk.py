@@ -12,9 +12,16 @@ truths inside each feature's 2-sigma ellipsoid (the 3-D region holding
 grouping + matching + the driving method + the Kalman update, rendering not
 included).  The bundled walk is also run with the A-29 Kalman alternative,
 with covariance intersection, with every line scanned, without the 15 ft
-range limit and without the shape gate.
+range limit and without the shape gate; the bundled walk and the rooms again
+with the calibrated column error (``--column-error calibrated``) under A-29
+and covariance intersection.
 
-Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
+``--calibrate`` measures instead the rig's pixel errors at the true corners
+(every 3rd look of the bundled walk and of the rooms' walks): the vertex
+column and disparity against the true corner's projection, the numbers
+behind ``model.edges.CALIBRATED_COLUMN_ERROR_PX``.
+
+Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE] [--calibrate]
 """
 
 from __future__ import annotations
@@ -29,6 +36,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
 from model.mapping import WalkConfig, run_walk  # noqa: E402
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
@@ -37,13 +45,63 @@ from world.room import bundled_lab, generate_room  # noqa: E402
 from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
-def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64):
+def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64,
+             column_error=E_LR):
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
     t0 = time.perf_counter()
     res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
                    WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
-                              max_range_ft=max_range, shape_max_bits=shape))
+                              max_range_ft=max_range, shape_max_bits=shape,
+                              column_error_px=column_error))
     return res, time.perf_counter() - t0
+
+
+def pixel_errors(room, poses, seed=1985, every=3, max_range=15.0) -> np.ndarray:
+    """(column error, disparity error, row error) in px of every vertex observation the
+    world's truth snaps to a true corner: observed minus the corner's true projection into
+    the left camera (the same scan, grouping and snapping as the walk)."""
+    from eyes import scan_pair
+    from model.edges import Camera, group_vertical_edges, vertex_observations
+    from model.geometry import camera_points, left_centre
+    from model.mapping import observed_truth, truth_points
+    cam, corners, lines = Camera(), truth_points(room), list(range(8, 113, 2))
+    out = []
+    for k, pose in enumerate(poses):
+        if k % every:
+            continue
+        look = render_look(room, pose, seed=seed + k)
+        scan = scan_pair(look.left_bi, look.right_bi, lines, "0.75", "180")
+        edges = group_vertical_edges(scan.points, lines, look.left_bi, cam,
+                                     right_picture=look.right_bi)
+        obs = [o for o in vertex_observations(edges) if o.q[0] <= max_range]
+        R = np.asarray(pose.rotation(), float)
+        tl = left_centre((pose.x, getattr(pose, "y", 0.0), pose.z), R)
+        _, tid = observed_truth(obs, np.asarray(look.range_left, float), tl, R, corners, cam)
+        for o, j in zip(obs, tid):
+            if j >= 0:
+                p, x, y = camera_points(R, tl, corners[j][None])[0]
+                out.append((o.col - (cam.centre_col + cam.dv * x / p),
+                            o.disparity - cam.ds * cam.dv / p,
+                            o.row - (cam.centre_row + cam.dv * y / p)))
+    return np.array(out).reshape(-1, 3)
+
+
+def calibrate(rooms: int, looks: int) -> str:
+    lab = bundled_lab()
+    sets = [("bundled walk", pixel_errors(lab, bundled_walk()))]
+    sets.append((f"{rooms} generated rooms", np.concatenate(
+        [pixel_errors(generate_room(s), generate_walk(generate_room(s), s, looks))
+         for s in range(1, rooms + 1)])))
+    rows = ["| set | quantity | corners | mean px | sd px | 68.3 % of abs within px | "
+            "95.4 % within px | LCSL's sigma px |", "|---|---|---|---|---|---|---|---|"]
+    for name, a in sets:
+        for i, (what, lcsl) in enumerate((("column", E_LR / 2), ("disparity", E_LR),
+                                         ("row", None))):
+            e = a[:, i]
+            rows.append(f"| {name} | {what} | {len(e)} | {e.mean():.2f} | {e.std():.2f} | "
+                        f"{np.percentile(np.abs(e), 68.27):.2f} | "
+                        f"{np.percentile(np.abs(e), 95.45):.2f} | {fmt(lcsl)} |")
+    return "\n".join(rows)
 
 
 def method_errors(results) -> dict:
@@ -143,8 +201,14 @@ def main(argv=None) -> int:
     ap.add_argument("--looks", type=int, default=20, help="looks per generated walk")
     ap.add_argument("--bundled-looks", type=int, default=None)
     ap.add_argument("--json", help="write all figures as JSON")
+    ap.add_argument("--calibrate", action="store_true",
+                    help="measure the rig's pixel errors at the true corners instead")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.calibrate:
+        print(calibrate(args.rooms, args.looks))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     lab = bundled_lab()
     poses = bundled_walk()[:args.bundled_looks]
     bundled, took = one_walk(lab, poses)
@@ -154,23 +218,36 @@ def main(argv=None) -> int:
     bundled_ci, _ = one_walk(lab, poses, kalman="ci")
     bundled_far, _ = one_walk(lab, poses, max_range=1e9)
     bundled_noshape, _ = one_walk(lab, poses, shape=None)
-    rooms = []
+    cal = CALIBRATED_COLUMN_ERROR_PX
+    bundled29_cal, _ = one_walk(lab, poses, kalman="a29", column_error=cal)
+    bundled_ci_cal, _ = one_walk(lab, poses, kalman="ci", column_error=cal)
+    rooms, rooms29_cal = [], []
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)
-        res, took = one_walk(room, generate_walk(room, seed, args.looks))
+        walk = generate_walk(room, seed, args.looks)
+        res, took = one_walk(room, walk)
         rooms.append(res)
+        rooms29_cal.append(one_walk(room, walk, kalman="a29", column_error=cal)[0])
         print(f"room {seed}: {took:.0f} s", file=sys.stderr)
     doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
            "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),
            "bundled_ci": method_errors([bundled_ci]), "bundled_no_range_limit": method_errors([bundled_far]),
            "bundled_no_shape_gate": method_errors([bundled_noshape]),
+           "bundled_a29_calibrated": method_errors([bundled29_cal]),
+           "bundled_ci_calibrated": method_errors([bundled_ci_cal]),
+           "rooms_a29_calibrated": method_errors(rooms29_cal),
            "features": {"bundled (A-30, as written)": feature_stats([bundled]),
                         "bundled (A-29, camera error propagated)": feature_stats([bundled29]),
                         "bundled (A-30, every line scanned)": feature_stats([bundled1]),
                         "bundled (covariance intersection)": feature_stats([bundled_ci]),
                         "bundled (A-30, no range limit)": feature_stats([bundled_far]),
                         "bundled (A-30, no shape gate)": feature_stats([bundled_noshape]),
-                        f"{args.rooms} generated rooms (A-30)": feature_stats(rooms)},
+                        "bundled (A-29, calibrated column error)": feature_stats([bundled29_cal]),
+                        "bundled (covariance intersection, calibrated column error)":
+                            feature_stats([bundled_ci_cal]),
+                        f"{args.rooms} generated rooms (A-30)": feature_stats(rooms),
+                        f"{args.rooms} generated rooms (A-29, calibrated column error)":
+                            feature_stats(rooms29_cal)},
            "per_room": {str(i + 1): method_errors([r]) for i, r in enumerate(rooms)}}
     print(method_table(f"Bundled walk ({len(poses)} looks)", doc["bundled"]))
     print()
@@ -184,7 +261,15 @@ def main(argv=None) -> int:
     print()
     print(method_table("Bundled walk, no shape gate", doc["bundled_no_shape_gate"]))
     print()
+    print(method_table("Bundled walk, A-29, calibrated column error", doc["bundled_a29_calibrated"]))
+    print()
+    print(method_table("Bundled walk, covariance intersection, calibrated column error",
+                       doc["bundled_ci_calibrated"]))
+    print()
     print(method_table(f"{args.rooms} generated rooms, {args.looks} looks each (pooled)", doc["rooms"]))
+    print()
+    print(method_table(f"{args.rooms} generated rooms, A-29, calibrated column error",
+                       doc["rooms_a29_calibrated"]))
     print()
     print(feature_table(list(doc["features"].items())))
     print(f"\n({time.perf_counter() - t0:.0f} s in all)")

@@ -35,7 +35,7 @@ from typing import Callable
 
 import numpy as np
 
-from .edges import Camera, group_vertical_edges, surface_observations, vertex_observations
+from .edges import E_LR, Camera, group_vertical_edges, surface_observations, vertex_observations
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .kalman import (covariance_intersection, measurement_covariance_a29,
                      measurement_covariance_a30, static_update)
@@ -67,6 +67,9 @@ class WalkConfig:
     odometry_distance_fraction: float = 0.02
     odometry_turn_deg: float = 1.0
     camera: Camera = Camera()
+    # the column bound of A-17, px: LCSL's ELMAX 0.5 as written; model.edges.
+    # CALIBRATED_COLUMN_ERROR_PX (2.0) is the one measured against the world's corners
+    column_error_px: float = E_LR
 
 
 @dataclass
@@ -244,7 +247,8 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
                              matcher=make_matcher("improved"))
         t_scan = time.perf_counter()
         edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
-                                     right_picture=look.right_bi)
+                                     right_picture=look.right_bi,
+                                     column_error=config.column_error_px)
         obs = [o for o in vertex_observations(edges) if o.q[0] <= config.max_range_ft]
         for e in edges:
             e.vertices[:] = [o for o in e.vertices if o.q[0] <= config.max_range_ft]
@@ -392,13 +396,20 @@ def _fuse(fix: PoseEstimate, prior_xzh, P):
     U, _, Vt = np.linalg.svd(R)
     R = U @ Vt                                   # a48's axes are not orthonormal: the nearest rotation
     centre = np.array([post[0], fix.centre[1], post[1]])
-    cov6 = np.zeros((6, 6))
-    if fix.covariance6 is not None:
-        cov6 = fix.covariance6.copy()
-    elif fix.Cc is not None:
-        cov6[:3, :3] = fix.Cc[:3, :3]
     at = [0, 2, 4]                               # x, z, heading (rotation about room Y)
-    cov6[np.ix_(at, at)] = P_post
+    if fix.covariance6 is not None:
+        # the fix's 6x6 conditioned on the prior's (x, z, heading): writing P_post into the
+        # block and keeping the fix's cross terms made an indefinite matrix (negative
+        # variances in A-29's camera term, measured in docs/model.md)
+        C6 = fix.covariance6
+        A = C6[:, at]
+        cov6 = C6 - A @ np.linalg.solve(C6[np.ix_(at, at)] + P, A.T)
+        cov6 = (cov6 + cov6.T) / 2
+    else:
+        cov6 = np.zeros((6, 6))
+        if fix.Cc is not None:
+            cov6[:3, :3] = fix.Cc[:3, :3]
+        cov6[np.ix_(at, at)] = P_post
     est = PoseEstimate("fused", left_centre(centre, R), axes_matrix(R), fix.inliers,
                        covariance6=cov6)
     return est, P_post

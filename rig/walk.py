@@ -203,6 +203,7 @@ def walk_json(result, label: str, rows) -> dict:
     return {
         "walk": label,
         "driver": result.config.driver, "kalman": result.config.kalman,
+        "column_error_px": result.config.column_error_px,
         "match": result.config.match,
         "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
                          if m == "dead_reckoning" or m in result.records[0].estimates},
@@ -246,12 +247,14 @@ def cmd_walk(args) -> int:
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
                         match=args.match, look_interval_s=args.interval,
                         lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range,
-                        shape_max_bits=None if args.shape_bits < 0 else args.shape_bits)
+                        shape_max_bits=None if args.shape_bits < 0 else args.shape_bits,
+                        column_error_px=args.column_error)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
     print(f"rig walk: {label}, {len(poses)} looks; driving method {args.method}, Kalman "
-          f"{args.kalman}, stereo matcher {args.match}")
+          f"{args.kalman}, stereo matcher {args.match}"
+          + (f", column error {args.column_error:g} px" if args.column_error != 0.5 else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -300,6 +303,20 @@ def cmd_walk(args) -> int:
     return 0
 
 
+def _column_error(text: str) -> float:
+    """--column-error: a positive number of pixels, or 'calibrated'."""
+    from model.edges import CALIBRATED_COLUMN_ERROR_PX
+    if text == "calibrated":
+        return CALIBRATED_COLUMN_ERROR_PX
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not np.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: a positive number of pixels or 'calibrated'")
+    return value
+
+
 def add_parser(sub) -> argparse.ArgumentParser:
     w = sub.add_parser(
         "walk", help="walk a room: many looks, one model, where the camera is",
@@ -326,6 +343,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="a30: camera error ignored, as written (default); a29: propagated; "
                         "ci: propagated and fused by covariance intersection (looks' errors "
                         "correlated)")
+    w.add_argument("--column-error", type=_column_error, default=0.5, metavar="PX",
+                   help="the column location bound of A-17 (two sigma), px: 0.5 is LCSL's "
+                        "ELMAX, as written (default); 'calibrated' = 2.0, measured against the "
+                        "world's true corners (docs/model.md)")
     w.add_argument("--match", choices=("1985", "improved"), default="1985",
                    help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
                         "improved (the matching package's, where installed)")

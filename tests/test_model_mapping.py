@@ -53,3 +53,21 @@ def test_observed_truth_is_the_named_pixel_at_the_true_range():
     pts, idx = observed_truth([o], rng, left, R, np.array([[0.7, -1.1, 10.1]]),
                               Camera())
     assert idx[0] == 0 and pts[0] == pytest.approx([0.7, -1.1, 10.1])
+
+
+def test_fused_pose_covariance_stays_positive_semidefinite():
+    # a fix whose position and heading are correlated (off-diagonal terms): the fused 6x6
+    # must be the fix's covariance conditioned on the prior, a covariance (no negative
+    # variance anywhere it is carried, as A-29's camera term does)
+    L = np.random.default_rng(3).normal(size=(6, 6)) * np.array([0.2, 0.03, 0.2, 0.003,
+                                                                     0.05, 0.003])[:, None]
+    C6 = L @ L.T                                   # a covariance with strong cross terms
+    fix = fix_at(1.0, 3.0, 10.0, C6)
+    P = np.diag([0.0004, 0.0004, np.radians(0.5) ** 2])      # a much surer prior
+    est, P_post = _fuse(fix, (1.0, 3.0, 10.0), P)
+    assert np.linalg.eigvalsh(est.covariance6).min() > -1e-12
+    # conditioning only shrinks: no variance grows
+    assert np.all(np.diag(est.covariance6) <= np.diag(C6) + 1e-15)
+    q = np.array([[10.0, 3.0, -1.0], [5.0, -2.0, 0.5]])
+    for C in est.pose_covariance_at(q):
+        assert np.linalg.eigvalsh(C).min() > -1e-12
