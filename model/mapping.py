@@ -44,6 +44,11 @@ from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
 from .symbolic import SymbolicModel
 from .velocity import Velocity, velocity
 
+# the fused pose's error on the bundled walk under A-29 (bench/walk.py): median 0.157 ft on
+# the floor (a 2-D Gaussian's median radius is 1.177 sigma) and 0.57 degrees of heading (a
+# Gaussian's median absolute value is 0.674 sigma), where the pose's own covariance claims
+# 0.046 ft and 0.47 degrees: only 13 % of the looks' true poses lie inside its 95 % region
+MEASURED_POSE_SIGMA_FLOOR = (0.13, 0.85)
 CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
 TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
 WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
@@ -70,6 +75,10 @@ class WalkConfig:
     # the column bound of A-17, px: LCSL's ELMAX 0.5 as written; model.edges.
     # CALIBRATED_COLUMN_ERROR_PX (2.0) is the one measured against the world's corners
     column_error_px: float = E_LR
+    # a floor (ft, degrees) under the camera pose's sigma in A-29's camera term (kalman a29/ci
+    # only); None: the fused pose's covariance as computed.  MEASURED_POSE_SIGMA_FLOOR is the
+    # driving pose's measured error on the bundled walk (docs/model.md)
+    pose_sigma_floor: tuple[float, float] | None = None
 
 
 @dataclass
@@ -321,7 +330,8 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         kalman = config.kalman if pose_est.method != "prior" else "a29"
         added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
                               kalman, k, obs_truth, obs_truth_id, history,
-                              surface_observations(edges, look.left_bi))
+                              surface_observations(edges, look.left_bi),
+                              pose_floor=config.pose_sigma_floor if k > 0 else None)
         est_xzh = estimates["fused"]
         est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
@@ -415,6 +425,17 @@ def _fuse(fix: PoseEstimate, prior_xzh, P):
     return est, P_post
 
 
+def floored_pose(est: PoseEstimate, position_ft: float, heading_deg: float) -> PoseEstimate:
+    """The pose with its 6x6 covariance raised, where smaller, to ``position_ft`` on
+    the floor (x, z) and ``heading_deg`` about the vertical: a diagonal added, so it
+    stays a covariance and never shrinks."""
+    import dataclasses
+    cov6 = np.zeros((6, 6)) if est.covariance6 is None else est.covariance6
+    floor = np.array([position_ft ** 2, 0.0, position_ft ** 2, 0.0, np.radians(heading_deg) ** 2, 0.0])
+    cov6 = cov6 + np.diag(np.maximum(floor - np.diag(cov6), 0.0))
+    return dataclasses.replace(est, covariance6=cov6, Cc=None)
+
+
 def _wrong(model, pairs, obs_truth) -> int:
     n = 0
     for vid, i in pairs:
@@ -425,9 +446,11 @@ def _wrong(model, pairs, obs_truth) -> int:
 
 
 def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
-                  look: int, obs_truth, obs_truth_id, history, surfaces=()) -> int:
+                  look: int, obs_truth, obs_truth_id, history, surfaces=(), pose_floor=None) -> int:
     """Kalman-update the vertices the driving pose kept, add the observations
-    no model vertex claimed, link boundary lines.  Returns how many were added."""
+    no model vertex claimed, link boundary lines.  Returns how many were added.
+    ``pose_floor`` (ft, degrees): the least sigma of the pose's floor position
+    and heading in A-29's camera term."""
     if not obs:
         return 0
     q = np.array([o.q for o in obs])
@@ -435,7 +458,8 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
     z = est.transform(q)
     Rm = measurement_covariance_a30(est.M, Cq)
     if kalman in ("a29", "ci"):
-        Rm = measurement_covariance_a29(est.M, Cq, est.pose_covariance_at(q))
+        camera = est if pose_floor is None else floored_pose(est, *pose_floor)
+        Rm = measurement_covariance_a29(est.M, Cq, camera.pose_covariance_at(q))
     claimed = {i for _, i in pairs}
     vertex_of: dict[int, int] = {}
     for vid, i in pairs_used:
