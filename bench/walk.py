@@ -13,8 +13,9 @@ grouping + matching + the driving method + the Kalman update, rendering not
 included).  The bundled walk is also run with the A-29 Kalman alternative,
 with covariance intersection, with every line scanned, without the 15 ft
 range limit and without the shape gate; the bundled walk and the rooms again
-with the calibrated column error (``--column-error calibrated``) under A-29
-and covariance intersection.
+with the honest-covariance options: the calibrated column error
+(``--column-error calibrated``) and the measured pose floor (``--pose-floor
+measured``) under A-29 and covariance intersection.
 
 ``--calibrate`` measures instead the rig's pixel errors at the true corners
 (every 3rd look of the bundled walk and of the rooms' walks): the vertex
@@ -37,7 +38,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
-from model.mapping import WalkConfig, run_walk  # noqa: E402
+from model.mapping import MEASURED_POSE_SIGMA_FLOOR, WalkConfig, run_walk  # noqa: E402
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
 from world.render import render_look  # noqa: E402
@@ -46,13 +47,13 @@ from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
 def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64,
-             column_error=E_LR):
+             column_error=E_LR, pose_floor=None):
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
     t0 = time.perf_counter()
     res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
                    WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
                               max_range_ft=max_range, shape_max_bits=shape,
-                              column_error_px=column_error))
+                              column_error_px=column_error, pose_sigma_floor=pose_floor))
     return res, time.perf_counter() - t0
 
 
@@ -195,6 +196,15 @@ def feature_table(sets) -> str:
     return "\n".join(rows)
 
 
+def honest_table(rows) -> str:
+    out = ["| set | fused median / worst position ft | fused median / worst heading deg |",
+           "|---|---|---|"]
+    for name, e in rows:
+        out.append(f"| {name} | {fmt(e['median_pos'])} / {fmt(e['worst_pos'])} | "
+                   f"{fmt(e['median_head'], 1)} / {fmt(e['worst_head'], 1)} |")
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
@@ -218,36 +228,42 @@ def main(argv=None) -> int:
     bundled_ci, _ = one_walk(lab, poses, kalman="ci")
     bundled_far, _ = one_walk(lab, poses, max_range=1e9)
     bundled_noshape, _ = one_walk(lab, poses, shape=None)
-    cal = CALIBRATED_COLUMN_ERROR_PX
-    bundled29_cal, _ = one_walk(lab, poses, kalman="a29", column_error=cal)
-    bundled_ci_cal, _ = one_walk(lab, poses, kalman="ci", column_error=cal)
-    rooms, rooms29_cal = [], []
+    cal, floor = CALIBRATED_COLUMN_ERROR_PX, MEASURED_POSE_SIGMA_FLOOR
+    honest = {"A-29, calibrated column error": dict(kalman="a29", column_error=cal),
+              "A-29, pose floor": dict(kalman="a29", pose_floor=floor),
+              "A-29, calibrated column error and pose floor": dict(kalman="a29", column_error=cal,
+                                                                   pose_floor=floor),
+              "covariance intersection, calibrated column error": dict(kalman="ci",
+                                                                       column_error=cal),
+              "covariance intersection, calibrated column error and pose floor":
+                  dict(kalman="ci", column_error=cal, pose_floor=floor)}
+    bundled_honest = {name: one_walk(lab, poses, **kw)[0] for name, kw in honest.items()}
+    rooms_honest_sets = ("A-29", "covariance intersection, calibrated column error and pose floor")
+    rooms, rooms_honest = [], {name: [] for name in rooms_honest_sets}
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)
         walk = generate_walk(room, seed, args.looks)
         res, took = one_walk(room, walk)
         rooms.append(res)
-        rooms29_cal.append(one_walk(room, walk, kalman="a29", column_error=cal)[0])
+        rooms_honest["A-29"].append(one_walk(room, walk, kalman="a29")[0])
+        rooms_honest[rooms_honest_sets[1]].append(one_walk(room, walk, **honest[rooms_honest_sets[1]])[0])
         print(f"room {seed}: {took:.0f} s", file=sys.stderr)
     doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
            "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),
            "bundled_ci": method_errors([bundled_ci]), "bundled_no_range_limit": method_errors([bundled_far]),
            "bundled_no_shape_gate": method_errors([bundled_noshape]),
-           "bundled_a29_calibrated": method_errors([bundled29_cal]),
-           "bundled_ci_calibrated": method_errors([bundled_ci_cal]),
-           "rooms_a29_calibrated": method_errors(rooms29_cal),
+           "bundled_honest": {n: method_errors([r]) for n, r in bundled_honest.items()},
+           "rooms_honest": {n: method_errors(r) for n, r in rooms_honest.items()},
            "features": {"bundled (A-30, as written)": feature_stats([bundled]),
                         "bundled (A-29, camera error propagated)": feature_stats([bundled29]),
                         "bundled (A-30, every line scanned)": feature_stats([bundled1]),
                         "bundled (covariance intersection)": feature_stats([bundled_ci]),
                         "bundled (A-30, no range limit)": feature_stats([bundled_far]),
                         "bundled (A-30, no shape gate)": feature_stats([bundled_noshape]),
-                        "bundled (A-29, calibrated column error)": feature_stats([bundled29_cal]),
-                        "bundled (covariance intersection, calibrated column error)":
-                            feature_stats([bundled_ci_cal]),
+                        **{f"bundled ({n})": feature_stats([r]) for n, r in bundled_honest.items()},
                         f"{args.rooms} generated rooms (A-30)": feature_stats(rooms),
-                        f"{args.rooms} generated rooms (A-29, calibrated column error)":
-                            feature_stats(rooms29_cal)},
+                        **{f"{args.rooms} generated rooms ({n})": feature_stats(r)
+                           for n, r in rooms_honest.items()}},
            "per_room": {str(i + 1): method_errors([r]) for i, r in enumerate(rooms)}}
     print(method_table(f"Bundled walk ({len(poses)} looks)", doc["bundled"]))
     print()
@@ -261,15 +277,16 @@ def main(argv=None) -> int:
     print()
     print(method_table("Bundled walk, no shape gate", doc["bundled_no_shape_gate"]))
     print()
-    print(method_table("Bundled walk, A-29, calibrated column error", doc["bundled_a29_calibrated"]))
-    print()
-    print(method_table("Bundled walk, covariance intersection, calibrated column error",
-                       doc["bundled_ci_calibrated"]))
-    print()
     print(method_table(f"{args.rooms} generated rooms, {args.looks} looks each (pooled)", doc["rooms"]))
     print()
-    print(method_table(f"{args.rooms} generated rooms, A-29, calibrated column error",
-                       doc["rooms_a29_calibrated"]))
+    for n, e in doc["rooms_honest"].items():
+        print()
+        print(method_table(f"{args.rooms} generated rooms, {n}", e))
+    print()
+    print(honest_table([(f"bundled, {n}", d["fused"]) for n, d in
+                        [("A-30 (as written)", doc["bundled"]), ("A-29", doc["bundled_a29"]),
+                         ("covariance intersection", doc["bundled_ci"]),
+                         *doc["bundled_honest"].items()]]))
     print()
     print(feature_table(list(doc["features"].items())))
     print(f"\n({time.perf_counter() - t0:.0f} s in all)")
