@@ -20,7 +20,9 @@ measured``) under A-29 and covariance intersection.
 ``--calibrate`` measures instead the rig's pixel errors at the true corners
 (every 3rd look of the bundled walk and of the rooms' walks): the vertex
 column and disparity against the true corner's projection, the numbers
-behind ``model.edges.CALIBRATED_COLUMN_ERROR_PX``.
+behind ``model.edges.CALIBRATED_COLUMN_ERROR_PX``; and the robot's pose error
+on the bundled walk against its own covariance, the numbers behind
+``model.mapping.MEASURED_POSE_SIGMA_FLOOR``.
 
 Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE] [--calibrate]
 """
@@ -38,6 +40,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
+from model.geometry import wrap_deg  # noqa: E402
 from model.mapping import MEASURED_POSE_SIGMA_FLOOR, WalkConfig, run_walk  # noqa: E402
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
@@ -102,6 +105,13 @@ def calibrate(rooms: int, looks: int) -> str:
             rows.append(f"| {name} | {what} | {len(e)} | {e.mean():.2f} | {e.std():.2f} | "
                         f"{np.percentile(np.abs(e), 68.27):.2f} | "
                         f"{np.percentile(np.abs(e), 95.45):.2f} | {fmt(lcsl)} |")
+    rows += ["", "| walk (fused pose) | looks | median position error ft | its claimed sigma ft "
+             "(median, per axis) | median heading error deg | its claimed sigma deg | "
+             "true pose inside its 95 % region |", "|---|---|---|---|---|---|---|"]
+    for name, kw in (("bundled, A-29", dict(kalman="a29")),
+                     ("bundled, A-30 (as written)", dict(kalman="a30"))):
+        res, _ = one_walk(lab, bundled_walk(), **kw)
+        rows.append(pose_honesty_row(name, res))
     return "\n".join(rows)
 
 
@@ -194,6 +204,21 @@ def feature_table(sets) -> str:
                     f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "
                     f"{f['p90_look_ms']:.0f}; {f['median_scan_ms']:.0f} |")
     return "\n".join(rows)
+
+
+def pose_honesty_row(name, res) -> str:
+    """Is the robot's pose covariance honest?  Its error against its own claim, look by look."""
+    err, pos_sd, head, head_sd, inside = [], [], [], [], []
+    for r in res.records[1:]:
+        P, t, e = r.pose_covariance, r.true_pose, r.estimates["fused"]
+        d = np.array([e[0] - t.x, e[1] - t.z, np.radians(wrap_deg(e[2] - t.heading_deg))])
+        err.append(np.hypot(d[0], d[1]))
+        head.append(np.degrees(abs(d[2])))
+        pos_sd.append(np.sqrt((P[0, 0] + P[1, 1]) / 2))
+        head_sd.append(np.degrees(np.sqrt(P[2, 2])))
+        inside.append(d @ np.linalg.solve(P, d) <= 7.815)      # chi-square 95 %, 3 dof
+    return (f"| {name} | {len(err)} | {np.median(err):.3f} | {np.median(pos_sd):.3f} | "
+            f"{np.median(head):.2f} | {np.median(head_sd):.2f} | {100 * np.mean(inside):.0f} % |")
 
 
 def honest_table(rows) -> str:

@@ -47,7 +47,8 @@ from .velocity import Velocity, velocity
 # the fused pose's error on the bundled walk under A-29 (bench/walk.py): median 0.157 ft on
 # the floor (a 2-D Gaussian's median radius is 1.177 sigma) and 0.57 degrees of heading (a
 # Gaussian's median absolute value is 0.674 sigma), where the pose's own covariance claims
-# 0.046 ft and 0.47 degrees: only 13 % of the looks' true poses lie inside its 95 % region
+# 0.032 ft per axis and 0.47 degrees: only 13 % of the looks' true poses lie inside its 95 %
+# region (bench/walk.py --calibrate)
 MEASURED_POSE_SIGMA_FLOOR = (0.13, 0.85)
 CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
 TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
@@ -100,6 +101,7 @@ class LookRecord:
     times_ms: dict[str, float]
     velocity: Velocity | None = None
     driver_refused: str | None = None
+    pose_covariance: np.ndarray | None = None      # the robot's (x, z, heading rad) covariance
 
     def errors(self, name: str) -> tuple[float, float] | None:
         est = self.estimates.get(name)
@@ -346,7 +348,7 @@ def run_walk(room, poses, dead_reckoned, render: Callable, config: WalkConfig = 
         records.append(LookRecord(
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
-            len(model.vertices), match.predicted_in_view, times, vel, driver_refused))
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov))
         if progress is not None:
             progress(k)
     return WalkResult(config, records, model, history)
