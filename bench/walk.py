@@ -12,9 +12,19 @@ truths inside each feature's 2-sigma ellipsoid (the 3-D region holding
 grouping + matching + the driving method + the Kalman update, rendering not
 included).  The bundled walk is also run with the A-29 Kalman alternative,
 with covariance intersection, with every line scanned, without the 15 ft
-range limit and without the shape gate.
+range limit and without the shape gate; the bundled walk and the rooms again
+with the honest-covariance options: the calibrated column error
+(``--column-error calibrated``) and the measured pose floor (``--pose-floor
+measured``) under A-29 and covariance intersection.
 
-Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
+``--calibrate`` measures instead the rig's pixel errors at the true corners
+(every 3rd look of the bundled walk and of the rooms' walks): the vertex
+column and disparity against the true corner's projection, the numbers
+behind ``model.edges.CALIBRATED_COLUMN_ERROR_PX``; and the robot's pose error
+on the bundled walk against its own covariance, the numbers behind
+``model.mapping.MEASURED_POSE_SIGMA_FLOOR``.
+
+Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE] [--calibrate]
 """
 
 from __future__ import annotations
@@ -29,7 +39,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from model.mapping import WalkConfig, run_walk  # noqa: E402
+from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
+from model.geometry import wrap_deg  # noqa: E402
+from model.mapping import MEASURED_POSE_SIGMA_FLOOR, WalkConfig, run_walk  # noqa: E402
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
 from world.render import render_look  # noqa: E402
@@ -37,13 +49,70 @@ from world.room import bundled_lab, generate_room  # noqa: E402
 from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
-def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64):
+def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64,
+             column_error=E_LR, pose_floor=None):
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
     t0 = time.perf_counter()
     res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
                    WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
-                              max_range_ft=max_range, shape_max_bits=shape))
+                              max_range_ft=max_range, shape_max_bits=shape,
+                              column_error_px=column_error, pose_sigma_floor=pose_floor))
     return res, time.perf_counter() - t0
+
+
+def pixel_errors(room, poses, seed=1985, every=3, max_range=15.0) -> np.ndarray:
+    """(column error, disparity error, row error) in px of every vertex observation the
+    world's truth snaps to a true corner: observed minus the corner's true projection into
+    the left camera (the same scan, grouping and snapping as the walk)."""
+    from eyes import scan_pair
+    from model.edges import Camera, group_vertical_edges, vertex_observations
+    from model.geometry import camera_points, left_centre
+    from model.mapping import observed_truth, truth_points
+    cam, corners, lines = Camera(), truth_points(room), list(range(8, 113, 2))
+    out = []
+    for k, pose in enumerate(poses):
+        if k % every:
+            continue
+        look = render_look(room, pose, seed=seed + k)
+        scan = scan_pair(look.left_bi, look.right_bi, lines, "0.75", "180")
+        edges = group_vertical_edges(scan.points, lines, look.left_bi, cam,
+                                     right_picture=look.right_bi)
+        obs = [o for o in vertex_observations(edges) if o.q[0] <= max_range]
+        R = np.asarray(pose.rotation(), float)
+        tl = left_centre((pose.x, getattr(pose, "y", 0.0), pose.z), R)
+        _, tid = observed_truth(obs, np.asarray(look.range_left, float), tl, R, corners, cam)
+        for o, j in zip(obs, tid):
+            if j >= 0:
+                p, x, y = camera_points(R, tl, corners[j][None])[0]
+                out.append((o.col - (cam.centre_col + cam.dv * x / p),
+                            o.disparity - cam.ds * cam.dv / p,
+                            o.row - (cam.centre_row + cam.dv * y / p)))
+    return np.array(out).reshape(-1, 3)
+
+
+def calibrate(rooms: int, looks: int) -> str:
+    lab = bundled_lab()
+    sets = [("bundled walk", pixel_errors(lab, bundled_walk()))]
+    sets.append((f"{rooms} generated rooms", np.concatenate(
+        [pixel_errors(generate_room(s), generate_walk(generate_room(s), s, looks))
+         for s in range(1, rooms + 1)])))
+    rows = ["| set | quantity | corners | mean px | sd px | 68.3 % of abs within px | "
+            "95.4 % within px | LCSL's sigma px |", "|---|---|---|---|---|---|---|---|"]
+    for name, a in sets:
+        for i, (what, lcsl) in enumerate((("column", E_LR / 2), ("disparity", E_LR),
+                                         ("row", None))):
+            e = a[:, i]
+            rows.append(f"| {name} | {what} | {len(e)} | {e.mean():.2f} | {e.std():.2f} | "
+                        f"{np.percentile(np.abs(e), 68.27):.2f} | "
+                        f"{np.percentile(np.abs(e), 95.45):.2f} | {fmt(lcsl)} |")
+    rows += ["", "| walk (fused pose) | looks | median position error ft | its claimed sigma ft "
+             "(median, per axis) | median heading error deg | its claimed sigma deg | "
+             "true pose inside its 95 % region |", "|---|---|---|---|---|---|---|"]
+    for name, kw in (("bundled, A-29", dict(kalman="a29")),
+                     ("bundled, A-30 (as written)", dict(kalman="a30"))):
+        res, _ = one_walk(lab, bundled_walk(), **kw)
+        rows.append(pose_honesty_row(name, res))
+    return "\n".join(rows)
 
 
 def method_errors(results) -> dict:
@@ -137,14 +206,44 @@ def feature_table(sets) -> str:
     return "\n".join(rows)
 
 
+def pose_honesty_row(name, res) -> str:
+    """Is the robot's pose covariance honest?  Its error against its own claim, look by look."""
+    err, pos_sd, head, head_sd, inside = [], [], [], [], []
+    for r in res.records[1:]:
+        P, t, e = r.pose_covariance, r.true_pose, r.estimates["fused"]
+        d = np.array([e[0] - t.x, e[1] - t.z, np.radians(wrap_deg(e[2] - t.heading_deg))])
+        err.append(np.hypot(d[0], d[1]))
+        head.append(np.degrees(abs(d[2])))
+        pos_sd.append(np.sqrt((P[0, 0] + P[1, 1]) / 2))
+        head_sd.append(np.degrees(np.sqrt(P[2, 2])))
+        inside.append(d @ np.linalg.solve(P, d) <= 7.815)      # chi-square 95 %, 3 dof
+    return (f"| {name} | {len(err)} | {np.median(err):.3f} | {np.median(pos_sd):.3f} | "
+            f"{np.median(head):.2f} | {np.median(head_sd):.2f} | {100 * np.mean(inside):.0f} % |")
+
+
+def honest_table(rows) -> str:
+    out = ["| set | fused median / worst position ft | fused median / worst heading deg |",
+           "|---|---|---|"]
+    for name, e in rows:
+        out.append(f"| {name} | {fmt(e['median_pos'])} / {fmt(e['worst_pos'])} | "
+                   f"{fmt(e['median_head'], 1)} / {fmt(e['worst_head'], 1)} |")
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
     ap.add_argument("--looks", type=int, default=20, help="looks per generated walk")
     ap.add_argument("--bundled-looks", type=int, default=None)
     ap.add_argument("--json", help="write all figures as JSON")
+    ap.add_argument("--calibrate", action="store_true",
+                    help="measure the rig's pixel errors at the true corners instead")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.calibrate:
+        print(calibrate(args.rooms, args.looks))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     lab = bundled_lab()
     poses = bundled_walk()[:args.bundled_looks]
     bundled, took = one_walk(lab, poses)
@@ -154,23 +253,42 @@ def main(argv=None) -> int:
     bundled_ci, _ = one_walk(lab, poses, kalman="ci")
     bundled_far, _ = one_walk(lab, poses, max_range=1e9)
     bundled_noshape, _ = one_walk(lab, poses, shape=None)
-    rooms = []
+    cal, floor = CALIBRATED_COLUMN_ERROR_PX, MEASURED_POSE_SIGMA_FLOOR
+    honest = {"A-29, calibrated column error": dict(kalman="a29", column_error=cal),
+              "A-29, pose floor": dict(kalman="a29", pose_floor=floor),
+              "A-29, calibrated column error and pose floor": dict(kalman="a29", column_error=cal,
+                                                                   pose_floor=floor),
+              "covariance intersection, calibrated column error": dict(kalman="ci",
+                                                                       column_error=cal),
+              "covariance intersection, calibrated column error and pose floor":
+                  dict(kalman="ci", column_error=cal, pose_floor=floor)}
+    bundled_honest = {name: one_walk(lab, poses, **kw)[0] for name, kw in honest.items()}
+    rooms_honest_sets = ("A-29", "covariance intersection, calibrated column error and pose floor")
+    rooms, rooms_honest = [], {name: [] for name in rooms_honest_sets}
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)
-        res, took = one_walk(room, generate_walk(room, seed, args.looks))
+        walk = generate_walk(room, seed, args.looks)
+        res, took = one_walk(room, walk)
         rooms.append(res)
+        rooms_honest["A-29"].append(one_walk(room, walk, kalman="a29")[0])
+        rooms_honest[rooms_honest_sets[1]].append(one_walk(room, walk, **honest[rooms_honest_sets[1]])[0])
         print(f"room {seed}: {took:.0f} s", file=sys.stderr)
     doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
            "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),
            "bundled_ci": method_errors([bundled_ci]), "bundled_no_range_limit": method_errors([bundled_far]),
            "bundled_no_shape_gate": method_errors([bundled_noshape]),
+           "bundled_honest": {n: method_errors([r]) for n, r in bundled_honest.items()},
+           "rooms_honest": {n: method_errors(r) for n, r in rooms_honest.items()},
            "features": {"bundled (A-30, as written)": feature_stats([bundled]),
                         "bundled (A-29, camera error propagated)": feature_stats([bundled29]),
                         "bundled (A-30, every line scanned)": feature_stats([bundled1]),
                         "bundled (covariance intersection)": feature_stats([bundled_ci]),
                         "bundled (A-30, no range limit)": feature_stats([bundled_far]),
                         "bundled (A-30, no shape gate)": feature_stats([bundled_noshape]),
-                        f"{args.rooms} generated rooms (A-30)": feature_stats(rooms)},
+                        **{f"bundled ({n})": feature_stats([r]) for n, r in bundled_honest.items()},
+                        f"{args.rooms} generated rooms (A-30)": feature_stats(rooms),
+                        **{f"{args.rooms} generated rooms ({n})": feature_stats(r)
+                           for n, r in rooms_honest.items()}},
            "per_room": {str(i + 1): method_errors([r]) for i, r in enumerate(rooms)}}
     print(method_table(f"Bundled walk ({len(poses)} looks)", doc["bundled"]))
     print()
@@ -185,6 +303,15 @@ def main(argv=None) -> int:
     print(method_table("Bundled walk, no shape gate", doc["bundled_no_shape_gate"]))
     print()
     print(method_table(f"{args.rooms} generated rooms, {args.looks} looks each (pooled)", doc["rooms"]))
+    print()
+    for n, e in doc["rooms_honest"].items():
+        print()
+        print(method_table(f"{args.rooms} generated rooms, {n}", e))
+    print()
+    print(honest_table([(f"bundled, {n}", d["fused"]) for n, d in
+                        [("A-30 (as written)", doc["bundled"]), ("A-29", doc["bundled_a29"]),
+                         ("covariance intersection", doc["bundled_ci"]),
+                         *doc["bundled_honest"].items()]]))
     print()
     print(feature_table(list(doc["features"].items())))
     print(f"\n({time.perf_counter() - t0:.0f} s in all)")

@@ -35,7 +35,7 @@ from typing import Callable
 
 import numpy as np
 
-from .edges import Camera, group_vertical_edges, surface_observations, vertex_observations
+from .edges import E_LR, Camera, group_vertical_edges, surface_observations, vertex_observations
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .kalman import (covariance_intersection, measurement_covariance_a29,
                      measurement_covariance_a30, static_update)
@@ -44,6 +44,12 @@ from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
 from .symbolic import SymbolicModel
 from .velocity import Velocity, velocity
 
+# the fused pose's error on the bundled walk under A-29 (bench/walk.py): median 0.157 ft on
+# the floor (a 2-D Gaussian's median radius is 1.177 sigma) and 0.57 degrees of heading (a
+# Gaussian's median absolute value is 0.674 sigma), where the pose's own covariance claims
+# 0.032 ft per axis and 0.47 degrees: only 13 % of the looks' true poses lie inside its 95 %
+# region (bench/walk.py --calibrate)
+MEASURED_POSE_SIGMA_FLOOR = (0.13, 0.85)
 CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
 TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
 WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
@@ -70,6 +76,13 @@ class WalkConfig:
     # drive's vehicle carries the rig pitched down)
     camera_pitch_deg: float = 0.0
     camera: Camera = Camera()
+    # the column bound of A-17, px: LCSL's ELMAX 0.5 as written; model.edges.
+    # CALIBRATED_COLUMN_ERROR_PX (2.0) is the one measured against the world's corners
+    column_error_px: float = E_LR
+    # a floor (ft, degrees) under the camera pose's sigma in A-29's camera term (kalman a29/ci
+    # only); None: the fused pose's covariance as computed.  MEASURED_POSE_SIGMA_FLOOR is the
+    # driving pose's measured error on the bundled walk (docs/model.md)
+    pose_sigma_floor: tuple[float, float] | None = None
 
 
 @dataclass
@@ -91,6 +104,7 @@ class LookRecord:
     times_ms: dict[str, float]
     velocity: Velocity | None = None
     driver_refused: str | None = None
+    pose_covariance: np.ndarray | None = None      # the robot's (x, z, heading rad) covariance
 
     def errors(self, name: str) -> tuple[float, float] | None:
         est = self.estimates.get(name)
@@ -290,7 +304,8 @@ class Walker:
             scan = self.scan(look)
         t_scan = time.perf_counter()
         edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
-                                     right_picture=look.right_bi)
+                                     right_picture=look.right_bi,
+                                     column_error=config.column_error_px)
         obs = [o for o in vertex_observations(edges) if o.q[0] <= config.max_range_ft]
         for e in edges:
             e.vertices[:] = [o for o in e.vertices if o.q[0] <= config.max_range_ft]
@@ -362,7 +377,8 @@ class Walker:
         kalman = config.kalman if pose_est.method != "prior" else "a29"
         added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
                               kalman, k, obs_truth, obs_truth_id, history,
-                              surface_observations(edges, look.left_bi))
+                              surface_observations(edges, look.left_bi),
+                              pose_floor=config.pose_sigma_floor if k > 0 else None)
         est_xzh = estimates["fused"]
         est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
@@ -377,7 +393,7 @@ class Walker:
         rec = LookRecord(
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
-            len(model.vertices), match.predicted_in_view, times, vel, driver_refused)
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov)
         self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
         self.records.append(rec)
         return rec
@@ -437,16 +453,34 @@ def _fuse(fix: PoseEstimate, prior_xzh, P):
     U, _, Vt = np.linalg.svd(R)
     R = U @ Vt                                   # a48's axes are not orthonormal: the nearest rotation
     centre = np.array([post[0], fix.centre[1], post[1]])
-    cov6 = np.zeros((6, 6))
-    if fix.covariance6 is not None:
-        cov6 = fix.covariance6.copy()
-    elif fix.Cc is not None:
-        cov6[:3, :3] = fix.Cc[:3, :3]
     at = [0, 2, 4]                               # x, z, heading (rotation about room Y)
-    cov6[np.ix_(at, at)] = P_post
+    if fix.covariance6 is not None:
+        # the fix's 6x6 conditioned on the prior's (x, z, heading): writing P_post into the
+        # block and keeping the fix's cross terms made an indefinite matrix (negative
+        # variances in A-29's camera term, measured in docs/model.md)
+        C6 = fix.covariance6
+        A = C6[:, at]
+        cov6 = C6 - A @ np.linalg.solve(C6[np.ix_(at, at)] + P, A.T)
+        cov6 = (cov6 + cov6.T) / 2
+    else:
+        cov6 = np.zeros((6, 6))
+        if fix.Cc is not None:
+            cov6[:3, :3] = fix.Cc[:3, :3]
+        cov6[np.ix_(at, at)] = P_post
     est = PoseEstimate("fused", left_centre(centre, R), axes_matrix(R), fix.inliers,
                        covariance6=cov6)
     return est, P_post
+
+
+def floored_pose(est: PoseEstimate, position_ft: float, heading_deg: float) -> PoseEstimate:
+    """The pose with its 6x6 covariance raised, where smaller, to ``position_ft`` on
+    the floor (x, z) and ``heading_deg`` about the vertical: a diagonal added, so it
+    stays a covariance and never shrinks."""
+    import dataclasses
+    cov6 = np.zeros((6, 6)) if est.covariance6 is None else est.covariance6
+    floor = np.array([position_ft ** 2, 0.0, position_ft ** 2, 0.0, np.radians(heading_deg) ** 2, 0.0])
+    cov6 = cov6 + np.diag(np.maximum(floor - np.diag(cov6), 0.0))
+    return dataclasses.replace(est, covariance6=cov6, Cc=None)
 
 
 def _wrong(model, pairs, obs_truth) -> int:
@@ -459,9 +493,11 @@ def _wrong(model, pairs, obs_truth) -> int:
 
 
 def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
-                  look: int, obs_truth, obs_truth_id, history, surfaces=()) -> int:
+                  look: int, obs_truth, obs_truth_id, history, surfaces=(), pose_floor=None) -> int:
     """Kalman-update the vertices the driving pose kept, add the observations
-    no model vertex claimed, link boundary lines.  Returns how many were added."""
+    no model vertex claimed, link boundary lines.  Returns how many were added.
+    ``pose_floor`` (ft, degrees): the least sigma of the pose's floor position
+    and heading in A-29's camera term."""
     if not obs:
         return 0
     q = np.array([o.q for o in obs])
@@ -469,7 +505,8 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
     z = est.transform(q)
     Rm = measurement_covariance_a30(est.M, Cq)
     if kalman in ("a29", "ci"):
-        Rm = measurement_covariance_a29(est.M, Cq, est.pose_covariance_at(q))
+        camera = est if pose_floor is None else floored_pose(est, *pose_floor)
+        Rm = measurement_covariance_a29(est.M, Cq, camera.pose_covariance_at(q))
     claimed = {i for _, i in pairs}
     vertex_of: dict[int, int] = {}
     for vid, i in pairs_used:

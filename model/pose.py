@@ -420,7 +420,12 @@ def solve_opencv(q, Cq, X, CX=None, prior_left=None, prior_R=None) -> PoseEstima
 def estimate(method: str, q, Cq, X, CX, prior_left, prior_R) -> PoseEstimate:
     """One of the named methods on the same correspondences."""
     if method == "a48":
-        return solve_a48(q, Cq, X, prior_left, prior_R)
+        try:
+            return solve_a48(q, Cq, X, prior_left, prior_R)
+        except np.linalg.LinAlgError:
+            # an iterate whose (unconstrained) axes collapsed makes M C M^T of A-31 singular
+            raise PoseRefused("A-31's covariance is singular at an A-48 iterate "
+                              "(its axes degenerate)") from None
     if method == "rigid":
         return solve_rigid(q, Cq, X, CX, prior_left, prior_R)
     if method == "robust":

@@ -203,6 +203,8 @@ def walk_json(result, label: str, rows) -> dict:
     return {
         "walk": label,
         "driver": result.config.driver, "kalman": result.config.kalman,
+        "column_error_px": result.config.column_error_px,
+        "pose_sigma_floor": result.config.pose_sigma_floor,
         "match": result.config.match,
         "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
                          if m == "dead_reckoning" or m in result.records[0].estimates},
@@ -246,12 +248,16 @@ def cmd_walk(args) -> int:
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
                         match=args.match, look_interval_s=args.interval,
                         lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range,
-                        shape_max_bits=None if args.shape_bits < 0 else args.shape_bits)
+                        shape_max_bits=None if args.shape_bits < 0 else args.shape_bits,
+                        column_error_px=args.column_error, pose_sigma_floor=args.pose_floor)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
     print(f"rig walk: {label}, {len(poses)} looks; driving method {args.method}, Kalman "
-          f"{args.kalman}, stereo matcher {args.match}")
+          f"{args.kalman}, stereo matcher {args.match}"
+          + (f", column error {args.column_error:g} px" if args.column_error != 0.5 else "")
+          + (f", pose floor {args.pose_floor[0]:g} ft {args.pose_floor[1]:g} deg"
+             if args.pose_floor else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -300,6 +306,34 @@ def cmd_walk(args) -> int:
     return 0
 
 
+def _column_error(text: str) -> float:
+    """--column-error: a positive number of pixels, or 'calibrated'."""
+    from model.edges import CALIBRATED_COLUMN_ERROR_PX
+    if text == "calibrated":
+        return CALIBRATED_COLUMN_ERROR_PX
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not np.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: a positive number of pixels or 'calibrated'")
+    return value
+
+
+def _pose_floor(text: str) -> tuple[float, float]:
+    """--pose-floor: 'measured' or two positive numbers FT,DEG."""
+    from model.mapping import MEASURED_POSE_SIGMA_FLOOR
+    if text == "measured":
+        return MEASURED_POSE_SIGMA_FLOOR
+    try:
+        ft, deg = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: 'measured' or FT,DEG (two numbers)")
+    if not (np.isfinite(ft) and np.isfinite(deg) and ft >= 0 and deg >= 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: FT and DEG must be finite and not negative")
+    return (ft, deg)
+
+
 def add_parser(sub) -> argparse.ArgumentParser:
     w = sub.add_parser(
         "walk", help="walk a room: many looks, one model, where the camera is",
@@ -326,6 +360,15 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help="a30: camera error ignored, as written (default); a29: propagated; "
                         "ci: propagated and fused by covariance intersection (looks' errors "
                         "correlated)")
+    w.add_argument("--column-error", type=_column_error, default=0.5, metavar="PX",
+                   help="the column location bound of A-17 (two sigma), px: 0.5 is LCSL's "
+                        "ELMAX, as written (default); 'calibrated' = 2.0, measured against the "
+                        "world's true corners (docs/model.md)")
+    w.add_argument("--pose-floor", type=_pose_floor, default=None, metavar="FT,DEG",
+                   help="with --kalman a29 or ci: the least sigma of the camera's floor "
+                        "position (ft) and heading (degrees) carried into the features; "
+                        "'measured' = 0.13,0.85, the driving pose's measured error "
+                        "(docs/model.md); default: the pose's own covariance")
     w.add_argument("--match", choices=("1985", "improved"), default="1985",
                    help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
                         "improved (the matching package's, where installed)")

@@ -53,3 +53,66 @@ def test_observed_truth_is_the_named_pixel_at_the_true_range():
     pts, idx = observed_truth([o], rng, left, R, np.array([[0.7, -1.1, 10.1]]),
                               Camera())
     assert idx[0] == 0 and pts[0] == pytest.approx([0.7, -1.1, 10.1])
+
+
+def test_fused_pose_covariance_stays_positive_semidefinite():
+    # a fix whose position and heading are correlated (off-diagonal terms): the fused 6x6
+    # must be the fix's covariance conditioned on the prior, a covariance (no negative
+    # variance anywhere it is carried, as A-29's camera term does)
+    L = np.random.default_rng(3).normal(size=(6, 6)) * np.array([0.2, 0.03, 0.2, 0.003,
+                                                                     0.05, 0.003])[:, None]
+    C6 = L @ L.T                                   # a covariance with strong cross terms
+    fix = fix_at(1.0, 3.0, 10.0, C6)
+    P = np.diag([0.0004, 0.0004, np.radians(0.5) ** 2])      # a much surer prior
+    est, P_post = _fuse(fix, (1.0, 3.0, 10.0), P)
+    assert np.linalg.eigvalsh(est.covariance6).min() > -1e-12
+    # conditioning only shrinks: no variance grows
+    assert np.all(np.diag(est.covariance6) <= np.diag(C6) + 1e-15)
+    q = np.array([[10.0, 3.0, -1.0], [5.0, -2.0, 0.5]])
+    for C in est.pose_covariance_at(q):
+        assert np.linalg.eigvalsh(C).min() > -1e-12
+
+
+def test_floored_pose_raises_only_what_is_below_the_floor():
+    from model.mapping import floored_pose
+    C6 = np.diag([0.04 ** 2, 1e-4, 0.3 ** 2, 1e-6, np.radians(0.4) ** 2, 1e-6])
+    fix = fix_at(1.0, 3.0, 0.0, C6)
+    f = floored_pose(fix, 0.13, 0.85)
+    np.testing.assert_allclose(np.diag(f.covariance6),
+                               [0.13 ** 2, 1e-4, 0.3 ** 2, 1e-6, np.radians(0.85) ** 2, 1e-6])
+    assert np.all(np.linalg.eigvalsh(f.covariance6 - C6) >= -1e-15)
+    # a point 10 ft straight ahead: the heading's sigma moves it sideways by 10 ft * 0.85 deg
+    C = f.pose_covariance_at(np.array([[10.0, 0.0, 0.0]]))[0]
+    assert C[0, 0] == pytest.approx(0.13 ** 2 + (10 * np.radians(0.85)) ** 2, rel=1e-9)
+
+
+def test_pose_floor_gives_the_stated_coverage_on_correlated_errors_monte_carlo():
+    # every look's pose is off by one error (common to all the features it places: the
+    # correlated error of a look) drawn with sigmas 0.13 ft and 0.85 deg, while the pose's
+    # own covariance claims a third of that.  A feature placed with A-29's camera term
+    # (plus the rig's own covariance) has its truth inside the 2-sigma ellipsoid 95 % of the
+    # time with the floor, far less without
+    from model.geometry import axes_matrix, left_centre, rotation_from_angles
+    from model.kalman import measurement_covariance_a29
+    from model.mapping import CHI2_3DOF_2SIGMA, floored_pose
+    rng = np.random.default_rng(11)
+    claimed = np.diag([0.045 ** 2, 1e-6, 0.045 ** 2, 1e-8, np.radians(0.3) ** 2, 1e-8])
+    q = np.column_stack([rng.uniform(4, 12, 40), rng.uniform(-3, 3, 40), rng.uniform(-2, 1, 40)])
+    Cq = np.array([np.diag([0.02 ** 2, 0.01 ** 2, 0.01 ** 2])] * len(q))
+    inside = {"floored": [], "claimed": []}
+    for _ in range(300):
+        h = rng.normal(0, 0.85)
+        R = rotation_from_angles(h)
+        centre = np.array([rng.normal(0, 0.13), 0.0, rng.normal(0, 0.13)])
+        truth = left_centre(centre, R) + q @ axes_matrix(R).T
+        est = PoseEstimate("fused", left_centre(np.zeros(3), np.eye(3)), axes_matrix(np.eye(3)),
+                           np.ones(1, bool), covariance6=claimed)
+        noisy = q + np.array([rng.multivariate_normal(np.zeros(3), c) for c in Cq])
+        z = est.transform(noisy)
+        for name, pose in (("floored", floored_pose(est, 0.13, 0.85)), ("claimed", est)):
+            Rm = measurement_covariance_a29(est.M, Cq, pose.pose_covariance_at(noisy))
+            d = z - truth
+            inside[name].extend(np.einsum("ni,ni->n", d, np.linalg.solve(Rm, d[..., None])[..., 0])
+                                <= CHI2_3DOF_2SIGMA)
+    assert 0.93 < np.mean(inside["floored"]) < 0.98
+    assert np.mean(inside["claimed"]) < 0.6

@@ -140,3 +140,17 @@ def test_robust_rejects_wrong_correspondences():
     est = solve_robust(q, Cq, X, np.zeros_like(Cq), c + 0.3, R)
     assert list(np.flatnonzero(~est.inliers)) == [2, 9]
     np.testing.assert_allclose(est.left, c, atol=0.05)
+
+
+def test_a48_with_degenerate_weights_is_refused_not_raised(monkeypatch):
+    # an A-48 iterate whose axes collapse makes the A-31 covariance singular: the look is
+    # refused with a reason, as the text's other conditions are, instead of an exception
+    import model.pose as pose
+    from model.pose import PoseRefused, estimate
+
+    def singular(*a, **k):
+        raise np.linalg.LinAlgError("Singular matrix")
+    monkeypatch.setattr(pose, "solve_a48", singular)
+    with pytest.raises(PoseRefused, match="singular"):
+        estimate("a48", np.zeros((4, 3)), np.zeros((4, 3, 3)), np.zeros((4, 3)),
+                 np.zeros((4, 3, 3)), np.zeros(3), np.eye(3))

@@ -85,3 +85,32 @@ def test_unwritable_outputs_are_refused_before_walking(tmp_path, capsys):
     rc = main(["walk", "--looks", "2", "--out", str(tmp_path / "file"), "--quiet"])
     assert rc == 2 and "not a directory" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_rig_walk_with_honest_covariance_options(tmp_path, short_walk):
+    # the named options end to end: A-29 with the calibrated column error and the measured
+    # pose floor; the settings are in the JSON and the covariances are covariances
+    out = tmp_path / "o"
+    rc = main(["walk", "--looks", "3", "--kalman", "a29", "--column-error", "calibrated",
+               "--pose-floor", "measured", "--out", str(out), "--json", str(tmp_path / "w.json"),
+               "--quiet"])
+    assert rc == 0
+    doc = json.loads((tmp_path / "w.json").read_text())
+    assert doc["column_error_px"] == 2.0 and doc["pose_sigma_floor"] == [0.13, 0.85]
+    assert doc["kalman"] == "a29"
+    default = json.loads((short_walk[1] / "w.json").read_text())
+    assert default["column_error_px"] == 0.5 and default["pose_sigma_floor"] is None
+    full = json.loads((out / "model.json").read_text())
+    for v in full["model_tables"]["vertices"]:
+        assert np.linalg.eigvalsh(np.array(v["cov"])).min() > -1e-6
+    # wider, honest covariances hold at least as many truths as LCSL's on the same looks
+    assert doc["model"]["inside_2sigma"] >= default["model"]["inside_2sigma"]
+
+
+@pytest.mark.parametrize("opt", [["--column-error", "0"], ["--column-error", "wide"],
+                                 ["--pose-floor", "0.1"], ["--pose-floor", "x,1"]])
+def test_bad_honest_covariance_values_are_refused(opt, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["walk", *opt, "--quiet"])
+    assert exc.value.code == 2
+    assert opt[0] in capsys.readouterr().err
