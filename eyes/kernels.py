@@ -217,6 +217,100 @@ def marf_best_shift(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
 
 
 @jit
+def _quality(nd, ntot):
+    """(ND*256)/NTOT for 0 <= ND < 128, 0 < NTOT <= 512, through a double: the
+    quotient's distance from the next integer is at least 1/NTOT, far above
+    the double's rounding, so its floor is the integer quotient (and a float
+    division is several times quicker than a 64-bit integer one)."""
+    return np.int64(np.float64(nd * 256) / np.float64(ntot))
+
+
+@jit
+def marf_best_shift_stepwise(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
+    """:func:`marf_best_shift`, the same (MLOC, MNVAL), with the shifts stepped
+    one column at a time instead of computed afresh: shift k and -k from
+    registers moved 16 bits per step, the bit totals kept by taking off the
+    one column that leaves, and the division done only for a new best.
+
+    MARF visits -IWST..IWST and keeps a shift when its quality is lower, or
+    equal and strictly nearer zero; so the winner is the least (quality,
+    |IPOS|, IPOS), and visiting 0, -1, 1, -2, 2, ... a later shift wins only
+    when strictly lower: floor(ND*256/NTOT) < MNVAL exactly when
+    ND*256 < MNVAL*NTOT, tested without dividing."""
+    m16 = np.uint64(16)
+    m48 = np.uint64(48)
+    lo16 = np.uint64(0xFFFF)
+    # k = 0: map 1 column c meets map 2 column c
+    ta = popcount64(a0) + popcount64(a1) + popcount64(a2) + popcount64(a3)
+    tb = popcount64(b0) + popcount64(b1) + popcount64(b2) + popcount64(b3)
+    mnval = 256
+    mloc = 0
+    ntot = ta + tb
+    nd = (popcount64(a0 ^ b0) + popcount64(a1 ^ b1) + popcount64(a2 ^ b2)
+          + popcount64(a3 ^ b3))
+    if ntot != 0 and nd < 128:
+        mnval = _quality(nd, ntot)
+    # registers: a and b moved down k columns (da, db); a and b with their top
+    # k columns cleared (ka, kb); a and b moved up k-1 columns (ua, ub), whose
+    # top column is the one that leaves at step k
+    da0, da1, da2, da3 = a0, a1, a2, a3
+    db0, db1, db2, db3 = b0, b1, b2, b3
+    ones = np.uint64(0xFFFFFFFFFFFFFFFF)
+    mk0, mk1, mk2, mk3 = ones, ones, ones, ones
+    ua3 = a3
+    ub3 = b3
+    ua0, ua1, ua2 = a0, a1, a2
+    ub0, ub1, ub2 = b0, b1, b2
+    n_da = ta                                  # bits of da
+    n_db = tb
+    n_ka = ta                                  # bits of ka
+    n_kb = tb
+    for k in range(1, min(iwst, 15) + 1):
+        # columns leaving: the low column of da/db, the top column of ka/kb
+        n_da -= popcount64(da0 & lo16)
+        n_db -= popcount64(db0 & lo16)
+        n_ka -= popcount64(ua3 >> m48)
+        n_kb -= popcount64(ub3 >> m48)
+        da0 = (da0 >> m16) | (da1 << m48)
+        da1 = (da1 >> m16) | (da2 << m48)
+        da2 = (da2 >> m16) | (da3 << m48)
+        da3 = da3 >> m16
+        db0 = (db0 >> m16) | (db1 << m48)
+        db1 = (db1 >> m16) | (db2 << m48)
+        db2 = (db2 >> m16) | (db3 << m48)
+        db3 = db3 >> m16
+        ua3 = (ua3 << m16) | (ua2 >> m48)
+        ua2 = (ua2 << m16) | (ua1 >> m48)
+        ua1 = (ua1 << m16) | (ua0 >> m48)
+        ua0 = ua0 << m16
+        ub3 = (ub3 << m16) | (ub2 >> m48)
+        ub2 = (ub2 << m16) | (ub1 >> m48)
+        ub1 = (ub1 << m16) | (ub0 >> m48)
+        ub0 = ub0 << m16
+        mk0 = (mk0 >> m16) | (mk1 << m48)      # the first 16-k columns
+        mk1 = (mk1 >> m16) | (mk2 << m48)
+        mk2 = (mk2 >> m16) | (mk3 << m48)
+        mk3 = mk3 >> m16
+        ka0, ka1, ka2, ka3 = a0 & mk0, a1 & mk1, a2 & mk2, a3 & mk3
+        kb0, kb1, kb2, kb3 = b0 & mk0, b1 & mk1, b2 & mk2, b3 & mk3
+        # IPOS = -k: map 1 column c meets map 2 column c + k
+        ntot = n_ka + n_db
+        nd = (popcount64(ka0 ^ db0) + popcount64(ka1 ^ db1) + popcount64(ka2 ^ db2)
+              + popcount64(ka3 ^ db3))
+        if ntot != 0 and nd < 128 and nd * 256 < mnval * ntot:
+            mnval = _quality(nd, ntot)
+            mloc = -k
+        # IPOS = k: map 1 column c + k meets map 2 column c
+        ntot = n_da + n_kb
+        nd = (popcount64(da0 ^ kb0) + popcount64(da1 ^ kb1) + popcount64(da2 ^ kb2)
+              + popcount64(da3 ^ kb3))
+        if ntot != 0 and nd < 128 and nd * 256 < mnval * ntot:
+            mnval = _quality(nd, ntot)
+            mloc = k
+    return mloc, mnval
+
+
+@jit
 def lcsl_range(disp, consts, tables_done, tables):
     """DP=DCONS/DISP; DENOM=DISP*DISP-DISP*EDISP; EPMAX=DCONS*EDISP/DENOM,
     into row ``disp`` of the memo table (once)."""
@@ -343,7 +437,7 @@ def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nma
                 e2 = jndx + 50 * side
                 x2 = ifeat2[side, jndx - 1]
                 iwst = min(irgd[side], bounds2[jndx - 1, side])
-                mloc, mnval = marf_best_shift(a0, a1, a2, a3, maps[1, e2 - 1, 0],
+                mloc, mnval = marf_best_shift_stepwise(a0, a1, a2, a3, maps[1, e2 - 1, 0],
                                               maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
                                               maps[1, e2 - 1, 3], iwst)
                 loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7

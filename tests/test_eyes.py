@@ -17,7 +17,8 @@ except ImportError:                    # before MARF had its own module
     from estar.masl import marf_kernel
 from eyes import Eyes, scan_pair as eyes_scan_pair
 from eyes.kernels import (OFFSET0, build_frame, level_masks, lcsl_offset, lcsl_range,
-                          marf_best_shift, nblob_many, new_tables)
+                          _quality, marf_best_shift, marf_best_shift_stepwise, nblob_many,
+                          new_tables)
 from nstar.bitmaps import command_geometry, edge_map_kernel
 from nstar.program import Nova
 from rig import scan as scanmod
@@ -201,6 +202,33 @@ def test_marf_best_shift_equals_marf_kernel():
         want = marf_kernel(m17[0], m17[1], iwst, values)
         got = marf_best_shift(*limbs_of(words[0]), *limbs_of(words[1]), iwst)
         assert tuple(got) == tuple(want), (trial, iwst)
+
+
+def test_quality_through_a_double_is_the_integer_quotient():
+    """Every ND 0..127 and NTOT 1..512 MARF can meet (two 256-bit maps)."""
+    for ntot in range(1, 513):
+        for nd in range(0, 128):
+            assert _quality(nd, ntot) == (nd * 256) // ntot, (nd, ntot)
+
+
+def test_marf_stepwise_equals_marf_best_shift():
+    """The stepped MARF (the one the frame scan uses) against the plain one:
+    maps empty, sparse, dense, full and near-matches, every IWST 0..20 (16 and
+    beyond compare nothing), ties between shifts left and right."""
+    rng = np.random.default_rng(8)
+    for trial in range(4000):
+        kind = trial % 5
+        density = (0.0, 0.05, rng.random(), 1.0, 0.5)[kind]
+        words = ((rng.random((2, 16, 16)) < density) * (1 << np.arange(16))).sum(axis=2)
+        if kind == 4:
+            words[1] = np.roll(words[0], rng.integers(-6, 7))   # a true match nearby
+            words[1, rng.integers(0, 16)] ^= int(rng.integers(0, 65536))
+        if trial % 11 == 0:
+            words[1] = words[0][::-1]                           # mirror: equal shifts tie
+        a, b = limbs_of(words[0]), limbs_of(words[1])
+        for iwst in range(0, 21):
+            assert marf_best_shift_stepwise(*a, *b, iwst) == marf_best_shift(*a, *b, iwst), \
+                (trial, iwst)
 
 
 @pytest.mark.parametrize("ds, dv", [("0.75", "180"), ("1.3", "97.5"), ("0.1", "1000")])
