@@ -452,6 +452,10 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
                 e2 = jndx + 50 * side
                 x2 = ifeat2[side, jndx - 1]
                 iwst = min(irgd[side], bounds2[jndx - 1, side])
+                if x1 <= x2 - iwst:
+                    # MARF moves LOC2 by at most IWST either way: no shift can
+                    # put it left of LOC1, so the pair is dropped below anyway
+                    continue
                 mloc, mnval = marf_stepwise_counted(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
                                                     maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
                                                     maps[1, e2 - 1, 3], bits[1, e2 - 1], iwst)
