@@ -7,6 +7,8 @@
   pictures, ratios of medians; the bundled pair and (with scikit-image) the
   Middlebury motorcycle pair; the reference path (ESTAR's Eclipse + NSTAR's
   Nova in process) a few times for its ratio;
+* where a warm scan's time goes (``--only stages``): the compiled line loop
+  cut after each stage, the cuts timed interleaved;
 * cold first scan in a fresh process, with the compile cache (numba
   ``cache=True``, as installed) and without (an empty cache directory);
 * a 200-frame stereo sequence (side-by-side video of the bundled pair moving
@@ -16,7 +18,7 @@
   p90 per line, jhdata on the disk.
 
 Run:  python bench/bench_eyes.py [--rounds 200] [--frames 200] [--skip-file-link]
-      [--only warm|cold|sequence|file-link]
+      [--only warm|stages|cold|sequence|file-link]
 """
 
 from __future__ import annotations
@@ -180,12 +182,80 @@ def file_link() -> list[str]:
             f"min {s[0] * 1e3:.1f} ms, max {s[-1] * 1e3:.1f} ms over {len(s)} lines"]
 
 
+def stages(rounds: int) -> list[str]:
+    """Where a warm scan's time goes: the compiled line loop cut after each
+    stage (slices; + MASL with its edge maps and MARF; + the match rows and
+    LCSL), the cuts timed interleaved, differences of medians."""
+    from eyes.kernels import (build_frame, cfeat, lcsl_line, level_windows, masl_line,
+                              match_list_rows)
+    from eyes import Eyes
+    from diskfmt.jit import jit
+
+    @jit
+    def cut(frame, lines, stop, consts, range_done, range_mq, offset_done, offset_mq,
+            match_rows, point_rows, point_words):
+        ifeat1 = np.zeros((4, 50), dtype=np.int32)
+        ifeat2 = np.zeros((4, 50), dtype=np.int32)
+        pix = np.zeros(128, dtype=np.int64)
+        windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+        level_windows(frame, windows)
+        maps = np.zeros((2, 100, 4), dtype=np.uint64)
+        bits = np.zeros((2, 100), dtype=np.int64)
+        requests = np.zeros((200, 4), dtype=np.int64)
+        partners = np.zeros((2, 18), dtype=np.int64)
+        bounds2 = np.zeros((50, 2), dtype=np.int64)
+        nmatch = np.zeros(100, dtype=np.int64)
+        imatch = np.zeros((100, 10, 4), dtype=np.int64)
+        pos = np.zeros(640, dtype=np.int64)
+        nrow = 0
+        npt = 0
+        for k in range(lines.shape[0] if stop > 0 else 0):
+            iyloc = lines[k]
+            nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2)
+            if stop >= 2:
+                masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, False, nmatch,
+                          imatch, maps, bits, requests, partners, bounds2)
+            if stop >= 3:
+                nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
+                npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
+                                offset_done, offset_mq, pos, point_rows, point_words, npt)
+        return npt
+
+    names = ("level windows", "EXQVFL slices", "MASL (edge maps, MARF, insertions)",
+             "match rows + LCSL", "Eyes.scan's Python side")
+    out = []
+    for name, (left, right) in pictures().items():
+        eyes = Eyes()
+        eyes.scan(left, right)
+        frame = build_frame(left, right)
+        t = eyes.tables
+        lines = np.arange(8, 113)
+        work = (np.empty((105000, 5), np.int64), np.empty((10500, 6), np.int64),
+                np.empty((10500, 6), np.int64))
+        runs = [lambda s=s: cut(frame, lines, s, eyes.consts, t["range_done"], t["range_mq"],
+                                t["offset_done"], t["offset_mq"], *work) for s in range(4)]
+        runs.append(lambda: eyes.scan(left, right))
+        times = [[] for _ in runs]
+        for fn in runs:
+            fn()
+        for _ in range(rounds):
+            for i, fn in enumerate(runs):
+                t0 = time.perf_counter()
+                fn()
+                times[i].append(time.perf_counter() - t0)
+        med = [statistics.median(v) * 1e3 for v in times]
+        out.append(f"{name}: warm scan {med[-1]:.3f} ms (median of {rounds} interleaved rounds)")
+        for i, label in enumerate(names):
+            out.append(f"  {label:36s} {med[i] - (med[i - 1] if i else 0):6.3f} ms")
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=200)
     ap.add_argument("--frames", type=int, default=200)
     ap.add_argument("--skip-file-link", action="store_true")
-    ap.add_argument("--only", choices=("warm", "cold", "sequence", "file-link"),
+    ap.add_argument("--only", choices=("warm", "stages", "cold", "sequence", "file-link"),
                     help="run one part")
     args = ap.parse_args(argv)
     parts = {args.only} if args.only else {"warm", "cold", "sequence", "file-link"}
@@ -196,6 +266,10 @@ def main(argv=None) -> int:
     if "warm" in parts:
         print("warm whole-picture scan, lines 8..112, one thread:")
         for line in warm(args.rounds):
+            print(line, flush=True)
+    if "stages" in parts:
+        print("where the warm scan's time goes (the compiled loop cut after each stage):")
+        for line in stages(args.rounds):
             print(line, flush=True)
     if "cold" in parts:
         print("cold first scan in a fresh process:")

@@ -72,50 +72,52 @@ def popcount64(x):
 
 
 @jit
-def level_masks(frame, masks):
+def level_windows(frame, windows):
     """For each picture (0 left, 1 right), column and grey level g, the rows
-    0..119 whose pixel is at most g, as two 60-bit words: ``masks[i, x, g+1]``
-    (``masks[i, x, 0]`` is empty).  NSTAR label 500 sets a bit when the pixel
-    lies in IGMN..IGMX: ``masks[.., IGMX+1] & ~masks[.., IGMN]``."""
-    masks[:] = 0
+    0..119 whose pixel is at most g, as four overlapping 64-row windows:
+    bit b of ``windows[i, x, g+1, q]`` is row 32q+b (``windows[i, x, 0]`` is
+    empty).  NSTAR label 500 sets a bit when the pixel lies in IGMN..IGMX:
+    ``windows[.., IGMX+1, q] & ~windows[.., IGMN, q]``; any 16 rows from row
+    ``top`` >= 0 lie in window ``top >> 5``, so an edge map's column is one
+    load and one shift per level."""
+    windows[:] = 0
+    one = np.uint64(1)
     for i in range(2):
         x0 = 26 + 140 * i
         for x in range(128):
-            for half in range(2):
-                for b in range(60):
-                    masks[i, x, frame[60 * half + b, x0 + x] + 1, half] |= 1 << b
+            for r in range(120):
+                g1 = frame[r, x0 + x] + 1
+                q = r >> 5
+                windows[i, x, g1, q] |= one << np.uint64(r - 32 * q)
+                if q >= 1:
+                    windows[i, x, g1, q - 1] |= one << np.uint64(r - 32 * q + 32)
             for g in range(1, 17):
-                masks[i, x, g, 0] |= masks[i, x, g - 1, 0]
-                masks[i, x, g, 1] |= masks[i, x, g - 1, 1]
+                for q in range(4):
+                    windows[i, x, g, q] |= windows[i, x, g - 1, q]
 
 
 @jit
-def _window(m0, m1, top):
-    """Rows top..top+15 of a 120-row mask held as two 60-bit words."""
-    if top < 0:
-        return (m0 << -top) & 0xFFFF
-    if top + 16 <= 60:
-        return (m0 >> top) & 0xFFFF
-    if top >= 60:
-        return (m1 >> (top - 60)) & 0xFFFF
-    return ((m0 >> top) | (m1 << (60 - top))) & 0xFFFF
-
-
-@jit
-def nblob_many(frame, masks, iyloc, requests, count, maps):
+def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
     """NBLOB(IMAGE, X, IYLOC, IES) for the first ``count`` rows (image, edge,
     X, IES) of ``requests`` (:func:`estar.masl.masl_requests`' rows): NSTAR
     label 100's geometry and label 500's edge bit map
-    (:func:`nstar.bitmaps.edge_map_kernel`), from the level masks.  Map
-    ``maps[image-1, edge-1]`` gets the 16 column words, four to a 64-bit word,
-    column 1 lowest.  (Written out in one loop: a helper taking arrays would
-    cost a reference count per call.)"""
+    (:func:`nstar.bitmaps.edge_map_kernel`), from the level windows
+    (:func:`level_windows`).  Map ``maps[image-1, edge-1]`` gets the 16
+    column words, four to a 64-bit word, column 1 lowest, and
+    ``bits[image-1, edge-1]`` its number of set bits (MARF's totals).
+    (Written out in one loop: a helper taking arrays would cost a reference
+    count per call.)"""
+    iyc = min(max(iyloc, 0), 119)                  # command_geometry's clamps
+    top = iyc - 7                                  # map rows top..top+15
+    q = max(top, 0) >> 5
+    down = np.uint64(max(top, 0) - 32 * q)
+    up = np.uint64(max(-top, 0))                   # rows above row 0 stay 0
+    lo16 = np.uint64(0xFFFF)
     for k in range(count):
         image = requests[k, 0]
         row = requests[k, 1] - 1
         ies = requests[k, 3]
-        ixctr = min(max(requests[k, 2], 0), 127)   # command_geometry's clamps
-        iyc = min(max(iyloc, 0), 119)
+        ixctr = min(max(requests[k, 2], 0), 127)
         ixc = ixctr + (26 if image == 1 else 166)
         ixm = min(ixc, ixc + ies + ies)
         igmn = 15
@@ -125,16 +127,18 @@ def nblob_many(frame, masks, iyloc, requests, count, maps):
                 v = frame[r, c]
                 igmn = min(igmn, v)
                 igmx = max(igmx, v)
-        top = iyc - 7
         img = image - 1
-        for i in range(4):
-            maps[img, row, i] = 0
-        for col in range(16):
-            pc = ixctr - 7 + col                    # picture column; outside stays 0
-            if 0 <= pc <= 127:
-                w = (_window(masks[img, pc, igmx + 1, 0], masks[img, pc, igmx + 1, 1], top)
-                     & ~_window(masks[img, pc, igmn, 0], masks[img, pc, igmn, 1], top))
-                maps[img, row, col >> 2] |= np.uint64(w) << np.uint64(16 * (col & 3))
+        nbits = 0
+        for limb in range(4):
+            acc = np.uint64(0)
+            for c4 in range(4):
+                pc = ixctr - 7 + 4 * limb + c4      # picture column; outside stays 0
+                if 0 <= pc <= 127:
+                    w = windows[img, pc, igmx + 1, q] & ~windows[img, pc, igmn, q]
+                    acc |= (((w >> down) << up) & lo16) << np.uint64(16 * c4)
+            maps[img, row, limb] = acc
+            nbits += popcount64(acc)
+        bits[img, row] = nbits
 
 
 @jit
@@ -217,6 +221,106 @@ def marf_best_shift(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
 
 
 @jit
+def _quality(nd, ntot):
+    """(ND*256)/NTOT for 0 <= ND < 128, 0 < NTOT <= 512, through a double: the
+    quotient's distance from the next integer is at least 1/NTOT, far above
+    the double's rounding, so its floor is the integer quotient (and a float
+    division is several times quicker than a 64-bit integer one)."""
+    return np.int64(np.float64(nd * 256) / np.float64(ntot))
+
+
+@jit
+def marf_best_shift_stepwise(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
+    """:func:`marf_best_shift`, the same (MLOC, MNVAL), with the shifts stepped
+    one column at a time instead of computed afresh: shift k and -k from
+    registers moved 16 bits per step, the bit totals kept by taking off the
+    one column that leaves, and the division done only for a new best.
+
+    MARF visits -IWST..IWST and keeps a shift when its quality is lower, or
+    equal and strictly nearer zero; so the winner is the least (quality,
+    |IPOS|, IPOS), and visiting 0, -1, 1, -2, 2, ... a later shift wins only
+    when strictly lower: floor(ND*256/NTOT) < MNVAL exactly when
+    ND*256 < MNVAL*NTOT, tested without dividing."""
+    ta = popcount64(a0) + popcount64(a1) + popcount64(a2) + popcount64(a3)
+    tb = popcount64(b0) + popcount64(b1) + popcount64(b2) + popcount64(b3)
+    return marf_stepwise_counted(a0, a1, a2, a3, ta, b0, b1, b2, b3, tb, iwst)
+
+
+@jit
+def marf_stepwise_counted(a0, a1, a2, a3, ta, b0, b1, b2, b3, tb, iwst):
+    """:func:`marf_best_shift_stepwise` given each map's bit count (``ta``,
+    ``tb``), which the frame scan keeps with the map."""
+    m16 = np.uint64(16)
+    m48 = np.uint64(48)
+    lo16 = np.uint64(0xFFFF)
+    mnval = 256
+    mloc = 0
+    ntot = ta + tb
+    nd = (popcount64(a0 ^ b0) + popcount64(a1 ^ b1) + popcount64(a2 ^ b2)
+          + popcount64(a3 ^ b3))
+    if ntot != 0 and nd < 128:
+        mnval = _quality(nd, ntot)
+    # registers: a and b moved down k columns (da, db); a and b with their top
+    # k columns cleared (ka, kb); a and b moved up k-1 columns (ua, ub), whose
+    # top column is the one that leaves at step k
+    da0, da1, da2, da3 = a0, a1, a2, a3
+    db0, db1, db2, db3 = b0, b1, b2, b3
+    ones = np.uint64(0xFFFFFFFFFFFFFFFF)
+    mk0, mk1, mk2, mk3 = ones, ones, ones, ones
+    ua3 = a3
+    ub3 = b3
+    ua0, ua1, ua2 = a0, a1, a2
+    ub0, ub1, ub2 = b0, b1, b2
+    n_da = ta                                  # bits of da
+    n_db = tb
+    n_ka = ta                                  # bits of ka
+    n_kb = tb
+    for k in range(1, min(iwst, 15) + 1):
+        # columns leaving: the low column of da/db, the top column of ka/kb
+        n_da -= popcount64(da0 & lo16)
+        n_db -= popcount64(db0 & lo16)
+        n_ka -= popcount64(ua3 >> m48)
+        n_kb -= popcount64(ub3 >> m48)
+        da0 = (da0 >> m16) | (da1 << m48)
+        da1 = (da1 >> m16) | (da2 << m48)
+        da2 = (da2 >> m16) | (da3 << m48)
+        da3 = da3 >> m16
+        db0 = (db0 >> m16) | (db1 << m48)
+        db1 = (db1 >> m16) | (db2 << m48)
+        db2 = (db2 >> m16) | (db3 << m48)
+        db3 = db3 >> m16
+        ua3 = (ua3 << m16) | (ua2 >> m48)
+        ua2 = (ua2 << m16) | (ua1 >> m48)
+        ua1 = (ua1 << m16) | (ua0 >> m48)
+        ua0 = ua0 << m16
+        ub3 = (ub3 << m16) | (ub2 >> m48)
+        ub2 = (ub2 << m16) | (ub1 >> m48)
+        ub1 = (ub1 << m16) | (ub0 >> m48)
+        ub0 = ub0 << m16
+        mk0 = (mk0 >> m16) | (mk1 << m48)      # the first 16-k columns
+        mk1 = (mk1 >> m16) | (mk2 << m48)
+        mk2 = (mk2 >> m16) | (mk3 << m48)
+        mk3 = mk3 >> m16
+        ka0, ka1, ka2, ka3 = a0 & mk0, a1 & mk1, a2 & mk2, a3 & mk3
+        kb0, kb1, kb2, kb3 = b0 & mk0, b1 & mk1, b2 & mk2, b3 & mk3
+        # IPOS = -k: map 1 column c meets map 2 column c + k
+        ntot = n_ka + n_db
+        nd = (popcount64(ka0 ^ db0) + popcount64(ka1 ^ db1) + popcount64(ka2 ^ db2)
+              + popcount64(ka3 ^ db3))
+        if ntot != 0 and nd < 128 and nd * 256 < mnval * ntot:
+            mnval = _quality(nd, ntot)
+            mloc = -k
+        # IPOS = k: map 1 column c + k meets map 2 column c
+        ntot = n_da + n_kb
+        nd = (popcount64(da0 ^ kb0) + popcount64(da1 ^ kb1) + popcount64(da2 ^ kb2)
+              + popcount64(da3 ^ kb3))
+        if ntot != 0 and nd < 128 and nd * 256 < mnval * ntot:
+            mnval = _quality(nd, ntot)
+            mloc = k
+    return mloc, mnval
+
+
+@jit
 def lcsl_range(disp, consts, tables_done, tables):
     """DP=DCONS/DISP; DENOM=DISP*DISP-DISP*EDISP; EPMAX=DCONS*EDISP/DENOM,
     into row ``disp`` of the memo table (once)."""
@@ -279,8 +383,8 @@ def cfeat(frame, iyloc, pix, ifeat1, ifeat2):
 
 
 @jit
-def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
-              maps, requests, partners, bounds2):
+def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
+              maps, bits, requests, partners, bounds2):
     """MASL for one line (IBLB1/IBLB2 empty at its start).  MASL tries every
     slice-2 feature JNDX for every slice-1 feature INDX, both sides, and
     compares the pairs whose grey levels differ by at most 1; a side's match
@@ -300,7 +404,8 @@ def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nma
             for d in range(3):
                 partners[side, g + d] |= 1 << (jndx - 1)
     nreq = 0
-    wanted2 = np.zeros(2, dtype=np.int64)
+    wanted_left = 0                            # slice-2 partners on each side
+    wanted_right = 0
     for side in range(2):
         for indx in range(1, nfeat1 + 1):
             m = partners[side, ifeat1[2 + side, indx - 1] + 1]
@@ -310,16 +415,19 @@ def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nma
                 requests[nreq, 2] = ifeat1[side, indx - 1]
                 requests[nreq, 3] = -1 if side == 0 else 1
                 nreq += 1
-                wanted2[side] |= m
+                if side == 0:
+                    wanted_left |= m
+                else:
+                    wanted_right |= m
     for side in range(2):
         for jndx in range(1, nfeat2 + 1):
-            if wanted2[side] & (1 << (jndx - 1)):
+            if (wanted_left if side == 0 else wanted_right) & (1 << (jndx - 1)):
                 requests[nreq, 0] = 2
                 requests[nreq, 1] = jndx + 50 * side
                 requests[nreq, 2] = ifeat2[side, jndx - 1]
                 requests[nreq, 3] = -1 if side == 0 else 1
                 nreq += 1
-    nblob_many(frame, masks, iyloc, requests, nreq, maps)
+    nblob_many(frame, windows, iyloc, requests, nreq, maps, bits)
     for j in range(1, nfeat2 + 1):
         b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
         bounds2[j - 1, 0] = b[0]
@@ -334,6 +442,7 @@ def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nma
             a1 = maps[0, row, 1]
             a2 = maps[0, row, 2]
             a3 = maps[0, row, 3]
+            ta = bits[0, row]
             count = 0
             m = partners[side, ifeat1[2 + side, indx - 1] + 1]
             while m:
@@ -343,9 +452,13 @@ def masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nma
                 e2 = jndx + 50 * side
                 x2 = ifeat2[side, jndx - 1]
                 iwst = min(irgd[side], bounds2[jndx - 1, side])
-                mloc, mnval = marf_best_shift(a0, a1, a2, a3, maps[1, e2 - 1, 0],
-                                              maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
-                                              maps[1, e2 - 1, 3], iwst)
+                if x1 <= x2 - iwst:
+                    # MARF moves LOC2 by at most IWST either way: no shift can
+                    # put it left of LOC1, so the pair is dropped below anyway
+                    continue
+                mloc, mnval = marf_stepwise_counted(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
+                                                    maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                                    maps[1, e2 - 1, 3], bits[1, e2 - 1], iwst)
                 loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
                 if x1 <= loc2:
                     continue                           # LOC1 must lie right of LOC2
@@ -477,9 +590,10 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     ifeat1 = np.zeros((4, 50), dtype=np.int32)
     ifeat2 = np.zeros((4, 50), dtype=np.int32)
     pix = np.zeros(128, dtype=np.int64)
-    masks = np.zeros((2, 128, 17, 2), dtype=np.int64)
-    level_masks(frame, masks)
+    windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+    level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
+    bits = np.zeros((2, 100), dtype=np.int64)
     requests = np.zeros((200, 4), dtype=np.int64)
     partners = np.zeros((2, 18), dtype=np.int64)
     bounds2 = np.zeros((50, 2), dtype=np.int64)
@@ -493,8 +607,8 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
         nfeat_out[k, 1] = nfeat2
         ifeat_out[k, 0] = ifeat1
         ifeat_out[k, 1] = ifeat2
-        requests_out[k] = masl_line(frame, masks, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
-                                    sign_fix, nmatch, imatch, maps, requests, partners,
+        requests_out[k] = masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
+                                    sign_fix, nmatch, imatch, maps, bits, requests, partners,
                                     bounds2)
         match_start[k] = nrow
         point_start[k] = npt

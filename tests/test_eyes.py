@@ -16,8 +16,9 @@ try:
 except ImportError:                    # before MARF had its own module
     from estar.masl import marf_kernel
 from eyes import Eyes, scan_pair as eyes_scan_pair
-from eyes.kernels import (OFFSET0, build_frame, level_masks, lcsl_offset, lcsl_range,
-                          marf_best_shift, nblob_many, new_tables)
+from eyes.kernels import (OFFSET0, build_frame, level_windows, lcsl_offset, lcsl_range,
+                          _quality, marf_best_shift, marf_best_shift_stepwise, nblob_many,
+                          new_tables)
 from nstar.bitmaps import command_geometry, edge_map_kernel
 from nstar.program import Nova
 from rig import scan as scanmod
@@ -159,25 +160,30 @@ def test_frame_store_is_novas_after_label_800():
 
 def test_edge_maps_equal_nstar_label_500_everywhere():
     """Every edge map ESTAR can ask for (X 1..128 and the clamped 0, 129; every
-    third line; both sides; both pictures) against NSTAR's edge_map_kernel."""
+    third line and the lines near the windows' seams and the picture's edges;
+    both sides; both pictures) against NSTAR's edge_map_kernel, and each map's
+    bit count."""
     left, right = synthetic_pair(11)
     frame = build_frame(left, right)
-    masks = np.zeros((2, 128, 17, 2), dtype=np.int64)
-    level_masks(frame, masks)
+    windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+    level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
+    bits = np.zeros((2, 100), dtype=np.int64)
     ref = np.zeros(16, dtype=np.int64)
-    for y in range(0, 120, 3):
+    seams = [y for t in (0, 32, 64, 96, 120) for y in range(t - 1 + 7 - 16, t + 8)]
+    for y in sorted(set(range(0, 120, 3)) | {y for y in seams if 0 <= y < 120}):
         requests = np.array([(image, 1 + (x + 130 * (ies > 0)) % 100, x, ies)
                              for image in (1, 2) for ies in (-1, 1) for x in range(130)])
         for start in range(0, len(requests), 100):
             chunk = requests[start:start + 100]
-            nblob_many(frame, masks, y, chunk, len(chunk), maps)
+            nblob_many(frame, windows, y, chunk, len(chunk), maps, bits)
             for image, edge, x, ies in chunk:
                 _, x0, x1, y0, y1, _, _, ixc, iyc = command_geometry(image, x, y)
                 edge_map_kernel(frame, ixc, iyc, ies, x0, x1, y0, y1, ref)
                 limbs = maps[image - 1, edge - 1]
                 words = [(int(limbs[c // 4]) >> (16 * (c % 4))) & 0xFFFF for c in range(16)]
                 assert words == [w & 0xFFFF for w in ref], (image, x, y, ies)
+                assert bits[image - 1, edge - 1] == sum(bin(w).count("1") for w in words)
 
 
 def limbs_of(words) -> list:
@@ -201,6 +207,33 @@ def test_marf_best_shift_equals_marf_kernel():
         want = marf_kernel(m17[0], m17[1], iwst, values)
         got = marf_best_shift(*limbs_of(words[0]), *limbs_of(words[1]), iwst)
         assert tuple(got) == tuple(want), (trial, iwst)
+
+
+def test_quality_through_a_double_is_the_integer_quotient():
+    """Every ND 0..127 and NTOT 1..512 MARF can meet (two 256-bit maps)."""
+    for ntot in range(1, 513):
+        for nd in range(0, 128):
+            assert _quality(nd, ntot) == (nd * 256) // ntot, (nd, ntot)
+
+
+def test_marf_stepwise_equals_marf_best_shift():
+    """The stepped MARF (the one the frame scan uses) against the plain one:
+    maps empty, sparse, dense, full and near-matches, every IWST 0..20 (16 and
+    beyond compare nothing), ties between shifts left and right."""
+    rng = np.random.default_rng(8)
+    for trial in range(4000):
+        kind = trial % 5
+        density = (0.0, 0.05, rng.random(), 1.0, 0.5)[kind]
+        words = ((rng.random((2, 16, 16)) < density) * (1 << np.arange(16))).sum(axis=2)
+        if kind == 4:
+            words[1] = np.roll(words[0], rng.integers(-6, 7))   # a true match nearby
+            words[1, rng.integers(0, 16)] ^= int(rng.integers(0, 65536))
+        if trial % 11 == 0:
+            words[1] = words[0][::-1]                           # mirror: equal shifts tie
+        a, b = limbs_of(words[0]), limbs_of(words[1])
+        for iwst in range(0, 21):
+            assert marf_best_shift_stepwise(*a, *b, iwst) == marf_best_shift(*a, *b, iwst), \
+                (trial, iwst)
 
 
 @pytest.mark.parametrize("ds, dv", [("0.75", "180"), ("1.3", "97.5"), ("0.1", "1000")])
