@@ -1,4 +1,4 @@
-"""The improved matcher against the 1985 one and OpenCV, on pictures with truth (issue 13).
+"""The improved matcher against the 1985 one and OpenCV, on pictures with truth.
 
 Scenes:
 

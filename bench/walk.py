@@ -1,4 +1,4 @@
-"""Walk benchmark (issue 10): the robot's model of its world, every pose method
+"""Walk benchmark: the robot's model of its world, every pose method
 side by side on the same correspondences.
 
 Sets: the bundled walk through the bundled lab, and generated rooms (seeds

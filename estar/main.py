@@ -92,7 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--marf-sign-fix", action="store_true",
                    help="FIX (not 1985): store MARF's refined right-image location with "
                         "the sign the geometry implies")
-    from matching.mode import add_arguments as add_match_arguments   # issue 13
+    from matching.mode import add_arguments as add_match_arguments   # the improved matcher (matching/)
     add_match_arguments(p, subpixel=False)
     return p
 
@@ -201,7 +201,7 @@ def _is_terminal(stream) -> bool:
 
 
 def _say_nstar_still_runs(console: Console, link: FileLink) -> None:
-    """A person ending ESTAR should know the NSTAR it leaves behind (issue 8.10)."""
+    """A person ending ESTAR should know the NSTAR it leaves behind."""
     if link.nstar_running():
         d = link.jh.dir
         console.type(f" NSTAR is still running on {d}, waiting for commands. Stop it with "

@@ -35,7 +35,7 @@ class LineResult:
     used: dict[int, tuple[int, int, int, int]] = field(default_factory=dict)
     """For each located edge, the match entry (INDX, QUAL, LOC1, LOC2) LCSL took."""
     # Not 1985: the line's edge bit maps (IBLB1/IBLB2) and, with an improved
-    # matcher (package ``matching``, issue 13), its verdict per left edge.
+    # matcher (package ``matching``), its verdict per left edge.
     maps1: np.ndarray | None = None
     maps2: np.ndarray | None = None
     verdicts: list | None = None
@@ -49,7 +49,7 @@ class Eclipse:
                  options: MaslOptions | None = None, publish=None, matcher=None):
         self.link = link
         # None: the 1985 match lists go to LCSL.  A ``matching`` matcher (never
-        # the default) replaces them by its verdicts (issue 13).
+        # the default) replaces them by its verdicts.
         self.matcher = matcher
         self.dsep, self.dvirt = dsep, dvirt
         self.debug = debug

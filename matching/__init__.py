@@ -1,4 +1,4 @@
-"""The improved matcher (issue 13): a verdict per located edge, "matched" with a
+"""The improved matcher: a verdict per located edge, "matched" with a
 confidence or "no match", under constraints each switched on its own.
 
 Never the default: ``estar --match improved`` and ``rig scan --match improved``

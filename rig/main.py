@@ -172,7 +172,7 @@ def _check_scan(args):
 
 
 def _matcher_for(args, lp: Path, rp: Path):
-    """--match / --constraints (issue 13): None for 1985; the subpixel
+    """--match / --constraints: None for 1985; the subpixel
     constraint reads the .VD pictures beside the .BI ones."""
     from matching.mode import constraints_from_args, make_matcher
     from diskfmt.layouts import decode_vd
@@ -389,7 +389,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="direct link: eyes = the compiled frame scan (default; identical "
                         "results), reference = ESTAR's Eclipse calling NSTAR's handlers")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
-    from matching.mode import add_arguments as add_match_arguments   # issue 13
+    from matching.mode import add_arguments as add_match_arguments   # the improved matcher (matching/)
     add_match_arguments(s)
     batch.add_arguments(s)
     s.set_defaults(func=cmd_scan)

@@ -108,7 +108,7 @@ CSV_COLUMNS = ["line", "edge", "loc1", "loc2", "disparity", "dp", "dx", "dy", "e
 
 def csv_text(points: list[Point], confidences=None) -> str:
     """The points as CSV; with ``confidences`` (one per point: the improved
-    matcher's, issue 13) a last column ``confidence`` is added."""
+    matcher's) a last column ``confidence`` is added."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(CSV_COLUMNS + (["confidence"] if confidences is not None else []))

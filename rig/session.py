@@ -123,7 +123,7 @@ def file_link_eclipse(jhdata: Path, left: Path, right: Path, ds: str = "0.75",
 @contextlib.contextmanager
 def rig_jhdata(given: str | Path | None):
     """The jhdata/ a ``rig`` command runs its own NSTAR on: a private temporary
-    directory, removed afterwards, unless one is ``given`` (issue 8.12) — and
+    directory, removed afterwards, unless one is ``given`` — and
     then only if no NSTAR runs there already: rig never talks to an NSTAR it
     did not start."""
     import shutil

@@ -172,7 +172,7 @@ def summary_text(result, rows) -> str:
 # --- JSON --------------------------------------------------------------------------
 
 def walk_json(result, label: str, rows) -> dict:
-    """The ``--json`` document (the schema of issue 10, plus more fields)."""
+    """The ``--json`` document (the schema docs/model.md gives, plus more fields)."""
     looks = []
     for r in result.records:
         t = r.true_pose

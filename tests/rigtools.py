@@ -179,7 +179,7 @@ def stale(jh: Path) -> list[str]:
 
 def hold_estar_lock(jhdata: Path):
     """Play a live ESTAR's part in the protocol: hold ESTAR.LCK (NSTAR obeys a
-    command found at its start only while an ESTAR holds it, issue 9.7).
+    command found at its start only while an ESTAR holds it).
     ``.close()`` the result to die."""
     jh = JHData(jhdata, me="ESTAR", peer="NSTAR", use_events=False)
     jh.lock(ESTAR_LOCK)

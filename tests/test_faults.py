@@ -265,7 +265,7 @@ def test_kill_estar_between_slices_nstar_reports_the_untaken_reply_and_keeps_ser
     try:
         n = nstar(tmp, jh, "nstar", "--timeout", "2")
         # NSTAR serving first: one that starts after the ESTAR died would rightly
-        # set its command aside as stale (issue 9.7)
+        # set its command aside as stale
         wait_until(lambda: "Ready for the ECLIPSE" in output(tmp, "nstar")[0], 30, "NSTAR")
         e = estar(tmp, jh, "estar", "--line", "45", "--timeout", "10")
         freeze_when(e, lambda: command_in(jh) == Command(CODE_SLICE, 1, 0, 45, 128, 0))
@@ -325,7 +325,7 @@ def test_damaged_ncont_stops_nstar_and_is_left_in_place(rig, size):
     tmp, jh = rig
     bad = (encode_ncont(Command(CODE_SLICE, 1, 0, 45, 128, 0)) * 2)[:size]
     (jh / "NCONT.DT").write_bytes(bad)
-    live = hold_estar_lock(jh)          # an ESTAR waits for it: not stale (issue 9.7)
+    live = hold_estar_lock(jh)          # an ESTAR waits for it: not stale
     n = nstar(tmp, jh, "nstar")
     try:
         assert finish(n) == 1
@@ -411,7 +411,7 @@ def test_second_estar_is_refused_while_the_first_works_and_the_first_is_unharmed
     assert not (jh / "STALE").exists()
 
 
-# --- a timed-out file link in rig (issue 8.14) --------------------------------------------------
+# --- a timed-out file link in rig --------------------------------------------------
 
 def test_rig_file_scan_with_a_frozen_nstar_times_out_in_one_line_and_tidies(rig):
     """rig's own NSTAR stops answering mid-scan (frozen, as a stalled machine

@@ -1,4 +1,4 @@
-"""The shared directory as a trust boundary (issue 9): this test plays a hostile
+"""The shared directory as a trust boundary: this test plays a hostile
 peer — anyone who can write into ``jhdata/`` — against the real programs.
 Each test failed before its fix (the note under each says how).
 docs/robustness.md, "A hostile peer", lists the cases."""

@@ -1,4 +1,4 @@
-"""The improved matcher (issue 13) on hand-made lines whose right answer is known:
+"""The improved matcher on hand-made lines whose right answer is known:
 a picket fence whose first picket only the left camera sees, an occluded feature
 that must get "no match", a line where the 1985 matcher (MASL + LCSL, run here
 on the same maps) takes a wrong partner; each constraint on its own; the

@@ -69,7 +69,7 @@ def test_lock_refuses_a_second_holder_and_is_released_on_close(tmp_path):
         b.lock("ESTAR.LCK")
     assert b.held("ESTAR.LCK")
     a.close()
-    assert not b.held("ESTAR.LCK")                # released; the file is kept (issue 9.8)
+    assert not b.held("ESTAR.LCK")                # released; the file is kept
     assert (tmp_path / "ESTAR.LCK").is_file()
     b.lock("ESTAR.LCK")
     b.close()
