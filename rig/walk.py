@@ -100,8 +100,8 @@ def _fmt_est(e):
 
 
 def look_table(result, driver: str) -> str:
-    head = (f"look  true x      z    head |    fused x      z    head |  err ft  deg | "
-            f"dead-rec err ft deg | seen match wrong used | model  ms")
+    head = ("look  true x      z    head |    fused x      z    head |  err ft  deg | "
+            "dead-rec err ft deg | seen match wrong used | model  ms")
     out = [head, "-" * len(head)]
     for r in result.records:
         t = r.true_pose
