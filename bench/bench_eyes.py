@@ -197,6 +197,7 @@ def stages(rounds: int) -> list[str]:
         ifeat1 = np.zeros((4, 50), dtype=np.int32)
         ifeat2 = np.zeros((4, 50), dtype=np.int32)
         pix = np.zeros(128, dtype=np.int64)
+        work = np.zeros((3, 130), dtype=np.int64)
         windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
         level_windows(frame, windows)
         maps = np.zeros((2, 100, 4), dtype=np.uint64)
@@ -211,7 +212,7 @@ def stages(rounds: int) -> list[str]:
         npt = 0
         for k in range(lines.shape[0] if stop > 0 else 0):
             iyloc = lines[k]
-            nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2)
+            nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2, work)
             if stop >= 2:
                 masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, False, nmatch,
                           imatch, maps, bits, requests, partners, bounds2)
