@@ -1,6 +1,6 @@
 """The eyes' EXQVFL (eyes/exqvfl.py) against the listing's label-by-label
-kernel (nstar.exqvfl.exqvfl_kernel, itself checked against Appendix D in
-tests/test_exqvfl*.py): NFEAT, the too-many exit and the whole IFEAT table,
+kernel (nstar.exqvfl.exqvfl_kernel, the reference: tests/test_exqvfl.py holds
+it to feature lists worked out by hand from the listing): NFEAT, the too-many exit and the whole IFEAT table,
 entries past NFEAT included, from the same stale table."""
 
 from __future__ import annotations
