@@ -8,7 +8,8 @@
   Middlebury motorcycle pair; the reference path (ESTAR's Eclipse + NSTAR's
   Nova in process) a few times for its ratio;
 * where a warm scan's time goes (``--only stages``): the compiled line loop
-  cut after each stage, the cuts timed interleaved;
+  cut after each stage, the cuts timed interleaved; and the slices' EXQVFL
+  alone, nstar's label-by-label kernel against the eyes' own, interleaved;
 * cold first scan in a fresh process, with the compile cache (numba
   ``cache=True``, as installed) and without (an empty cache directory);
 * a 200-frame stereo sequence (side-by-side video of the bundled pair moving
@@ -186,8 +187,10 @@ def stages(rounds: int) -> list[str]:
     """Where a warm scan's time goes: the compiled line loop cut after each
     stage (slices; + MASL with its edge maps and MARF; + the match rows and
     LCSL), the cuts timed interleaved, differences of medians."""
-    from eyes.kernels import (build_frame, cfeat, lcsl_line, level_windows, masl_line,
-                              match_list_rows)
+    from eyes.exqvfl import exqvfl_fast, new_work
+    from eyes.kernels import (LEFT_X, RIGHT_X, build_frame, cfeat, lcsl_line, level_windows,
+                              masl_line, match_list_rows)
+    from nstar.exqvfl import exqvfl_kernel
     from eyes import Eyes
     from diskfmt.jit import jit
 
@@ -197,6 +200,7 @@ def stages(rounds: int) -> list[str]:
         ifeat1 = np.zeros((4, 50), dtype=np.int32)
         ifeat2 = np.zeros((4, 50), dtype=np.int32)
         pix = np.zeros(128, dtype=np.int64)
+        work = np.zeros((3, 130), dtype=np.int64)
         windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
         level_windows(frame, windows)
         maps = np.zeros((2, 100, 4), dtype=np.uint64)
@@ -211,7 +215,7 @@ def stages(rounds: int) -> list[str]:
         npt = 0
         for k in range(lines.shape[0] if stop > 0 else 0):
             iyloc = lines[k]
-            nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2)
+            nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2, work)
             if stop >= 2:
                 masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, False, nmatch,
                           imatch, maps, bits, requests, partners, bounds2)
@@ -220,6 +224,20 @@ def stages(rounds: int) -> list[str]:
                 npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
                                 offset_done, offset_mq, pos, point_rows, point_words, npt)
         return npt
+
+    @jit
+    def all_slices_ref(rows, table, work):
+        total = 0
+        for i in range(rows.shape[0]):
+            total += exqvfl_kernel(rows[i], 128, 2, table)[0]
+        return total
+
+    @jit
+    def all_slices_fast(rows, table, work):
+        total = 0
+        for i in range(rows.shape[0]):
+            total += exqvfl_fast(rows[i], 128, 2, table, work)[0]
+        return total
 
     names = ("level windows", "EXQVFL slices", "MASL (edge maps, MARF, insertions)",
              "match rows + LCSL", "Eyes.scan's Python side")
@@ -247,6 +265,24 @@ def stages(rounds: int) -> list[str]:
         out.append(f"{name}: warm scan {med[-1]:.3f} ms (median of {rounds} interleaved rounds)")
         for i, label in enumerate(names):
             out.append(f"  {label:36s} {med[i] - (med[i - 1] if i else 0):6.3f} ms")
+        # the slice stage's kernel against the one it replaced, on the same slices
+        rows = np.array([frame[y, x:x + 128].astype(np.int64) for y in range(8, 113)
+                         for x in (LEFT_X, RIGHT_X)])
+        table, work_ = np.zeros((4, 50), np.int32), new_work()
+        kernels = {"nstar exqvfl_kernel": lambda: all_slices_ref(rows, table, work_),
+                   "eyes exqvfl_fast": lambda: all_slices_fast(rows, table, work_)}
+        ktimes = {k: [] for k in kernels}
+        for fn in kernels.values():
+            fn()
+        for _ in range(rounds):
+            for k, fn in kernels.items():
+                t0 = time.perf_counter()
+                fn()
+                ktimes[k].append(time.perf_counter() - t0)
+        kmed = {k: statistics.median(v) * 1e3 for k, v in ktimes.items()}
+        out.append(f"  EXQVFL alone, {len(rows)} slices: " + ", ".join(
+            f"{k} {v:.3f} ms" for k, v in kmed.items())
+            + f"; eyes / nstar = {kmed['eyes exqvfl_fast'] / kmed['nstar exqvfl_kernel']:.2f}")
     return out
 
 

@@ -4,7 +4,8 @@ Per line, what ESTAR's LCLN does through the NOVA (estar/program.py), with
 the same routines in the same order:
 
 * CFEAT: NSTAR label 600's slices of both pictures through EXQVFL
-  (:func:`nstar.exqvfl.exqvfl_kernel`, threshold 2);
+  (:func:`eyes.exqvfl.exqvfl_fast`, the same lists as
+  :func:`nstar.exqvfl.exqvfl_kernel` with its labels as loops; threshold 2);
 * NBLOB: NSTAR label 500's edge bit map (:func:`nstar.bitmaps.edge_map_kernel`
   after label 100's :func:`~nstar.bitmaps.command_geometry`) of every edge
   MARF will compare on this line, each once, as MARF's cache does;
@@ -29,7 +30,7 @@ try:                                   # MASL's shift bounds (named search_bound
     from estar.masl import search_bounds as _search_bounds_kernel
 except ImportError:                    # pragma: no cover - the older name
     from estar.masl import _search_bounds_kernel
-from nstar.exqvfl import exqvfl_kernel
+from .exqvfl import exqvfl_fast
 from .dgint import dg_add, dg_div, dg_from_int, dg_gt, dg_mul, dg_word
 
 LEFT_X, RIGHT_X = 26, 166          # nstar.program: where label 800 loads the pair
@@ -370,15 +371,16 @@ def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
 
 
 @jit
-def cfeat(frame, iyloc, pix, ifeat1, ifeat2):
+def cfeat(frame, iyloc, pix, ifeat1, ifeat2, work):
     """CFEAT: NSTAR label 600's slice of line IYLOC of image 1, then image 2,
-    through EXQVFL (threshold 2).  Returns (NFEAT1, NFEAT2)."""
+    through EXQVFL (threshold 2); ``work``: :func:`eyes.exqvfl.new_work`.
+    Returns (NFEAT1, NFEAT2)."""
     for c in range(128):
         pix[c] = frame[iyloc, LEFT_X + c]
-    nfeat1, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat1)
+    nfeat1, _ = exqvfl_fast(pix, 128, SLICE_THRESHOLD, ifeat1, work)
     for c in range(128):
         pix[c] = frame[iyloc, RIGHT_X + c]
-    nfeat2, _ = exqvfl_kernel(pix, 128, SLICE_THRESHOLD, ifeat2)
+    nfeat2, _ = exqvfl_fast(pix, 128, SLICE_THRESHOLD, ifeat2, work)
     return nfeat1, nfeat2
 
 
@@ -590,6 +592,7 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     ifeat1 = np.zeros((4, 50), dtype=np.int32)
     ifeat2 = np.zeros((4, 50), dtype=np.int32)
     pix = np.zeros(128, dtype=np.int64)
+    work = np.zeros((3, 130), dtype=np.int64)      # eyes.exqvfl.new_work()
     windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
@@ -602,7 +605,7 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     record_posit = posit_out.shape[0] == lines.shape[0]
     for k in range(lines.shape[0]):
         iyloc = lines[k]
-        nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2)
+        nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2, work)
         nfeat_out[k, 0] = nfeat1
         nfeat_out[k, 1] = nfeat2
         ifeat_out[k, 0] = ifeat1
