@@ -69,8 +69,8 @@ from .floormap import FLOOR_Y, FloorMap, project_octree, true_floor_map
 from .octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
     mark_free_rays, mark_occupied, memory_bytes, new_octree, spans_cells
 from .perception import MAX_RANGE_FT, floor_scan
-from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
-    path_length, segment_samples
+from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
+    line_of_sight, path_length, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
 
 SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
@@ -107,6 +107,10 @@ class DriveConfig:
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
+    clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
+                                          # passes anywhere in a passable cell; "centre":
+                                          # a cell's centre has the radius and every
+                                          # position is tested exactly (search.clearance_map)
     pose: str = "dead_reckoning"          # the camera estimate: "fused" (the symbolic
                                           # model's, model.mapping.Walker) or
                                           # "dead_reckoning" (the odometry alone)
@@ -428,13 +432,19 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
         run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
         seen_band = run_ok
         ok = np.zeros(len(s), bool)
-        ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
-        # the vehicle may leave a cell it stands in even if a (perhaps false)
-        # obstacle came near it, as long as it gets no nearer
-        cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
         near = np.zeros(len(s), bool)
-        near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
-            seen_band[inside]
+        if safe.at == "centre":
+            # each position by its own exact distance to the blocked cells
+            cl = clearance_at(safe, s)
+            ok = (cl >= safe.radius - 1e-9) & seen_band & inside
+            near = (cl >= cl[0] - 1e-9) & seen_band & inside
+        else:
+            ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
+            # the vehicle may leave a cell it stands in even if a (perhaps false)
+            # obstacle came near it, as long as it gets no nearer
+            cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
+            near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
+                seen_band[inside]
         good = ok | (near & (np.arange(len(s)) * fm.cell / 4 <= 1.0))
         bad = np.flatnonzero(~good)
         if len(bad) == 0:
@@ -497,7 +507,7 @@ def _escape_start(p: Passable, start) -> Passable:
     cx, cz = fm.centre(ii, jj)
     near = np.hypot(cx - start[0], cz - start[1]) <= ESCAPE_FT
     ok = p.ok | (near & ~p.blocked & (p.clearance >= cl0 - 1e-9))
-    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown)
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown, p.at)
 
 
 def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
@@ -506,7 +516,8 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     than ``keep_ft`` longer than a new one (no dithering between two ways round)."""
     search = SEARCHES[cfg.search]
     r = cfg.profile.planning_radius_ft
-    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked"), (est.x, est.z))
+    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked",
+                                    at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
     try:
         pts = shorten(p, search(p, start, goal))
@@ -592,7 +603,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 _mark_walls(fm, room.bounds)
             safe = clearance_map(fm, prof.planning_radius_ft,
                                  "blocked" if cfg.safety == "strict" else "free",
-                                 uncertain="blocked")
+                                 uncertain="blocked", at=cfg.clearance_at)
             seen = fm.cells != UNKNOWN
             seen_eyes = None
             if cfg.trust_view:
