@@ -98,22 +98,28 @@ def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
 
 
 def point_clearance(p: Passable, pts) -> np.ndarray:
-    """The exact distance (ft) from each room point (x, z) to the nearest
-    blocked cell's square (the map's border blocked; 0 outside the map)."""
+    """The distance (ft) from each room point (x, z) to the nearest blocked
+    cell's square (the map's border blocked; 0 outside the map): exact where
+    it is below the radius, a lower bound of at least the radius elsewhere
+    (all that the tests against the radius need)."""
+    from scipy.spatial import cKDTree
     fm = p.fmap
     pts = np.asarray(pts, float).reshape(-1, 2)
     if not len(pts):
         return np.zeros(0)
-    bi, bj = np.nonzero(np.pad(p.blocked, 1, constant_values=True))
-    cx = fm.x0 + (bj - 1 + 0.5) * fm.cell
-    cz = fm.z0 + (bi - 1 + 0.5) * fm.cell
-    h = fm.cell / 2
-    out = np.empty(len(pts))
-    for a in range(0, len(pts), 256):                  # bounded memory
-        q = pts[a:a + 256]
-        dx = np.maximum(np.abs(q[:, None, 0] - cx[None]) - h, 0.0)
-        dz = np.maximum(np.abs(q[:, None, 1] - cz[None]) - h, 0.0)
-        out[a:a + 256] = np.sqrt((dx * dx + dz * dz).min(1))
+    cache = p.__dict__.setdefault("_blocked_squares", {})
+    if "tree" not in cache:
+        bi, bj = np.nonzero(np.pad(p.blocked, 1, constant_values=True))
+        cache["xz"] = np.stack([fm.x0 + (bj - 0.5) * fm.cell, fm.z0 + (bi - 0.5) * fm.cell], 1)
+        cache["tree"] = cKDTree(cache["xz"])
+    xz, h = cache["xz"], fm.cell / 2
+    # a square whose centre is farther than radius + half a diagonal is at least the radius away
+    near = cache["tree"].query_ball_point(pts, p.radius + h * SQRT2 + 1e-9)
+    out = np.full(len(pts), float(p.radius))
+    for k, idx in enumerate(near):
+        if idx:
+            d = np.maximum(np.abs(xz[idx] - pts[k]) - h, 0.0)
+            out[k] = min(float(np.sqrt((d * d).sum(1)).min()), p.radius)
     return out
 
 

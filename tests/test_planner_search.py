@@ -131,6 +131,7 @@ def test_point_clearance_is_the_distance_to_the_blocked_squares():
     assert point_clearance(p, [(5.3, 5.4)])[0] == pytest.approx(0.5)        # off the corner
     assert point_clearance(p, [(4.5, 4.5)])[0] == 0.0                       # inside
     assert point_clearance(p, [(0.1, 7.0)])[0] == pytest.approx(0.1)        # the map's border
+    assert point_clearance(p, [(8.0, 8.0)])[0] == pytest.approx(0.5)        # far: the radius, a bound
     with pytest.raises(ValueError, match="at must be one of"):
         clearance_map(room(), 0.5, at="middle")
 
