@@ -111,6 +111,9 @@ class DriveConfig:
                                           # passes anywhere in a passable cell; "centre":
                                           # a cell's centre has the radius and every
                                           # position is tested exactly (search.clearance_map)
+    growth: str = "covariance"            # "covariance": a hit grown by its whole covariance
+                                          # (the dissertation's); "across": by its error
+                                          # across the sight line only (across_sight_cov)
     pose: str = "dead_reckoning"          # the camera estimate: "fused" (the symbolic
                                           # model's, model.mapping.Walker) or
                                           # "dead_reckoning" (the odometry alone)
@@ -217,6 +220,19 @@ def true_optimum(room, start, goal, profile: VehicleProfile, cell: float):
     return path_length(shorten(p, raw)), path_length(raw)
 
 
+def across_sight_cov(points, covs, origin, res: float) -> np.ndarray:
+    """The covariances with their spread along the (horizontal) sight line
+    from ``origin`` cut to a quarter cell: a hit grown by its error ACROSS the
+    sight line only, the range error not grown (a named option, off by
+    default: the dissertation grows a feature by its whole covariance)."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    u = pts - np.asarray(origin, float)
+    u[:, 1] = 0.0
+    u /= np.maximum(np.linalg.norm(u, axis=1), 1e-12)[:, None]
+    P = np.eye(3)[None] - u[:, :, None] * u[:, None, :]
+    return P @ np.asarray(covs, float) @ P + (res / 4) ** 2 * (u[:, :, None] * u[:, None, :])
+
+
 class Perception:
     """The model the loop plans on: located points (room coordinates) of every
     look and the octree built from them.  ``estimate`` is the camera estimate
@@ -226,6 +242,7 @@ class Perception:
     def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
                  free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
         self.tree = new_octree(voi, confirm_looks)
+        self.growth = "covariance"        # or "across" (DriveConfig.growth)
         self.free_looks = free_looks
         self.free_band = None
         self.near_ft = near_ft
@@ -259,8 +276,10 @@ class Perception:
         if len(fs.hits) or len(fs.free_ends):
             mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends]),
                            start_ft=self.near_ft)
+            cov = fs.hit_cov if self.growth == "covariance" else \
+                across_sight_cov(fs.hits, fs.hit_cov, left, res)
             grown = np.vstack([cell_centres(fs.hits, res),
-                               features_cells(fs.hits, fs.hit_cov, res),
+                               features_cells(fs.hits, cov, res),
                                spans_cells(fs.hits, fs.spans, res)])
             grown = grown[np.abs(grown[:, 1] - left[1]) < res]        # the floor slab
             if len(grown):
@@ -567,6 +586,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    veh.dead)[0])
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                        near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
+    model.growth = cfg.growth
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []
