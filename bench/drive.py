@@ -99,6 +99,13 @@ def main(argv=None) -> int:
     ap.add_argument("--margin", type=float, default=None, metavar="FT",
                     help="the vehicle profile's planning margin in the loop (default: the "
                          "profile's); the goals are drawn with the default profile either way")
+    ap.add_argument("--clearance-at", choices=("anywhere", "centre"), default="anywhere",
+                    help="where in a passable cell the vehicle's centre may be: anywhere "
+                         "(the dissertation's, default) or its centre, every position then "
+                         "tested by its exact distance to the blocked cells")
+    ap.add_argument("--growth", choices=("covariance", "across"), default="covariance",
+                    help="a located hit grown by its whole covariance (the dissertation's, "
+                         "default) or by its error across the sight line only")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -125,6 +132,7 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+                          clearance_at=args.clearance_at, growth=args.growth,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
                           pose_method=args.pose_method,
                           profile=DEFAULT if args.margin is None else
@@ -171,6 +179,7 @@ def main(argv=None) -> int:
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
+        "clearance_at": args.clearance_at, "growth": args.growth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,

@@ -69,8 +69,8 @@ from .floormap import FLOOR_Y, FloorMap, project_octree, true_floor_map
 from .octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
     mark_free_rays, mark_occupied, memory_bytes, new_octree, spans_cells
 from .perception import MAX_RANGE_FT, floor_scan
-from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
-    path_length, segment_samples
+from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
+    line_of_sight, path_length, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
 
 SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
@@ -107,6 +107,13 @@ class DriveConfig:
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
+    clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
+                                          # passes anywhere in a passable cell; "centre":
+                                          # a cell's centre has the radius and every
+                                          # position is tested exactly (search.clearance_map)
+    growth: str = "covariance"            # "covariance": a hit grown by its whole covariance
+                                          # (the dissertation's); "across": by its error
+                                          # across the sight line only (across_sight_cov)
     pose: str = "dead_reckoning"          # the camera estimate: "fused" (the symbolic
                                           # model's, model.mapping.Walker) or
                                           # "dead_reckoning" (the odometry alone)
@@ -213,6 +220,19 @@ def true_optimum(room, start, goal, profile: VehicleProfile, cell: float):
     return path_length(shorten(p, raw)), path_length(raw)
 
 
+def across_sight_cov(points, covs, origin, res: float) -> np.ndarray:
+    """The covariances with their spread along the (horizontal) sight line
+    from ``origin`` cut to a quarter cell: a hit grown by its error ACROSS the
+    sight line only, the range error not grown (a named option, off by
+    default: the dissertation grows a feature by its whole covariance)."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    u = pts - np.asarray(origin, float)
+    u[:, 1] = 0.0
+    u /= np.maximum(np.linalg.norm(u, axis=1), 1e-12)[:, None]
+    P = np.eye(3)[None] - u[:, :, None] * u[:, None, :]
+    return P @ np.asarray(covs, float) @ P + (res / 4) ** 2 * (u[:, :, None] * u[:, None, :])
+
+
 class Perception:
     """The model the loop plans on: located points (room coordinates) of every
     look and the octree built from them.  ``estimate`` is the camera estimate
@@ -222,6 +242,7 @@ class Perception:
     def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
                  free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
         self.tree = new_octree(voi, confirm_looks)
+        self.growth = "covariance"        # or "across" (DriveConfig.growth)
         self.free_looks = free_looks
         self.free_band = None
         self.near_ft = near_ft
@@ -255,8 +276,10 @@ class Perception:
         if len(fs.hits) or len(fs.free_ends):
             mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends]),
                            start_ft=self.near_ft)
+            cov = fs.hit_cov if self.growth == "covariance" else \
+                across_sight_cov(fs.hits, fs.hit_cov, left, res)
             grown = np.vstack([cell_centres(fs.hits, res),
-                               features_cells(fs.hits, fs.hit_cov, res),
+                               features_cells(fs.hits, cov, res),
                                spans_cells(fs.hits, fs.spans, res)])
             grown = grown[np.abs(grown[:, 1] - left[1]) < res]        # the floor slab
             if len(grown):
@@ -428,13 +451,19 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
         run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
         seen_band = run_ok
         ok = np.zeros(len(s), bool)
-        ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
-        # the vehicle may leave a cell it stands in even if a (perhaps false)
-        # obstacle came near it, as long as it gets no nearer
-        cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
         near = np.zeros(len(s), bool)
-        near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
-            seen_band[inside]
+        if safe.at == "centre":
+            # each position by its own exact distance to the blocked cells
+            cl = clearance_at(safe, s)
+            ok = (cl >= safe.radius - 1e-9) & seen_band & inside
+            near = (cl >= cl[0] - 1e-9) & seen_band & inside
+        else:
+            ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
+            # the vehicle may leave a cell it stands in even if a (perhaps false)
+            # obstacle came near it, as long as it gets no nearer
+            cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
+            near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
+                seen_band[inside]
         good = ok | (near & (np.arange(len(s)) * fm.cell / 4 <= 1.0))
         bad = np.flatnonzero(~good)
         if len(bad) == 0:
@@ -497,7 +526,7 @@ def _escape_start(p: Passable, start) -> Passable:
     cx, cz = fm.centre(ii, jj)
     near = np.hypot(cx - start[0], cz - start[1]) <= ESCAPE_FT
     ok = p.ok | (near & ~p.blocked & (p.clearance >= cl0 - 1e-9))
-    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown)
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown, p.at)
 
 
 def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
@@ -506,7 +535,8 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     than ``keep_ft`` longer than a new one (no dithering between two ways round)."""
     search = SEARCHES[cfg.search]
     r = cfg.profile.planning_radius_ft
-    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked"), (est.x, est.z))
+    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked",
+                                    at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
     try:
         pts = shorten(p, search(p, start, goal))
@@ -556,6 +586,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    veh.dead)[0])
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                        near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
+    model.growth = cfg.growth
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []
@@ -592,7 +623,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 _mark_walls(fm, room.bounds)
             safe = clearance_map(fm, prof.planning_radius_ft,
                                  "blocked" if cfg.safety == "strict" else "free",
-                                 uncertain="blocked")
+                                 uncertain="blocked", at=cfg.clearance_at)
             seen = fm.cells != UNKNOWN
             seen_eyes = None
             if cfg.trust_view:

@@ -51,17 +51,36 @@ class Passable:
     fmap: FloorMap
     radius: float
     unknown: str
+    at: str = "anywhere"      # where in a passable cell the vehicle's centre may be (CLEARANCE_AT)
+
+
+CLEARANCE_AT = ("anywhere", "centre")
 
 
 def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
-                  uncertain: str | None = None) -> Passable:
+                  uncertain: str | None = None, at: str = "anywhere") -> Passable:
     """Grow the blocked cells by ``radius`` (the vehicle's cross section).  The
     map's border counts as blocked.  Uncertain cells follow ``unknown`` unless
-    ``uncertain`` says otherwise.  A cell is passable when the distance from
-    any point of it to the nearest blocked cell's square is at least ``radius``
-    (a lower bound: centre distance less a cell diagonal)."""
+    ``uncertain`` says otherwise.
+
+    ``at="anywhere"`` (the dissertation's: the cross section passes anywhere in
+    a passable block): a cell is passable when the distance from any point of
+    it to the nearest blocked cell's square is at least ``radius`` (a lower
+    bound: centre distance less a cell diagonal).  On 0.25 ft cells that costs
+    up to a cell on each side of a passage: a vehicle of 2r = 1.58 ft needs 9
+    free cells (2.25 ft) between two walls of cells.
+
+    ``at="centre"`` (a named option beside it): a cell is passable when its
+    centre is at least ``radius`` from every blocked square (a lower bound:
+    centre distance less half a diagonal), and every point the vehicle's
+    centre is then put on (the path's samples, the executed moves) is tested
+    by its own exact distance to the blocked squares (:func:`point_clearance`),
+    so no position is accepted that the map shows within ``radius`` of a
+    blocked cell: 7 free cells (1.75 ft) pass the same vehicle."""
     if unknown not in ("blocked", "free"):
         raise ValueError(f"unknown must be 'blocked' or 'free', not {unknown!r}")
+    if at not in CLEARANCE_AT:
+        raise ValueError(f"at must be one of {CLEARANCE_AT}, not {at!r}")
     uncertain = unknown if uncertain is None else uncertain
     blocked = fm.cells == OCCUPIED
     if unknown == "blocked":
@@ -73,8 +92,50 @@ def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
     # dt is centre-to-centre in cells; the nearest point of a blocked square is
     # at most half a diagonal nearer, and any point of this cell another half
     # diagonal: so the vehicle may stand ANYWHERE in a passable cell.
-    clearance = np.maximum(dt - SQRT2, 0.0) * fm.cell
-    return Passable(clearance >= radius - 1e-9, clearance, blocked, fm, radius, unknown)
+    shrink = SQRT2 if at == "anywhere" else SQRT2 / 2
+    clearance = np.maximum(dt - shrink, 0.0) * fm.cell
+    return Passable(clearance >= radius - 1e-9, clearance, blocked, fm, radius, unknown, at)
+
+
+def point_clearance(p: Passable, pts) -> np.ndarray:
+    """The distance (ft) from each room point (x, z) to the nearest blocked
+    cell's square (the map's border blocked; 0 outside the map): exact where
+    it is below the radius, a lower bound of at least the radius elsewhere
+    (all that the tests against the radius need)."""
+    from scipy.spatial import cKDTree
+    fm = p.fmap
+    pts = np.asarray(pts, float).reshape(-1, 2)
+    if not len(pts):
+        return np.zeros(0)
+    cache = p.__dict__.setdefault("_blocked_squares", {})
+    if "tree" not in cache:
+        bi, bj = np.nonzero(np.pad(p.blocked, 1, constant_values=True))
+        cache["xz"] = np.stack([fm.x0 + (bj - 0.5) * fm.cell, fm.z0 + (bi - 0.5) * fm.cell], 1)
+        cache["tree"] = cKDTree(cache["xz"])
+    xz, h = cache["xz"], fm.cell / 2
+    # a square whose centre is farther than radius + half a diagonal is at least the radius away
+    near = cache["tree"].query_ball_point(pts, p.radius + h * SQRT2 + 1e-9)
+    out = np.full(len(pts), float(p.radius))
+    for k, idx in enumerate(near):
+        if idx:
+            d = np.maximum(np.abs(xz[idx] - pts[k]) - h, 0.0)
+            out[k] = min(float(np.sqrt((d * d).sum(1)).min()), p.radius)
+    return out
+
+
+def clearance_at(p: Passable, pts) -> np.ndarray:
+    """The clearance (ft) the map gives the vehicle's centre at each point:
+    its cell's (``at="anywhere"``) or its own exact one (``at="centre"``)."""
+    fm = p.fmap
+    s = np.asarray(pts, float).reshape(-1, 2)
+    if p.at == "centre":
+        return point_clearance(p, s)
+    i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+    j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+    inside = (i >= 0) & (i < fm.shape[0]) & (j >= 0) & (j < fm.shape[1])
+    cl = np.zeros(len(s))
+    cl[inside] = p.clearance[i[inside], j[inside]]
+    return cl
 
 
 def _explain(p: Passable, x: float, z: float, what: str) -> str | None:
@@ -350,11 +411,7 @@ def min_clearance(p: Passable, pts) -> tuple[float, tuple[float, float]]:
     best, where = math.inf, tuple(pts[0])
     for a, b in zip(pts[:-1], pts[1:]):
         s = segment_samples(a, b, fm.cell / 4)
-        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
-        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
-        inside = (i >= 0) & (i < fm.shape[0]) & (j >= 0) & (j < fm.shape[1])
-        cl = np.zeros(len(s))
-        cl[inside] = p.clearance[i[inside], j[inside]]
+        cl = clearance_at(p, s)
         k = int(np.argmin(cl))
         if cl[k] < best:
             best, where = float(cl[k]), (float(s[k, 0]), float(s[k, 1]))
@@ -369,6 +426,12 @@ def line_of_sight(p: Passable, a, b) -> bool:
     j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
     if (i < 0).any() or (j < 0).any() or (i >= fm.shape[0]).any() or (j >= fm.shape[1]).any():
         return False
+    if p.at == "centre":
+        # a passable cell's centre has the radius; every point between needs its
+        # own, except in cells passable for another reason (leading the vehicle
+        # away from a spot nearer an obstacle than its radius: loop._escape_start)
+        escape = p.ok[i, j] & (p.clearance[i, j] < p.radius - 1e-9)
+        return bool((escape | (point_clearance(p, s) >= p.radius - 1e-9)).all())
     return bool(p.ok[i, j].all())
 
 

@@ -170,3 +170,21 @@ def test_a_start_too_near_an_obstacle_may_be_left_but_not_approached():
     path = astar(q, start, (0.125, -4.0))              # away from the obstacle: found
     assert math.hypot(path[-1][0] - 0.125, path[-1][1] + 4.0) < 0.25
     assert _escape_start(q, start) is q                # an allowed start is left alone
+
+
+def test_across_sight_growth_drops_the_range_error_only():
+    """A hit 8 ft straight ahead (room +Z) with a 0.5 ft range bound (2 sigma)
+    and a 0.1 ft bound across: grown by its covariance it spans 0.5 ft along
+    the sight line each way (2 cells of 0.25 ft beyond its own); grown across
+    only, by 2 x a quarter cell = 0.125 ft along (to its own cell's edges, so
+    the touching neighbours), and as wide as before across."""
+    from planner.loop import across_sight_cov
+    from planner.octree import features_cells
+    res = 0.25
+    hit = np.array([[1.125, 0.0, 8.125]])
+    cov = np.diag([0.05 ** 2, 0.05 ** 2, 0.25 ** 2])[None]
+    full = features_cells(hit, cov, res)
+    across = features_cells(hit, across_sight_cov(hit, cov, (1.125, 0.0, 0.0), res), res)
+    assert sorted(set(np.round(full[:, 2], 3))) == [7.625, 7.875, 8.125, 8.375, 8.625]
+    assert sorted(set(np.round(across[:, 2], 3))) == [7.875, 8.125, 8.375]
+    assert sorted(set(np.round(across[:, 0], 3))) == sorted(set(np.round(full[:, 0], 3)))

@@ -11,7 +11,7 @@ from planner.floormap import FloorMap, true_floor_map
 from planner.octree import FREE, OCCUPIED, UNKNOWN
 from planner.search import (NoPath, astar, clearance_map, cross_section_test,
                             hierarchical_search, line_of_sight, min_clearance, path_length,
-                            quadtree)
+                            point_clearance, quadtree)
 from planner.trajectory import next_segment, polyline, shorten, to_commands
 from vehicle.commands import Forward, Turn
 
@@ -91,6 +91,49 @@ def test_gap_narrower_than_the_vehicle_refused():
         cross_section_test(wide, pts)
         crossing = [x for x, z in polyline_points(pts) if abs(z - 5.0) < 0.05]
         assert all(5.0 - 1.75 + R - 1e-6 <= x <= 5.0 + 1.75 - R + 1e-6 for x in crossing)
+
+
+def _distance_to_boxes(x, z, boxes):
+    """Exact distance from (x, z) to the nearest of the rectangles (x0, x1, z0, z1)."""
+    return min(math.hypot(max(x0 - x, 0, x - x1), max(z0 - z, 0, z - z1))
+               for x0, x1, z0, z1 in boxes)
+
+
+def test_clearance_at_centre_passes_a_gap_the_vehicle_fits():
+    """The drive's vehicle (planning radius 0.79 ft, 1.58 ft across) and a
+    wall with a cell-aligned gap: 1.75 ft (7 cells) fits it, but the
+    dissertation's anywhere-in-the-cell test needs 9 cells (2.25 ft) and
+    refuses it; 1.5 ft (6 cells) is narrower than the vehicle and both refuse."""
+    r = 0.79
+
+    def wall(gap_x0, gap_x1):
+        return [(0.0, gap_x0, 4.9, 5.1), (gap_x1, 10.0, 4.9, 5.1)]
+    start, goal = (4.875, 2.0), (4.875, 8.0)
+    fits = wall(4.0, 5.75)
+    for search in (astar, hierarchical_search):
+        with pytest.raises(NoPath, match="narrower than the vehicle"):
+            search(clearance_map(room(fits), r), start, goal)
+        p = clearance_map(room(fits), r, at="centre")
+        pts = shorten(p, search(p, start, goal))
+        cross_section_test(p, pts)
+        # the path, checked against the TRUE wall rather than the map
+        assert min(_distance_to_boxes(x, z, fits) for x, z in polyline_points(pts)) >= r - 1e-6
+    narrow = wall(4.0, 5.5)
+    for at in ("anywhere", "centre"):
+        for search in (astar, hierarchical_search):
+            with pytest.raises(NoPath, match="narrower than the vehicle"):
+                search(clearance_map(room(narrow), r, at=at), start, goal)
+
+
+def test_point_clearance_is_the_distance_to_the_blocked_squares():
+    p = clearance_map(room([(4.0, 5.0, 4.0, 5.0)]), 0.5, at="centre")
+    assert point_clearance(p, [(3.5, 4.5)])[0] == pytest.approx(0.5)        # across the face
+    assert point_clearance(p, [(5.3, 5.4)])[0] == pytest.approx(0.5)        # off the corner
+    assert point_clearance(p, [(4.5, 4.5)])[0] == 0.0                       # inside
+    assert point_clearance(p, [(0.1, 7.0)])[0] == pytest.approx(0.1)        # the map's border
+    assert point_clearance(p, [(8.0, 8.0)])[0] == pytest.approx(0.5)        # far: the radius, a bound
+    with pytest.raises(ValueError, match="at must be one of"):
+        clearance_map(room(), 0.5, at="middle")
 
 
 def polyline_points(pts, step=0.01):
