@@ -53,22 +53,28 @@ def search_side_by_side(fmap, start, goal, radius):
     return out
 
 
-def true_maps(args) -> int:
-    """The dissertation's search and A* side by side on the true floor map of
-    each room (start to its random goal): length pulled taut, raw length, ms."""
-    from planner.floormap import true_floor_map
+def seeded_tasks(args):
+    """(seed, room, start state, goal or None) for the seeded rooms the bench runs."""
     from planner.loop import random_goal
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
     from world.room import generate_room
-    ratios, raw_ratios, t_d, t_a = [], [], [], []
-    print(f"{'room':>4} {'diss ft':>7} {'A* ft':>6} {'diss raw':>8} {'A* raw':>6} {'diss ms':>7} "
-          f"{'A* ms':>6}")
     for seed in range(args.first, args.first + args.rooms):
         room = generate_room(seed)
         s = room.start
         start = State(s.x, s.z, s.heading_deg)
-        goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+        yield seed, room, start, random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+
+
+def true_maps(args) -> int:
+    """The dissertation's search and A* side by side on the true floor map of
+    each room (start to its random goal): length pulled taut, raw length, ms."""
+    from planner.floormap import true_floor_map
+    from vehicle.profile import DEFAULT
+    ratios, raw_ratios, t_d, t_a = [], [], [], []
+    print(f"{'room':>4} {'diss ft':>7} {'A* ft':>6} {'diss raw':>8} {'A* raw':>6} {'diss ms':>7} "
+          f"{'A* ms':>6}")
+    for seed, room, start, goal in seeded_tasks(args):
         if goal is None:
             continue
         fm = true_floor_map(room.obstacles, room.bounds, 0.25)
@@ -113,21 +119,15 @@ def main(argv=None) -> int:
     if args.true_maps:
         return true_maps(args)
 
-    from planner.loop import DriveConfig, random_goal, run
+    from planner.loop import DriveConfig, run
     from vehicle.profile import DEFAULT
-    from vehicle.sim import State
     from world.odometry import OdometryNoise
-    from world.room import generate_room
 
     rows = []
     print(f"{'room':>4} {'goal':>14} {'ok':>3} {'coll':>4} {'looks':>5} {'trav ft':>7} "
           f"{'opt ft':>6} {'ratio':>5} {'ms/cyc':>6} {'+look':>6} {'KiB':>5} "
           f"{'diss ft':>7} {'A* ft':>6} {'diss ms':>7} {'A* ms':>6} {'est err':>7} {'dr err':>6}  reason")
-    for seed in range(args.first, args.first + args.rooms):
-        room = generate_room(seed)
-        s = room.start
-        start = State(s.x, s.z, s.heading_deg)
-        goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+    for seed, room, start, goal in seeded_tasks(args):
         if goal is None:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
