@@ -23,11 +23,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from .verdict import CONSTRAINTS, Constraints, LineData, Params, Verdict, match_line
+from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, match_line,
+                      neighbour_lines, readmit)
 
 MODES = ("1985", "improved")
-MAX_CACHED_LINES = 8
-DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"
+MAX_CACHED_LINES = 16
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region,readmit"
 
 
 class VerdictTables:
@@ -74,44 +75,71 @@ class ImprovedMatcher:
         self.constraints, self.params, self.vd = constraints, params, vd
         self._lines: dict[int, LineData] = {}
         self._first: dict[int, list[Verdict]] = {}
+        self._second: dict[int, list[Verdict]] = {}
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
         """LCLN's hook: (tables for LCSL, verdicts) of line IY."""
         data = LineData(iyloc, list(features1), list(features2), np.array(maps1),
                         np.array(maps2))
         self._remember(iyloc, data)
-        neighbours = []
-        if self.constraints.neighbours:
-            neighbours = [self._first_pass(eclipse, y) for y in (iyloc - 1, iyloc + 1)
-                          if 0 <= y <= 119]
         profiles = None
         if self.constraints.subpixel:
             from .subpixel import line_profile
             profiles = (line_profile(self.vd[0], iyloc), line_profile(self.vd[1], iyloc))
-        verdicts = match_line(data, self.constraints, self.params, neighbours, profiles)
+        if not self.constraints.readmit:
+            verdicts = match_line(data, self.constraints, self.params,
+                                  self._neighbours(eclipse, iyloc), profiles)
+        else:
+            p = self.params
+            verdicts = readmit(data, self._second_pass(eclipse, iyloc),
+                               [self._second_pass(eclipse, y)
+                                for y in neighbour_lines(iyloc, p, p.readmit_reach)
+                                if 0 <= y <= 119], p)
+            if profiles is not None:
+                from .subpixel import refine_verdicts
+                verdicts = refine_verdicts(verdicts, data, profiles)
         if getattr(eclipse, "debug", 0) & 4:
             eclipse.listing.records(verdict_listing(verdicts, self.constraints))
         return VerdictTables(verdicts), verdicts
 
     def _remember(self, iyloc: int, data: LineData) -> None:
         if iyloc in self._lines and not _same(self._lines[iyloc], data):
-            self._first.pop(iyloc, None)          # new pictures: forget the old verdicts
+            self._first.clear()                   # new pictures: forget the old verdicts
+            self._second.clear()
         self._lines[iyloc] = data
         while len(self._lines) > MAX_CACHED_LINES:
             old = next(iter(self._lines))
             del self._lines[old]
             self._first.pop(old, None)
+            self._second.pop(old, None)
+
+    def _line(self, eclipse, y: int) -> LineData:
+        if y not in self._lines:
+            self._remember(y, fetch_line(eclipse, y))
+        return self._lines[y]
+
+    def _neighbours(self, eclipse, y: int) -> list[list[Verdict]]:
+        if not self.constraints.neighbours:
+            return []
+        return [self._first_pass(eclipse, n) for n in neighbour_lines(y, self.params)
+                if 0 <= n <= 119]
 
     def _first_pass(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts without the neighbour constraint (as match_lines)."""
-        if y not in self._lines:
-            self._remember(y, fetch_line(eclipse, y))
         if y not in self._first:
-            self._first[y] = match_line(self._lines[y],
+            self._first[y] = match_line(self._line(eclipse, y),
                                         replace(self.constraints, neighbours=False,
                                                 subpixel=False),
                                         replace(self.params, min_confidence=0.0))
         return self._first[y]
+
+    def _second_pass(self, eclipse, y: int) -> list[Verdict]:
+        """Line y's verdicts before re-admission (as match_lines)."""
+        if y not in self._second:
+            data = self._line(eclipse, y)
+            self._second[y] = match_line(data, replace(self.constraints, subpixel=False),
+                                         self.params, self._neighbours(eclipse, y))
+        return self._second[y]
 
 
 def verdict_listing(verdicts: list[Verdict], constraints: Constraints) -> list[str]:
@@ -155,8 +183,8 @@ def add_arguments(parser: argparse.ArgumentParser, subpixel: bool = True) -> Non
                              "confidence or 'no match'")
     parser.add_argument("--constraints", default=None, metavar="LIST",
                         help="with --match improved: a comma list of " + ", ".join(names)
-                             + ", or 'all' (" + ("all five" if subpixel else "all four")
-                             + ") or 'none' (default order,lr,neighbours,region)")
+                             + ", or 'all' (" + ("all six" if subpixel else "all five")
+                             + ") or 'none' (default " + DEFAULT_CONSTRAINTS + ")")
 
 
 def constraints_from_args(args, subpixel: bool = True) -> Constraints:

@@ -40,7 +40,7 @@ import numpy as np
 from .candidates import Candidates, candidates
 from .order import assign
 
-CONSTRAINTS = ("order", "lr", "neighbours", "region", "subpixel")
+CONSTRAINTS = ("order", "lr", "neighbours", "region", "readmit", "subpixel")
 
 
 @dataclass(frozen=True)
@@ -50,11 +50,12 @@ class Constraints:
     lr: bool = True
     neighbours: bool = True
     region: bool = True
+    readmit: bool = True
     subpixel: bool = False
 
     @classmethod
     def none(cls) -> "Constraints":
-        return cls(False, False, False, False, False)
+        return cls(**{n: False for n in CONSTRAINTS})
 
     @classmethod
     def only(cls, *names: str) -> "Constraints":
@@ -93,9 +94,16 @@ class Params:
     #                                       a number: it is only charged this much more
     neighbour_dx: int = 2          # px: the same vertical line on the next scan line
     neighbour_dd: float = 2.0      # px: ... with nearly the same disparity
+    neighbour_reach: int = 1       # lines IY-reach..IY+reach (not IY) may give support
+    neighbour_bonus: float = 0.0   # taken off a candidate's cost per supporting line, before
+    #                                the assignment (inter-scanline evidence in the costs)
     unsupported_factor: float | None = None   # None: an edge on no vertical line is "no
     #                                           match"; a number: its confidence is scaled
     min_confidence: float = 0.1    # matches below are "no match (ambiguous)"
+    readmit_support: int = 1       # readmit: lines of IY-reach..IY+reach that must agree
+    readmit_reach: int = 2
+    readmit_dd: float = 0.0        # px: ... with a disparity this close
+    readmit_cost: float = 128.0    # ... and a candidate no dearer than this
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
 
@@ -180,6 +188,27 @@ def _region_supported(c: Candidates, tol: float) -> np.ndarray:
     return keep
 
 
+def _support(c: Candidates, neighbours, p: Params) -> np.ndarray:
+    """For every candidate, the number of neighbouring lines with a matched
+    edge of the same side within ``neighbour_dx`` px whose disparity is within
+    ``neighbour_dd`` of the candidate's."""
+    out = np.zeros(len(c), dtype=np.int64)
+    if len(c) == 0:
+        return out
+    side = c.left.side[c.i]
+    x = c.left.x[c.i]
+    d = c.disp
+    for line in neighbours:
+        m = [(int(v.edge > 50), v.x, v.disparity) for v in line if v.matched]
+        if not m:
+            continue
+        ns, nx, nd = (np.asarray(a) for a in zip(*m))
+        hit = ((side[:, None] == ns[None, :]) & (np.abs(x[:, None] - nx[None, :]) <= p.neighbour_dx)
+               & (np.abs(d[:, None] - nd[None, :]) <= p.neighbour_dd))
+        out += hit.any(axis=1)
+    return out
+
+
 def _choose(c: Candidates, constraints: Constraints, p: Params):
     """Chosen candidate indices and each candidate's min-marginal cost."""
     if constraints.order:
@@ -234,6 +263,9 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
             c = replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
         for i in has - set(c.i.tolist()):
             reason[i] = "no region partner"
+    evidence = c.cost                       # what a verdict reports as its cost
+    if constraints.neighbours and p.neighbour_bonus:
+        c = replace(c, cost=c.cost - p.neighbour_bonus * _support(c, neighbours or (), p))
     chosen, marginal = _choose(c, constraints, p)
     out: dict[int, Verdict] = {}
     left = c.left
@@ -242,7 +274,7 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
         conf = _confidence(c, k, marginal, p)
         out[i] = Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), True, "matched",
                          int(c.right.edge[c.j[k]]), float(c.loc1[k]), float(c.loc2[k]),
-                         float(c.cost[k]), conf)
+                         float(evidence[k]), conf)
     if constraints.neighbours:
         out = {i: _neighbour_check(v, neighbours or (), p) for i, v in out.items()}
     for i, v in list(out.items()):
@@ -269,7 +301,61 @@ def _neighbour_check(v: Verdict, neighbours, p: Params) -> Verdict:
         if p.unsupported_factor is not None:
             return replace(v, confidence=v.confidence * p.unsupported_factor)
         return replace(v, matched=False, reason="not on a vertical line")
-    return replace(v, confidence=v.confidence * (0.75 + 0.125 * support))
+    return replace(v, confidence=v.confidence * min(1.0, 0.75 + 0.125 * support))
+
+
+def neighbour_lines(iyloc: int, params: Params, reach: int | None = None) -> list[int]:
+    """The lines whose first-pass verdicts support line IY's: IY-1, IY+1,
+    then IY-2, IY+2 ... up to ``neighbour_reach``."""
+    reach = params.neighbour_reach if reach is None else reach
+    return [iyloc + s * r for r in range(1, reach + 1) for s in (-1, 1)]
+
+
+READMITTABLE = ("occluded", "not on a vertical line", "ambiguous", "not mutual")
+
+
+def readmit(data: LineData, verdicts: list[Verdict], neighbours,
+            params: Params = Params()) -> list[Verdict]:
+    """The second pass: an edge left without a match (for a reason in
+    :data:`READMITTABLE`) takes a partner the line's matches left unused,
+    where that keeps the order of the matches along the line, when at least
+    ``readmit_support`` of the neighbouring lines' final verdicts
+    (``neighbours``) have a matched edge of the same side within
+    ``neighbour_dx`` px at a disparity within ``readmit_dd``, and its cost is
+    at most ``readmit_cost``; the cheapest such partner.  Edges are visited
+    along the line, each re-admitted match counting as used at once.  The
+    confidence of a re-admitted match is the share of neighbouring lines
+    that agree, times 1 - cost/256."""
+    p = params
+    c = candidates(data.features1, data.features2, data.maps1, data.maps2,
+                   use_shift=p.use_shift, grey_penalty=p.grey_penalty)
+    if len(c) == 0:
+        return verdicts
+    pos1 = {int(e): i for i, e in enumerate(c.left.edge)}
+    pos2 = {int(e): j for j, e in enumerate(c.right.edge)}
+    pairs = sorted((pos1[v.edge], pos2[v.partner]) for v in verdicts if v.matched)
+    support = _support(c, neighbours, replace(p, neighbour_dd=p.readmit_dd))
+    by_edge = {v.edge: v for v in verdicts}
+    n_lines = max(1, len(neighbours))
+    for v in sorted(verdicts, key=lambda v: pos1[v.edge]):
+        if v.matched or v.reason not in READMITTABLE:
+            continue
+        i = pos1[v.edge]
+        lo = max((j for a, j in pairs if a < i), default=-1)
+        hi = min((j for a, j in pairs if a > i), default=len(c.right))
+        ok = ((c.i == i) & (c.j > lo) & (c.j < hi) & (support >= p.readmit_support)
+              & (c.cost <= p.readmit_cost))
+        if not ok.any():
+            continue
+        ks = np.flatnonzero(ok)
+        k = int(ks[np.lexsort((c.j[ks], c.cost[ks]))[0]])
+        conf = float(support[k]) / n_lines * max(0.0, 1.0 - float(c.cost[k]) / 256.0)
+        by_edge[v.edge] = replace(v, matched=True, reason="readmitted",
+                                  partner=int(c.right.edge[c.j[k]]), loc1=float(c.loc1[k]),
+                                  loc2=float(c.loc2[k]), cost=float(c.cost[k]),
+                                  confidence=conf)
+        pairs = sorted(pairs + [(i, int(c.j[k]))])
+    return [by_edge[v.edge] for v in verdicts]
 
 
 def match_lines(lines, constraints: Constraints = Constraints(), params: Params = Params(),
@@ -287,10 +373,20 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
     first = {y: match_line(d, first_pass, replace(params, min_confidence=0.0))
              for y, d in datas.items()} if constraints.neighbours else {}
     out = {}
+    later = constraints.readmit and constraints.subpixel and profiles is not None
     for y, d in datas.items():
-        nb = [first[n] for n in (y - 1, y + 1) if n in first]
-        out[y] = match_line(d, constraints, params, nb,
+        nb = [first[n] for n in neighbour_lines(y, params) if n in first]
+        out[y] = match_line(d, replace(constraints, subpixel=constraints.subpixel and not later),
+                            params, nb,
                             profiles(y) if (profiles and constraints.subpixel) else None)
+    if constraints.readmit:
+        out = {y: readmit(datas[y], v, [out[n] for n in neighbour_lines(y, params,
+                                                                         params.readmit_reach)
+                                        if n in out], params)
+               for y, v in out.items()}
+    if later:
+        from .subpixel import refine_verdicts
+        out = {y: refine_verdicts(v, datas[y], profiles(y)) for y, v in out.items()}
     return out
 
 

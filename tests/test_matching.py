@@ -5,6 +5,8 @@ on the same maps) takes a wrong partner; each constraint on its own; the
 MARF measure, the DP kernel and the sub-pixel step against independent
 computations."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -245,6 +247,91 @@ def test_neighbour_constraint_needs_a_vertical_line():
     stack = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
              for y in (59, 60, 61)]
     assert matched(match_lines(stack, Constraints.only("neighbours"), p)[60])
+
+
+def test_neighbour_reach_two_finds_support_two_lines_away():
+    data = crossing_line()
+    p = Params(min_confidence=0.0)
+    stack = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
+             for y in (58, 60, 62)]
+    near = match_lines(stack, Constraints.only("neighbours"), p)[60]
+    assert {v.reason for v in near} == {"not on a vertical line"}
+    far = match_lines(stack, Constraints.only("neighbours"), replace(p, neighbour_reach=2))[60]
+    assert matched(far).keys() == {1, 2, 51, 52}
+
+
+def test_neighbour_bonus_lets_the_supported_partner_win():
+    """A feature whose own map is damaged on line 60 loses to leaving it out
+    (see jump_line); with lines 59 and 61 matching it at its disparity, the
+    bonus taken off its cost makes the assignment take it."""
+    stack = jump_line()
+    cons = replace(Constraints(), readmit=False)
+    plain = {v.edge: v for v in match_lines(stack, cons)[60]}
+    assert not plain[2].matched and plain[2].reason == "occluded"
+    bonus = {v.edge: v for v in match_lines(stack, cons, Params(neighbour_bonus=32))[60]}
+    assert bonus[2].matched and bonus[2].disparity == 12
+    assert bonus[2].cost == plain_cost(stack[3], 2)          # the reported cost is the evidence
+
+
+def jump_line(right_e: int = 38) -> list[LineData]:
+    """Lines 57..63: A at 30 and B at 70 at disparity 8, between them E at 50
+    whose partner is at ``right_e`` (disparity 12: a jump of 4 px either side).
+    On every line but 60 E's maps are clean copies; on line 60 they are
+    damaged (a cost near 110), so the order-keeping assignment there prefers
+    to leave E out rather than pay two disparity jumps."""
+    a, b, e = ((random_map(41 + 2 * k), random_map(42 + 2 * k)) for k in range(3))
+    lines = []
+    for y in range(57, 64):
+        line = Line()
+        e_left = (damaged(e[0], 77, 7), damaged(e[1], 77, 8)) if y == 60 else e
+        line.add(0, 30, 4, 11, *a)
+        line.add(0, 50, 9, 5, *e_left)
+        line.add(0, 70, 6, 14, *b)
+        line.add(1, 22, 4, 11, *a)
+        line.add(1, (right_e if y == 60 else 38), 9, 5, *e)
+        line.add(1, 62, 6, 14, *b)
+        lines.append(line.data(y))
+    return lines
+
+
+def plain_cost(data: LineData, edge: int) -> float:
+    c = candidates(data.features1, data.features2, data.maps1, data.maps2)
+    k = [n for n in range(len(c)) if c.left.edge[c.i[n]] == edge
+         and c.right.edge[c.j[n]] == edge]
+    return float(c.cost[k[0]])
+
+
+def test_readmit_takes_the_unused_partner_the_neighbours_agree_on():
+    stack = jump_line()
+    assert 96 < plain_cost(stack[3], 2) < 128
+    before = {v.edge: v for v in match_lines(stack, replace(Constraints(), readmit=False))[60]}
+    assert not before[2].matched and not before[52].matched
+    after = {v.edge: v for v in match_lines(stack, Constraints())[60]}
+    for e in (2, 52):
+        assert after[e].matched and after[e].reason == "readmitted", after[e]
+        assert after[e].partner == e and after[e].disparity == 12
+        assert 0 < after[e].confidence <= 1
+    for e in (1, 3, 51, 53):                                  # the rest as before
+        assert after[e] == before[e] and after[e].disparity == 8
+
+
+def test_readmit_wants_the_neighbours_disparity():
+    """The same line with E's partner on line 60 one pixel off the
+    neighbours' disparity (11, not 12): no neighbour agrees, no re-admission."""
+    stack = jump_line(right_e=39)
+    after = {v.edge: v for v in match_lines(stack, Constraints())[60]}
+    assert not after[2].matched and not after[52].matched
+
+
+def test_readmit_keeps_the_order_and_uses_no_partner_twice():
+    """Every line of the bundled-like stack: re-admitted matches keep the
+    left-to-right order of the line's matches and take unused partners."""
+    for y, vs in match_lines(jump_line(), Constraints()).items():
+        m = sorted((v.x, v.partner) for v in vs if v.matched)
+        partners = [pt for _, pt in m]
+        assert len(set(partners)) == len(partners)
+        locs = sorted((v.loc1, v.loc2) for v in vs if v.matched)
+        assert [b for _, b in locs] == sorted(b for _, b in locs), y
 
 
 def test_region_constraint_wants_both_ends():
