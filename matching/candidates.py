@@ -149,7 +149,7 @@ class Candidates:
 
 def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
                grey_penalty: float = 16.0, max_disparity: float = NPIX,
-               cap_overflow: bool = False) -> Candidates:
+               cap_overflow: bool = False, width_penalty: float = 0.0) -> Candidates:
     """All same-side pairs passing MASL's grey rule whose two edge maps were
     fetched (flag word 1), scored by shape; only those with a disparity above
     EDISP (and at most ``max_disparity``) are kept."""
@@ -175,5 +175,9 @@ def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
     d = loc1 - loc2
     keep = (d > EDISP) & (d <= max_disparity)
     cost = shape + grey_penalty * gd
+    if width_penalty:
+        w1 = np.array([f[1] - f[0] for f in features1], dtype=np.int64)
+        w2 = np.array([f[1] - f[0] for f in features2], dtype=np.int64)
+        cost = cost + width_penalty * np.abs(w1[left.feature[ii] - 1] - w2[right.feature[jj] - 1])
     c = Candidates(left, right, ii, jj, cost.astype(np.float64), shape, shift, loc1, loc2)
     return c.subset(keep)

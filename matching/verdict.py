@@ -88,6 +88,7 @@ class Params:
     smooth: float = 8.0            # per pixel of disparity change between consecutive matches
     jump_cap: float = 4.0          # ... counted up to this many pixels (depth steps are allowed)
     grey_penalty: float = 16.0     # added per grey level of difference (0 or 1)
+    width_penalty: float = 4.0     # added per pixel of difference in the features' widths
     lr_tolerance: float = 64.0     # a match within this of the right edge's best partner
     region_tolerance: float = 2.0  # px: the two ends of a feature pair agree this well
     region_penalty: float | None = 64.0   # None: an edge pair without its region is dropped;
@@ -102,7 +103,7 @@ class Params:
     min_confidence: float = 0.1    # matches below are "no match (ambiguous)"
     readmit_support: int = 1       # readmit: lines of IY-reach..IY+reach that must agree
     readmit_reach: int = 2
-    readmit_dd: float = 0.0        # px: ... with a disparity this close
+    readmit_dd: float = 1.0        # px: ... with a disparity this close
     readmit_cost: float = 128.0    # ... and a candidate no dearer than this
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
@@ -245,7 +246,8 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
     needed when ``constraints.subpixel``."""
     p = params
     c = candidates(data.features1, data.features2, data.maps1, data.maps2,
-                   use_shift=p.use_shift, grey_penalty=p.grey_penalty)
+                   use_shift=p.use_shift, grey_penalty=p.grey_penalty,
+                   width_penalty=p.width_penalty)
     reason = {int(i): "no candidate" for i in range(len(c.left))}
     has = set(c.i.tolist())
     for i in has:
@@ -328,7 +330,8 @@ def readmit(data: LineData, verdicts: list[Verdict], neighbours,
     that agree, times 1 - cost/256."""
     p = params
     c = candidates(data.features1, data.features2, data.maps1, data.maps2,
-                   use_shift=p.use_shift, grey_penalty=p.grey_penalty)
+                   use_shift=p.use_shift, grey_penalty=p.grey_penalty,
+                   width_penalty=p.width_penalty)
     if len(c) == 0:
         return verdicts
     pos1 = {int(e): i for i, e in enumerate(c.left.edge)}

@@ -316,9 +316,9 @@ def test_readmit_takes_the_unused_partner_the_neighbours_agree_on():
 
 
 def test_readmit_wants_the_neighbours_disparity():
-    """The same line with E's partner on line 60 one pixel off the
-    neighbours' disparity (11, not 12): no neighbour agrees, no re-admission."""
-    stack = jump_line(right_e=39)
+    """The same line with E's partner on line 60 two pixels off the
+    neighbours' disparity (14, not 12): no neighbour agrees, no re-admission."""
+    stack = jump_line(right_e=36)
     after = {v.edge: v for v in match_lines(stack, Constraints())[60]}
     assert not after[2].matched and not after[52].matched
 
@@ -384,6 +384,20 @@ def test_candidates_need_grey_side_maps_and_disparity():
     c = candidates(data.features1, data.features2, data.maps1, data.maps2)
     pairs = {(int(c.left.edge[i]), int(c.right.edge[j])) for i, j in zip(c.i, c.j)}
     assert pairs == {(1, 1), (2, 1), (2, 2), (51, 51), (52, 51), (52, 52)}
+
+
+def test_width_penalty_charges_the_difference_in_widths():
+    """The same grey step seen 2 px wide in one slice and 5 px in the other
+    costs 3 x width_penalty more (Params default 4; 0 is MARF's shape alone)."""
+    line = Line()
+    m = (random_map(51), random_map(52))
+    line.add(0, 30, 4, 11, *m, width=2)
+    line.add(1, 22, 4, 11, *m, width=5)
+    d = line.data()
+    plain = candidates(d.features1, d.features2, d.maps1, d.maps2)
+    charged = candidates(d.features1, d.features2, d.maps1, d.maps2, width_penalty=4.0)
+    assert len(plain) == 2 and np.array_equal(charged.cost, plain.cost + 12.0)
+    assert Params().width_penalty == 4.0
 
 
 def test_dp_kernel_equals_its_plain_python():
