@@ -193,6 +193,7 @@ class Edges:
     nomatch_col: np.ndarray
     all_y: np.ndarray          # every left-slice edge considered
     all_col: np.ndarray
+    verdicts: dict | None = None
 
 
 def faithful_edges(scan) -> Edges:
@@ -223,6 +224,13 @@ def improved_edges(scan, scene: Scene, constraints: Constraints, params: Params)
         profiles = lambda y: (line_profile(scene.left_vd, y),           # noqa: E731
                               line_profile(scene.right_vd, y))
     verdicts = match_lines(scan.results, constraints, params, profiles)
+    edges = edges_of(verdicts)
+    edges.verdicts = verdicts
+    return edges
+
+
+def edges_of(verdicts) -> Edges:
+    from rig.truth import truth_column
     ys, cols, ds, cs, nom, alle = [], [], [], [], [], []
     for y in SCORE_LINES:
         for v in verdicts.get(y, []):
@@ -293,6 +301,8 @@ def score(scene: Scene, e: Edges, bm: np.ndarray, sgbm: np.ndarray) -> Score:
                  out[1][0], out[1][1], prec, rec, err, e.conf[ok])
 
 
+BEFORE = replace(Constraints(), readmit=False)
+TARGET = "all five constraints"
 VARIANTS = [
     ("1985 (default)", None),
     ("improved, no constraint, no minimum confidence", (Constraints.none(),
@@ -302,11 +312,50 @@ VARIANTS = [
     ("left-right consistency alone", Constraints.only("lr")),
     ("neighbouring lines alone", Constraints.only("neighbours")),
     ("region first alone", Constraints.only("region")),
+    ("re-admission alone", Constraints.only("readmit")),
     ("sub-pixel alone", Constraints.only("subpixel")),
-    ("all four constraints", Constraints()),
-    ("all four, region strict", (Constraints(), {"region_penalty": None})),
-    ("all four + sub-pixel", replace(Constraints(), subpixel=True)),
+    ("all four, as before (no re-admission, no width term)", (BEFORE, {"width_penalty": 0.0})),
+    ("all four, no re-admission", BEFORE),
+    ("all five, no width term", (Constraints(), {"width_penalty": 0.0})),
+    (TARGET, Constraints()),
+    ("all five, neighbours from IY-2..IY+2", (Constraints(), {"neighbour_reach": 2})),
+    ("all five, region strict", (Constraints(), {"region_penalty": None})),
+    ("all five + sub-pixel", replace(Constraints(), subpixel=True)),
 ]
+DIAGNOSED = ("all four, as before (no re-admission, no width term)", TARGET)
+REASONS = ("matched", "readmitted", "occluded", "not mutual", "no region partner",
+           "not on a vertical line", "ambiguous", "no candidate")
+
+
+def diagnosis(scene: Scene, verdicts, datas, params: Params) -> dict[str, tuple[int, int, int]]:
+    """Per verdict reason on lines 8..112: (edges, edges whose partner was
+    right, edges with some right candidate).  "Right" is bad-2.0's rule
+    (within 2 px of the truth at the edge's own column).  A match, or a match
+    dropped afterwards (not on a vertical line, ambiguous), is judged by its
+    partner; an edge the assignment or the lr/region rules left out by its
+    cheapest candidate."""
+    from matching.candidates import candidates
+    out: dict[str, list[int]] = {}
+    for y in SCORE_LINES:
+        d = datas[y]
+        c = candidates(d.features1, d.features2, d.maps1, d.maps2, use_shift=params.use_shift,
+                       grey_penalty=params.grey_penalty, width_penalty=params.width_penalty)
+        for v in verdicts.get(y, []):
+            td = acc.true_disparity_at(scene.true_disp, y, v.x - 1, HALFWIDTH)
+            row = out.setdefault(v.reason, [0, 0, 0])
+            row[0] += 1
+            if not np.isfinite(td):
+                continue
+            ks = np.flatnonzero(c.left.edge[c.i] == v.edge)
+            if v.partner:
+                disp = v.disparity
+            elif len(ks):
+                disp = float(c.disp[ks[np.argmin(c.cost[ks])]])
+            else:
+                disp = None
+            row[1] += disp is not None and abs(disp - td) <= 2
+            row[2] += bool(len(ks)) and bool(np.any(np.abs(c.disp[ks] - td) <= 2))
+    return {k: tuple(v) for k, v in out.items()}
 
 
 def num_disparities(scene: Scene) -> int:
@@ -322,6 +371,7 @@ def run(n_generated: int, params: Params, progress: bool = True):
     cv2.setNumThreads(1)
     results = {}          # scene name -> [(variant, Score)]
     faithful_counts = {}
+    diagnoses = {}        # scene name -> {variant: diagnosis}
     for scene in all_scenes(n_generated):
         if progress:
             print(f"  {scene.name} ...", file=sys.stderr, flush=True)
@@ -337,9 +387,14 @@ def run(n_generated: int, params: Params, progress: bool = True):
                 p = replace(params, **changes)
             e = faithful_edges(scan) if cons is None else improved_edges(scan, scene, cons, p)
             rows.append((name, score(scene, e, bm, sgbm)))
+            if name in DIAGNOSED:
+                from matching import LineData
+                datas = {r.iyloc: LineData.of(r) for r in scan.results}
+                diagnoses.setdefault(scene.name, {})[name] = diagnosis(scene, e.verdicts,
+                                                                       datas, p)
         faithful_counts[scene.name] = rows[0][1].located
         results[scene.name] = rows
-    return results, faithful_counts
+    return results, faithful_counts, diagnoses
 
 
 # --- report --------------------------------------------------------------------
@@ -367,18 +422,31 @@ def table(results, faithful) -> str:
 def targets(results, faithful) -> str:
     lines = []
     for scene, rows in results.items():
-        s = dict(rows)["all four constraints"]
+        s = dict(rows)[TARGET]
         keep = s.located / max(1, faithful[scene])
         verdict = ("met" if (s.bad2 <= s.bm_bad2 and keep >= 0.6) else "NOT met")
         stretch = "met" if s.bad2 <= s.sgbm_bad2 else "not met"
         lines.append(f"| {scene} | {pct(s.bad2)} | {pct(s.bm_bad2)} | {pct(s.sgbm_bad2)} | "
                      f"{100 * keep:.0f} % | {verdict} | {stretch} |")
-    return ("| scene | all four: bad-2.0 % | StereoBM there | StereoSGBM there | edges kept | "
+    return ("| scene | all five: bad-2.0 % | StereoBM there | StereoSGBM there | edges kept | "
             "target (<= BM, >= 60 %) | stretch (<= SGBM) |\n|---|---|---|---|---|---|---|\n"
             + "\n".join(lines))
 
 
-def reliability(results, variant="all four constraints", bins=10, scenes=None):
+def diagnosis_table(diagnoses) -> str:
+    """Per scene and diagnosed variant: edges per verdict reason, "n (right)"
+    with right = the partner (or cheapest candidate) within 2 px of the truth."""
+    head = ("| scene | matcher | " + " | ".join(REASONS) + " |\n|" + "---|" * (2 + len(REASONS)))
+    out = [head]
+    for scene, by_variant in diagnoses.items():
+        for name, d in by_variant.items():
+            cells = [f"{d[r][0]} ({d[r][1]})" if r in d else "-" for r in REASONS]
+            short = "before" if name == DIAGNOSED[0] else "now"
+            out.append(f"| {scene} | {short} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def reliability(results, variant=TARGET, bins=10, scenes=None):
     """Pooled over ``scenes`` (all when None): (lo, hi, count, wrong share
     |err| > 1) per confidence bin."""
     pick = [rows for name, rows in results.items() if scenes is None or name in scenes]
@@ -442,7 +510,7 @@ def reliability_picture(series, title: str, reference: float | None = None) -> n
 def scan_times(repeat: int = 5) -> dict[str, float]:
     """Median seconds of a whole scan of the bundled pair (lines 8..112, direct
     link, NSTAR included) with ESTAR's 1985 lists and with the improved
-    matcher (all four constraints), measured in this run."""
+    matcher (all five constraints), measured in this run."""
     import statistics
     import time
     from matching.mode import ImprovedMatcher
@@ -486,7 +554,7 @@ def main(argv=None) -> int:
         print(f"matching: --scenes {args.scenes}: the benchmark wants at least 5", file=sys.stderr)
         return 2
     params = Params()
-    results, faithful = run(args.scenes, params)
+    results, faithful, diagnoses = run(args.scenes, params)
     rel = reliability(results)
     real = [n for n in results if not n.startswith("generated")]
     gen = [n for n in results if n.startswith("generated")]
@@ -507,12 +575,17 @@ def main(argv=None) -> int:
     have_moto = any("motorcycle" in k for k in results)
     block = "\n\n".join([
         table(results, faithful),
-        "Targets (all four constraints on):\n\n" + targets(results, faithful),
-        "Reliability, all four constraints, all scenes pooled:\n\n" + rel_text,
+        "Targets (all five constraints on):\n\n" + targets(results, faithful),
+        "Why edges get no match, and how many of them were in fact right: edges per "
+        "verdict, n (right), where right = the partner (for a match, or one dropped "
+        "afterwards by the neighbour or ambiguity rule) or else the cheapest candidate "
+        "within 2 px of the truth; before = all four as before (no re-admission, no "
+        "width term), now = all five:\n\n" + diagnosis_table(diagnoses),
+        "Reliability, all five constraints, all scenes pooled:\n\n" + rel_text,
         ("" if have_moto else "The motorcycle pair was left out: scikit-image is not "
                               "installed (`pip install -e .[bench]`).\n\n")
         + f"Whole scan of the bundled pair (lines 8..112, direct link, median of 5): "
-          f"1985 {1000 * times['1985']:.0f} ms, improved (all four) "
+          f"1985 {1000 * times['1985']:.0f} ms, improved (all five) "
           f"{1000 * times['improved']:.0f} ms ({times['improved'] / times['1985']:.1f} x).\n\n"
         + f"Parameters: {params}.\n\nMade by `{cmd}`."])
     print(block)
@@ -524,7 +597,7 @@ def main(argv=None) -> int:
         save_png(args.picture, reliability_picture(
             [(" + ".join(n.split()[-1] if "motorcycle" in n else "bundled pair" for n in real),
               rel_real), ("generated rooms", rel_gen)],
-            "Improved matcher, all four constraints", float(np.mean(base > 1))))
+            "Improved matcher, all five constraints", float(np.mean(base > 1))))
     return 0
 
 
