@@ -24,10 +24,10 @@ from dataclasses import replace
 import numpy as np
 
 from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, match_line,
-                      neighbour_lines, readmit)
+                      line_candidates, neighbour_lines, readmit)
 
 MODES = ("1985", "improved")
-MAX_CACHED_LINES = 16
+MAX_CACHED_LINES = 24
 DEFAULT_CONSTRAINTS = "order,lr,neighbours,region,readmit"
 
 
@@ -76,6 +76,8 @@ class ImprovedMatcher:
         self._lines: dict[int, LineData] = {}
         self._first: dict[int, list[Verdict]] = {}
         self._second: dict[int, list[Verdict]] = {}
+        self._rounds: dict[tuple[int, int], list[Verdict]] = {}
+        self._cands: dict = {}
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
         """LCLN's hook: (tables for LCSL, verdicts) of line IY."""
@@ -90,11 +92,7 @@ class ImprovedMatcher:
             verdicts = match_line(data, self.constraints, self.params,
                                   self._neighbours(eclipse, iyloc), profiles)
         else:
-            p = self.params
-            verdicts = readmit(data, self._second_pass(eclipse, iyloc),
-                               [self._second_pass(eclipse, y)
-                                for y in neighbour_lines(iyloc, p, p.readmit_reach)
-                                if 0 <= y <= 119], p)
+            verdicts = self._readmitted(eclipse, iyloc, self.params.readmit_rounds)
             if profiles is not None:
                 from .subpixel import refine_verdicts
                 verdicts = refine_verdicts(verdicts, data, profiles)
@@ -106,12 +104,17 @@ class ImprovedMatcher:
         if iyloc in self._lines and not _same(self._lines[iyloc], data):
             self._first.clear()                   # new pictures: forget the old verdicts
             self._second.clear()
+            self._rounds.clear()
+            self._cands.clear()
         self._lines[iyloc] = data
         while len(self._lines) > MAX_CACHED_LINES:
             old = next(iter(self._lines))
             del self._lines[old]
             self._first.pop(old, None)
             self._second.pop(old, None)
+            self._cands.pop(old, None)
+            for key in [k for k in self._rounds if k[0] == old]:
+                del self._rounds[key]
 
     def _line(self, eclipse, y: int) -> LineData:
         if y not in self._lines:
@@ -132,6 +135,22 @@ class ImprovedMatcher:
                                                 subpixel=False),
                                         replace(self.params, min_confidence=0.0))
         return self._first[y]
+
+    def _readmitted(self, eclipse, y: int, rounds: int) -> list[Verdict]:
+        """Line y's verdicts after ``rounds`` re-admission passes (as match_lines)."""
+        if rounds == 0:
+            return self._second_pass(eclipse, y)
+        key = (y, rounds)
+        if key not in self._rounds:
+            p = self.params
+            if y not in self._cands:
+                self._cands[y] = line_candidates(self._line(eclipse, y), p)
+            self._rounds[key] = readmit(
+                self._line(eclipse, y), self._readmitted(eclipse, y, rounds - 1),
+                [self._readmitted(eclipse, n, rounds - 1)
+                 for n in neighbour_lines(y, p, p.readmit_reach) if 0 <= n <= 119],
+                p, self._cands[y])
+        return self._rounds[key]
 
     def _second_pass(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts before re-admission (as match_lines)."""

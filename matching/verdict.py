@@ -105,6 +105,7 @@ class Params:
     readmit_reach: int = 2
     readmit_dd: float = 1.0        # px: ... with a disparity this close
     readmit_cost: float = 128.0    # ... and a candidate no dearer than this
+    readmit_rounds: int = 2        # passes, each seeing the re-admissions of the one before
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
 
@@ -245,9 +246,7 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
     (left, right) .VD grey profiles of this line (:mod:`matching.subpixel`),
     needed when ``constraints.subpixel``."""
     p = params
-    c = candidates(data.features1, data.features2, data.maps1, data.maps2,
-                   use_shift=p.use_shift, grey_penalty=p.grey_penalty,
-                   width_penalty=p.width_penalty)
+    c = line_candidates(data, p)
     reason = {int(i): "no candidate" for i in range(len(c.left))}
     has = set(c.i.tolist())
     for i in has:
@@ -313,11 +312,18 @@ def neighbour_lines(iyloc: int, params: Params, reach: int | None = None) -> lis
     return [iyloc + s * r for r in range(1, reach + 1) for s in (-1, 1)]
 
 
+def line_candidates(data: LineData, p: Params) -> Candidates:
+    """The candidate pairs of a line under ``p``'s cost terms."""
+    return candidates(data.features1, data.features2, data.maps1, data.maps2,
+                      use_shift=p.use_shift, grey_penalty=p.grey_penalty,
+                      width_penalty=p.width_penalty)
+
+
 READMITTABLE = ("occluded", "not on a vertical line", "ambiguous", "not mutual")
 
 
 def readmit(data: LineData, verdicts: list[Verdict], neighbours,
-            params: Params = Params()) -> list[Verdict]:
+            params: Params = Params(), cands: Candidates | None = None) -> list[Verdict]:
     """The second pass: an edge left without a match (for a reason in
     :data:`READMITTABLE`) takes a partner the line's matches left unused,
     where that keeps the order of the matches along the line, when at least
@@ -327,11 +333,10 @@ def readmit(data: LineData, verdicts: list[Verdict], neighbours,
     at most ``readmit_cost``; the cheapest such partner.  Edges are visited
     along the line, each re-admitted match counting as used at once.  The
     confidence of a re-admitted match is the share of neighbouring lines
-    that agree, times 1 - cost/256."""
+    that agree, times 1 - cost/256.  ``cands``: the line's
+    :func:`line_candidates`, when already at hand."""
     p = params
-    c = candidates(data.features1, data.features2, data.maps1, data.maps2,
-                   use_shift=p.use_shift, grey_penalty=p.grey_penalty,
-                   width_penalty=p.width_penalty)
+    c = line_candidates(data, p) if cands is None else cands
     if len(c) == 0:
         return verdicts
     pos1 = {int(e): i for i, e in enumerate(c.left.edge)}
@@ -383,10 +388,11 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
                             params, nb,
                             profiles(y) if (profiles and constraints.subpixel) else None)
     if constraints.readmit:
-        out = {y: readmit(datas[y], v, [out[n] for n in neighbour_lines(y, params,
-                                                                         params.readmit_reach)
-                                        if n in out], params)
-               for y, v in out.items()}
+        cands = {y: line_candidates(d, params) for y, d in datas.items()}
+        for _ in range(params.readmit_rounds):
+            out = {y: readmit(datas[y], v, [out[n] for n in neighbour_lines(
+                       y, params, params.readmit_reach) if n in out], params, cands[y])
+                   for y, v in out.items()}
     if later:
         from .subpixel import refine_verdicts
         out = {y: refine_verdicts(v, datas[y], profiles(y)) for y, v in out.items()}
