@@ -273,25 +273,26 @@ def test_neighbour_bonus_lets_the_supported_partner_win():
     assert bonus[2].cost == plain_cost(stack[3], 2)          # the reported cost is the evidence
 
 
-def jump_line(right_e: int = 38) -> list[LineData]:
-    """Lines 57..63: A at 30 and B at 70 at disparity 8, between them E at 50
-    whose partner is at ``right_e`` (disparity 12: a jump of 4 px either side).
-    On every line but 60 E's maps are clean copies; on line 60 they are
-    damaged (a cost near 110), so the order-keeping assignment there prefers
-    to leave E out rather than pay two disparity jumps."""
+def jump_line(right_e: int = 38, hurt=(60,), lines=range(57, 64)) -> list[LineData]:
+    """Lines ``lines`` (57..63): A at 30 and B at 70 at disparity 8, between
+    them E at 50 whose partner is at 38 (disparity 12: a jump of 4 px either
+    side; on line 60 at ``right_e``).  On the lines in ``hurt`` (60) E's left
+    maps are damaged (a cost near 110), so the order-keeping assignment there
+    prefers to leave E out rather than pay two disparity jumps; elsewhere
+    they are clean copies."""
     a, b, e = ((random_map(41 + 2 * k), random_map(42 + 2 * k)) for k in range(3))
-    lines = []
-    for y in range(57, 64):
+    out = []
+    for y in lines:
         line = Line()
-        e_left = (damaged(e[0], 77, 7), damaged(e[1], 77, 8)) if y == 60 else e
+        e_left = (damaged(e[0], 77, 7), damaged(e[1], 77, 8)) if y in hurt else e
         line.add(0, 30, 4, 11, *a)
         line.add(0, 50, 9, 5, *e_left)
         line.add(0, 70, 6, 14, *b)
         line.add(1, 22, 4, 11, *a)
         line.add(1, (right_e if y == 60 else 38), 9, 5, *e)
         line.add(1, 62, 6, 14, *b)
-        lines.append(line.data(y))
-    return lines
+        out.append(line.data(y))
+    return out
 
 
 def plain_cost(data: LineData, edge: int) -> float:
@@ -321,6 +322,20 @@ def test_readmit_wants_the_neighbours_disparity():
     stack = jump_line(right_e=36)
     after = {v.edge: v for v in match_lines(stack, Constraints())[60]}
     assert not after[2].matched and not after[52].matched
+
+
+def test_a_second_readmit_pass_grows_the_vertical_line():
+    """E damaged on lines 58..62: the first pass re-admits it on 58, 59, 61
+    and 62 (clean lines 56, 57, 63, 64 within reach), line 60 only sees
+    damaged lines until the second pass, which sees their re-admissions."""
+    stack = jump_line(hurt=range(58, 63), lines=range(55, 66))
+    one = {v.edge: v for v in match_lines(stack, Constraints(), Params(readmit_rounds=1))[60]}
+    assert not one[2].matched
+    for y in (59, 61):
+        assert {v.edge: v for v in match_lines(stack, Constraints(),
+                                               Params(readmit_rounds=1))[y]}[2].matched
+    two = {v.edge: v for v in match_lines(stack, Constraints())[60]}
+    assert two[2].matched and two[2].reason == "readmitted" and two[2].disparity == 12
 
 
 def test_readmit_keeps_the_order_and_uses_no_partner_twice():
