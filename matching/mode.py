@@ -90,7 +90,8 @@ class ImprovedMatcher:
             profiles = (line_profile(self.vd[0], iyloc), line_profile(self.vd[1], iyloc))
         if not self.constraints.readmit:
             verdicts = match_line(data, self.constraints, self.params,
-                                  self._neighbours(eclipse, iyloc), profiles)
+                                  self._neighbours(eclipse, iyloc), profiles,
+                                  self._candidates(eclipse, iyloc))
         else:
             verdicts = self._readmitted(eclipse, iyloc, self.params.readmit_rounds)
             if profiles is not None:
@@ -121,6 +122,11 @@ class ImprovedMatcher:
             self._remember(y, fetch_line(eclipse, y))
         return self._lines[y]
 
+    def _candidates(self, eclipse, y: int):
+        if y not in self._cands:
+            self._cands[y] = line_candidates(self._line(eclipse, y), self.params)
+        return self._cands[y]
+
     def _neighbours(self, eclipse, y: int) -> list[list[Verdict]]:
         if not self.constraints.neighbours:
             return []
@@ -133,7 +139,8 @@ class ImprovedMatcher:
             self._first[y] = match_line(self._line(eclipse, y),
                                         replace(self.constraints, neighbours=False,
                                                 subpixel=False),
-                                        replace(self.params, min_confidence=0.0))
+                                        replace(self.params, min_confidence=0.0),
+                                        cands=self._candidates(eclipse, y))
         return self._first[y]
 
     def _readmitted(self, eclipse, y: int, rounds: int) -> list[Verdict]:
@@ -143,13 +150,11 @@ class ImprovedMatcher:
         key = (y, rounds)
         if key not in self._rounds:
             p = self.params
-            if y not in self._cands:
-                self._cands[y] = line_candidates(self._line(eclipse, y), p)
             self._rounds[key] = readmit(
                 self._line(eclipse, y), self._readmitted(eclipse, y, rounds - 1),
                 [self._readmitted(eclipse, n, rounds - 1)
                  for n in neighbour_lines(y, p, p.readmit_reach) if 0 <= n <= 119],
-                p, self._cands[y])
+                p, self._candidates(eclipse, y))
         return self._rounds[key]
 
     def _second_pass(self, eclipse, y: int) -> list[Verdict]:
@@ -157,7 +162,8 @@ class ImprovedMatcher:
         if y not in self._second:
             data = self._line(eclipse, y)
             self._second[y] = match_line(data, replace(self.constraints, subpixel=False),
-                                         self.params, self._neighbours(eclipse, y))
+                                         self.params, self._neighbours(eclipse, y),
+                                         cands=self._candidates(eclipse, y))
         return self._second[y]
 
 

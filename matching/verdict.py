@@ -205,7 +205,8 @@ def _support(c: Candidates, neighbours, p: Params) -> np.ndarray:
         if not m:
             continue
         ns, nx, nd = (np.asarray(a) for a in zip(*m))
-        hit = ((side[:, None] == ns[None, :]) & (np.abs(x[:, None] - nx[None, :]) <= p.neighbour_dx)
+        hit = ((side[:, None] == ns[None, :])
+               & (np.abs(x[:, None] - nx[None, :]) <= p.neighbour_dx)
                & (np.abs(d[:, None] - nd[None, :]) <= p.neighbour_dd))
         out += hit.any(axis=1)
     return out
@@ -237,16 +238,18 @@ def _confidence(c: Candidates, k: int, marginal: np.ndarray, p: Params) -> float
 
 
 def match_line(data: LineData, constraints: Constraints = Constraints(),
-               params: Params = Params(), neighbours=None, profiles=None) -> list[Verdict]:
+               params: Params = Params(), neighbours=None, profiles=None,
+               cands: Candidates | None = None) -> list[Verdict]:
     """Verdicts for every edge of the left slice of one line.
 
     ``neighbours``: verdicts of lines IY-1 and IY+1 made without the
     neighbour constraint (a list of lists; missing lines simply give no
     support), needed when ``constraints.neighbours``.  ``profiles``: the
     (left, right) .VD grey profiles of this line (:mod:`matching.subpixel`),
-    needed when ``constraints.subpixel``."""
+    needed when ``constraints.subpixel``.  ``cands``: the line's
+    :func:`line_candidates` under ``params``, when already at hand."""
     p = params
-    c = line_candidates(data, p)
+    c = line_candidates(data, p) if cands is None else cands
     reason = {int(i): "no candidate" for i in range(len(c.left))}
     has = set(c.i.tolist())
     for i in has:
@@ -377,8 +380,9 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
     for the subpixel constraint."""
     datas = {d.iyloc: d for d in (x if isinstance(x, LineData) else LineData.of(x)
                                   for x in lines)}
+    cands = {y: line_candidates(d, params) for y, d in datas.items()}
     first_pass = replace(constraints, neighbours=False, subpixel=False)
-    first = {y: match_line(d, first_pass, replace(params, min_confidence=0.0))
+    first = {y: match_line(d, first_pass, replace(params, min_confidence=0.0), cands=cands[y])
              for y, d in datas.items()} if constraints.neighbours else {}
     out = {}
     later = constraints.readmit and constraints.subpixel and profiles is not None
@@ -386,9 +390,9 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
         nb = [first[n] for n in neighbour_lines(y, params) if n in first]
         out[y] = match_line(d, replace(constraints, subpixel=constraints.subpixel and not later),
                             params, nb,
-                            profiles(y) if (profiles and constraints.subpixel) else None)
+                            profiles(y) if (profiles and constraints.subpixel) else None,
+                            cands[y])
     if constraints.readmit:
-        cands = {y: line_candidates(d, params) for y, d in datas.items()}
         for _ in range(params.readmit_rounds):
             out = {y: readmit(datas[y], v, [out[n] for n in neighbour_lines(
                        y, params, params.readmit_reach) if n in out], params, cands[y])
