@@ -231,10 +231,10 @@ def _confidence(c: Candidates, k: int, marginal: np.ndarray, p: Params) -> float
     its edges), and over leaving it out, in units of 2 x occlusion."""
     rivals = ((c.i == c.i[k]) | (c.j == c.j[k]))
     rivals[k] = False
-    gap = 2.0 * p.occlusion - c.cost[k]
+    gap = 2.0 * p.occlusion - float(c.cost[k])
     if rivals.any():
         gap = min(gap, float(marginal[rivals].min() - marginal[k]))
-    return float(np.clip(gap / (2.0 * p.occlusion), 0.0, 1.0))
+    return min(1.0, max(0.0, gap / (2.0 * p.occlusion)))
 
 
 def match_line(data: LineData, constraints: Constraints = Constraints(),
@@ -280,7 +280,9 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
                          int(c.right.edge[c.j[k]]), float(c.loc1[k]), float(c.loc2[k]),
                          float(evidence[k]), conf)
     if constraints.neighbours:
-        out = {i: _neighbour_check(v, neighbours or (), p) for i, v in out.items()}
+        lines = [[(n.edge > 50, n.x, n.disparity) for n in line if n.matched]
+                 for line in neighbours or ()]
+        out = {i: _neighbour_check(v, lines, p) for i, v in out.items()}
     for i, v in list(out.items()):
         if v.matched and v.confidence < p.min_confidence:
             out[i] = replace(v, matched=False, reason="ambiguous")
@@ -292,14 +294,15 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
     return sorted(verdicts, key=lambda v: v.edge)
 
 
-def _neighbour_check(v: Verdict, neighbours, p: Params) -> Verdict:
+def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
+    """``lines``: per neighbouring line, its matches as (right end?, x, disparity)."""
     if not v.matched:
         return v
     support = 0
-    for line in neighbours:
-        if any(n.matched and (n.edge > 50) == (v.edge > 50)
-               and abs(n.x - v.x) <= p.neighbour_dx
-               and abs(n.disparity - v.disparity) <= p.neighbour_dd for n in line):
+    side, d = v.edge > 50, v.disparity
+    for line in lines:
+        if any(s == side and abs(x - v.x) <= p.neighbour_dx and abs(nd - d) <= p.neighbour_dd
+               for s, x, nd in line):
             support += 1
     if support == 0:
         if p.unsupported_factor is not None:
