@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -528,6 +528,33 @@ def scan_times(repeat: int = 5) -> dict[str, float]:
     return out
 
 
+def params_from(pairs) -> Params:
+    """``["readmit_rounds=3", ...]`` -> Params with those fields changed
+    (values read as the field's type; ``none`` for an optional one)."""
+    base = Params()
+    changes = {}
+    for pair in pairs:
+        name, sep, text = pair.partition("=")
+        name = name.strip()
+        if not sep or not hasattr(base, name):
+            raise ValueError(f"--param {pair!r}: want NAME=VALUE with NAME one of "
+                             + ", ".join(f.name for f in fields(Params)))
+        old = getattr(base, name)
+        try:
+            if text.strip().lower() == "none":
+                value = None
+            elif isinstance(old, bool):
+                value = text.strip().lower() in ("1", "true", "yes")
+            elif isinstance(old, int):
+                value = int(text)
+            else:
+                value = float(text)
+        except ValueError:
+            raise ValueError(f"--param {pair!r}: {text!r} is not a number") from None
+        changes[name] = value
+    return replace(base, **changes)
+
+
 def write_out(path: Path, block: str) -> None:
     text = path.read_text() if path.exists() else ""
     if BEGIN in text and END in text:
@@ -547,13 +574,20 @@ def main(argv=None) -> int:
     ap.add_argument("--halfwidth", type=int, default=1,
                     help="truth at an edge = largest true disparity over LOC1-1 +- this "
                          "(default 1, bench/accuracy.py's rule)")
+    ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                    help="change one of matching.Params for every improved row, e.g. "
+                         "--param readmit_rounds=3 (repeatable)")
     args = ap.parse_args(argv)
+    try:
+        params = params_from(args.param)
+    except ValueError as e:
+        print(f"matching: {e}", file=sys.stderr)
+        return 2
     global HALFWIDTH
     HALFWIDTH = args.halfwidth
     if args.scenes < 5:
         print(f"matching: --scenes {args.scenes}: the benchmark wants at least 5", file=sys.stderr)
         return 2
-    params = Params()
     results, faithful, diagnoses = run(args.scenes, params)
     rel = reliability(results)
     real = [n for n in results if not n.startswith("generated")]
@@ -563,6 +597,7 @@ def main(argv=None) -> int:
     cmd = "python bench/matching.py" + (f" --scenes {args.scenes}" if args.scenes != 6 else "")
     if args.halfwidth != 1:
         cmd += f" --halfwidth {args.halfwidth}"
+    cmd += "".join(f" --param {a}" for a in args.param)
     if args.out:
         cmd += f" --out {args.out}"
     if args.picture:

@@ -55,3 +55,16 @@ def test_generated_rooms_are_seeded_and_differ():
     room = bm.rendered("r", bm.generated_quads(3), 3)          # rendering: rig.scene's own
     assert room.occluded.any() and np.isfinite(room.true_disp).all()
     assert room.left_bi.shape == (120, 128) and room.left_vd.shape == (240, 256)
+
+
+def test_param_flags_change_params_and_refuse_bad_ones():
+    p = bm.params_from(["readmit_rounds=3", "region_penalty=none", "occlusion=70"])
+    assert (p.readmit_rounds, p.region_penalty, p.occlusion) == (3, None, 70.0)
+    assert p.smooth == bm.Params().smooth
+    for bad in (["nonsense=1"], ["occlusion"], ["readmit_rounds=many"]):
+        try:
+            bm.params_from(bad)
+        except ValueError as e:
+            assert "--param" in str(e)
+        else:
+            raise AssertionError(bad)
