@@ -26,6 +26,13 @@ verdict, under constraints that are each switched on their own
     then the coinciding edges can be matched"): an edge pair counts only if
     the other ends of the two feature intervals also pass the grey rule and
     give nearly the same disparity (both ends matched together).
+``readmit``
+    a second pass once every line has its verdicts (:func:`readmit`): an edge
+    left with "no match" takes a partner its line left unused, keeping the
+    order of the line's matches, where a neighbouring line (IY-2..IY+2)
+    agrees on the disparity; two passes, so a vertical line grows past a
+    damaged stretch.  Only in :func:`match_lines` (and the streaming
+    :class:`matching.mode.ImprovedMatcher`), which see the other lines.
 ``subpixel``
     edge positions from the grey profile of the .VD picture (twice the .BI's
     resolution), see :mod:`matching.subpixel`; changes locations, not verdicts.
@@ -133,7 +140,9 @@ class Verdict:
     ``reason`` says why: "no candidate" (nothing passes the grey rule with a
     disparity above 1), "not mutual" (lr), "no region partner" (region),
     "occluded" (the order-keeping assignment leaves it out), "not on a
-    vertical line" (neighbours), "ambiguous" (confidence below the minimum)."""
+    vertical line" (neighbours), "ambiguous" (confidence below the minimum).
+    A match the re-admission pass made has ``reason`` "readmitted"; one
+    dropped afterwards keeps the partner and locations it had."""
     iyloc: int
     edge: int                  # MASL's number, 1..50 left end, 51..100 right end
     x: int                     # its 1-based slice index
@@ -242,8 +251,8 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
                cands: Candidates | None = None) -> list[Verdict]:
     """Verdicts for every edge of the left slice of one line.
 
-    ``neighbours``: verdicts of lines IY-1 and IY+1 made without the
-    neighbour constraint (a list of lists; missing lines simply give no
+    ``neighbours``: verdicts of lines IY-1 and IY+1 (and further, up to
+    ``neighbour_reach``) made without the neighbour constraint (a list of lists; missing lines simply give no
     support), needed when ``constraints.neighbours``.  ``profiles``: the
     (left, right) .VD grey profiles of this line (:mod:`matching.subpixel`),
     needed when ``constraints.subpixel``.  ``cands``: the line's
