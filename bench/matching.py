@@ -340,6 +340,8 @@ def diagnosis(scene: Scene, verdicts, datas, params: Params) -> dict[str, tuple[
     from matching.candidates import candidates
     out: dict[str, list[int]] = {}
     for y in SCORE_LINES:
+        if y not in datas:
+            continue
         d = datas[y]
         c = candidates(d.features1, d.features2, d.maps1, d.maps2, use_shift=params.use_shift,
                        grey_penalty=params.grey_penalty, width_penalty=params.width_penalty)

@@ -68,3 +68,28 @@ def test_param_flags_change_params_and_refuse_bad_ones():
             assert "--param" in str(e)
         else:
             raise AssertionError(bad)
+
+
+def test_diagnosis_counts_reasons_against_the_truth():
+    """On the hand-made stack of tests/test_matching.py (E at 50 with its
+    maps damaged on line 60): without re-admission line 60's E is "occluded"
+    and its cheapest candidate is right; with it, E is "readmitted" and right.
+    A truth that puts E at disparity 8 instead makes the same edges wrong."""
+    from test_matching import jump_line
+    from matching import Constraints, match_lines
+    from dataclasses import replace as dc_replace
+    stack = jump_line()
+    datas = {d.iyloc: d for d in stack}
+    truth = np.full((120, 128), 8.0)
+    truth[:, 45:53] = 12.0                  # E's columns (x 50 -> column 49, +-1)
+    scene = bm.Scene("hand-made", None, None, None, None, truth, None)
+    p = bm.Params()
+    before = bm.diagnosis(scene, match_lines(stack, dc_replace(Constraints(), readmit=False), p),
+                          datas, p)
+    assert before["occluded"] == (2, 2, 2)              # edges 2 and 52 of line 60
+    assert before["matched"][0] == before["matched"][1] == 6 * 7 - 2
+    now = bm.diagnosis(scene, match_lines(stack, Constraints(), p), datas, p)
+    assert now["readmitted"] == (2, 2, 2) and "occluded" not in now
+    flat = bm.Scene("hand-made", None, None, None, None, np.full((120, 128), 8.0), None)
+    wrong = bm.diagnosis(flat, match_lines(stack, Constraints(), p), datas, p)
+    assert wrong["readmitted"] == (2, 0, 0)
