@@ -322,6 +322,8 @@ VARIANTS = [
     ("all five, no width term", (Constraints(), {"width_penalty": 0.0})),
     (TARGET, Constraints()),
     ("all five, neighbours from IY-2..IY+2", (Constraints(), {"neighbour_reach": 2})),
+    ("all five, lines assigned again with the neighbours' support (rematch_bonus 64)",
+     (Constraints(), {"rematch_bonus": 64.0})),
     ("all five, region strict", (Constraints(), {"region_penalty": None})),
     ("all five + sub-pixel", replace(Constraints(), subpixel=True)),
 ]

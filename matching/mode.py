@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, match_line,
-                      line_candidates, neighbour_lines, readmit)
+                      line_candidates, neighbour_lines, readmit, rematch_params, rematches)
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
@@ -77,6 +77,7 @@ class ImprovedMatcher:
         self._first: dict[int, list[Verdict]] = {}
         self._second: dict[int, list[Verdict]] = {}
         self._rounds: dict[tuple[int, int], list[Verdict]] = {}
+        self._rematch: dict[int, list[Verdict]] = {}
         self._cands: dict = {}
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
@@ -88,12 +89,14 @@ class ImprovedMatcher:
         if self.constraints.subpixel:
             from .subpixel import line_profile
             profiles = (line_profile(self.vd[0], iyloc), line_profile(self.vd[1], iyloc))
-        if not self.constraints.readmit:
+        again = rematches(self.constraints, self.params)
+        if not self.constraints.readmit and not again:
             verdicts = match_line(data, self.constraints, self.params,
                                   self._neighbours(eclipse, iyloc), profiles,
                                   self._candidates(eclipse, iyloc))
         else:
-            verdicts = self._readmitted(eclipse, iyloc, self.params.readmit_rounds)
+            rounds = self.params.readmit_rounds if self.constraints.readmit else 0
+            verdicts = self._readmitted(eclipse, iyloc, rounds)
             if profiles is not None:
                 from .subpixel import refine_verdicts
                 verdicts = refine_verdicts(verdicts, data, profiles)
@@ -106,6 +109,7 @@ class ImprovedMatcher:
             self._first.clear()                   # new pictures: forget the old verdicts
             self._second.clear()
             self._rounds.clear()
+            self._rematch.clear()
             self._cands.clear()
         self._lines[iyloc] = data
         while len(self._lines) > MAX_CACHED_LINES:
@@ -114,6 +118,7 @@ class ImprovedMatcher:
             self._first.pop(old, None)
             self._second.pop(old, None)
             self._cands.pop(old, None)
+            self._rematch.pop(old, None)
             for key in [k for k in self._rounds if k[0] == old]:
                 del self._rounds[key]
 
@@ -146,7 +151,7 @@ class ImprovedMatcher:
     def _readmitted(self, eclipse, y: int, rounds: int) -> list[Verdict]:
         """Line y's verdicts after ``rounds`` re-admission passes (as match_lines)."""
         if rounds == 0:
-            return self._second_pass(eclipse, y)
+            return self._base(eclipse, y)
         key = (y, rounds)
         if key not in self._rounds:
             p = self.params
@@ -156,6 +161,19 @@ class ImprovedMatcher:
                  for n in neighbour_lines(y, p, p.readmit_reach) if 0 <= n <= 119],
                 p, self._candidates(eclipse, y))
         return self._rounds[key]
+
+    def _base(self, eclipse, y: int) -> list[Verdict]:
+        """Line y's verdicts before re-admission: the second pass, or with
+        ``rematch_bonus`` the line assigned again (as match_lines)."""
+        if not rematches(self.constraints, self.params):
+            return self._second_pass(eclipse, y)
+        if y not in self._rematch:
+            p2 = rematch_params(self.params)
+            self._rematch[y] = match_line(
+                self._line(eclipse, y), replace(self.constraints, subpixel=False), p2,
+                [self._second_pass(eclipse, n) for n in neighbour_lines(y, p2)
+                 if 0 <= n <= 119], cands=self._candidates(eclipse, y))
+        return self._rematch[y]
 
     def _second_pass(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts before re-admission (as match_lines)."""

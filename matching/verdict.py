@@ -113,6 +113,9 @@ class Params:
     readmit_dd: float = 1.0        # px: ... with a disparity this close
     readmit_cost: float = 128.0    # ... and a candidate no dearer than this
     readmit_rounds: int = 2        # passes, each seeing the re-admissions of the one before
+    rematch_bonus: float = 0.0     # > 0: before re-admission, assign every line again with
+    #                                this much off a candidate's cost per neighbouring line
+    #                                whose verdicts agree (inter-scanline support; off)
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
 
@@ -334,6 +337,22 @@ def line_candidates(data: LineData, p: Params) -> Candidates:
                       width_penalty=p.width_penalty)
 
 
+def rematches(constraints: Constraints, params: Params) -> bool:
+    """Whether :func:`match_lines` assigns every line again with the
+    neighbours' verdicts in its costs (``Params.rematch_bonus``, with the
+    neighbour constraint)."""
+    return constraints.neighbours and params.rematch_bonus > 0
+
+
+def rematch_params(params: Params) -> Params:
+    """The parameters of that pass: support is a line of IY-readmit_reach..
+    IY+readmit_reach whose verdicts (after the neighbour constraint) agree
+    within ``readmit_dd``; each such line takes ``rematch_bonus`` off the
+    cost, and a match no such line supports is "not on a vertical line"."""
+    return replace(params, neighbour_bonus=params.rematch_bonus,
+                   neighbour_dd=params.readmit_dd, neighbour_reach=params.readmit_reach)
+
+
 READMITTABLE = ("occluded", "not on a vertical line", "ambiguous", "not mutual")
 
 
@@ -397,13 +416,20 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
     first = {y: match_line(d, first_pass, replace(params, min_confidence=0.0), cands=cands[y])
              for y, d in datas.items()} if constraints.neighbours else {}
     out = {}
-    later = constraints.readmit and constraints.subpixel and profiles is not None
+    again = rematches(constraints, params)
+    later = ((constraints.readmit or again) and constraints.subpixel
+             and profiles is not None)
     for y, d in datas.items():
         nb = [first[n] for n in neighbour_lines(y, params) if n in first]
         out[y] = match_line(d, replace(constraints, subpixel=constraints.subpixel and not later),
                             params, nb,
                             profiles(y) if (profiles and constraints.subpixel) else None,
                             cands[y])
+    if again:
+        p2 = rematch_params(params)
+        out = {y: match_line(datas[y], replace(constraints, subpixel=False), p2,
+                             [out[n] for n in neighbour_lines(y, p2) if n in out],
+                             cands=cands[y]) for y in out}
     if constraints.readmit:
         for _ in range(params.readmit_rounds):
             out = {y: readmit(datas[y], v, [out[n] for n in neighbour_lines(

@@ -324,6 +324,21 @@ def test_readmit_wants_the_neighbours_disparity():
     assert not after[2].matched and not after[52].matched
 
 
+def test_rematch_assigns_the_line_again_with_the_neighbours_in_its_costs():
+    """rematch_bonus (off by default): line 60 assigned again with 64 off E's
+    cost for each of lines 58..62 whose verdicts have E at its disparity; the
+    assignment itself then takes E (no re-admission needed)."""
+    stack = jump_line()
+    cons = replace(Constraints(), readmit=False)
+    assert not {v.edge: v for v in match_lines(stack, cons)[60]}[2].matched
+    again = {v.edge: v for v in match_lines(stack, cons, Params(rematch_bonus=64))[60]}
+    for e in (2, 52):
+        assert again[e].matched and again[e].reason == "matched" and again[e].disparity == 12
+    assert again[2].cost == plain_cost(stack[3], 2)
+    off = replace(cons, neighbours=False)                     # needs the neighbour constraint
+    assert match_lines(stack, off, Params(rematch_bonus=64)) == match_lines(stack, off)
+
+
 def test_a_second_readmit_pass_grows_the_vertical_line():
     """E damaged on lines 58..62: the first pass re-admits it on 58, 59, 61
     and 62 (clean lines 56, 57, 63, 64 within reach), line 60 only sees

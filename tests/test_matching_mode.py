@@ -13,7 +13,7 @@ from diskfmt.dgreal import Real
 from diskfmt.layouts import decode_bi, decode_posit
 from estar.lcsl import locate
 from estar.program import in_process_rig
-from matching import Constraints, match_lines
+from matching import Constraints, Params, match_lines
 from matching.mode import ImprovedMatcher
 from rig import main as rigmain
 from rig import scan as scanmod
@@ -83,6 +83,18 @@ def test_streaming_verdicts_equal_the_batch_api():
     streamed = scanmod.run_lines(eclipse(ImprovedMatcher()), lines)
     faithful = scanmod.run_lines(eclipse(), range(35, 61))
     batch = match_lines(faithful.results, Constraints())
+    for r in streamed.results:
+        assert r.verdicts == batch[r.iyloc], r.iyloc
+
+
+def test_streaming_rematch_equals_the_batch_api():
+    """The same with the inter-scanline pass on (Params.rematch_bonus): lines
+    IY-7..IY+7 are fetched."""
+    p = Params(rematch_bonus=64.0)
+    lines = range(44, 48)
+    streamed = scanmod.run_lines(eclipse(ImprovedMatcher(params=p)), lines)
+    faithful = scanmod.run_lines(eclipse(), range(37, 55))
+    batch = match_lines(faithful.results, Constraints(), p)
     for r in streamed.results:
         assert r.verdicts == batch[r.iyloc], r.iyloc
 
