@@ -104,6 +104,7 @@ def cmd_drive(args) -> int:
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                       max_looks=args.max_looks, eyes=args.eyes,
                       pose=args.pose, pose_method=args.pose_method,
+                      clearance_at=args.clearance_at, growth=args.growth,
                       blank_ft=args.blank_ft if args.blank_ft > 0 else None)
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
@@ -176,6 +177,13 @@ def add_parser(sub) -> None:
     from model.pose import ESTIMATORS
     d.add_argument("--pose-method", default="robust", choices=ESTIMATORS,
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
+    d.add_argument("--clearance-at", choices=("anywhere", "centre"), default="anywhere",
+                   help="where in a passable cell the vehicle's centre may be: anywhere (the "
+                        "dissertation's cross-section test, default) or its centre, every "
+                        "position then tested by its exact distance to the blocked cells")
+    d.add_argument("--growth", choices=("covariance", "across"), default="covariance",
+                   help="a located hit grown by its whole covariance (the dissertation's, "
+                        "default) or by its error across the sight line only")
     d.add_argument("--blank-ft", type=float, default=8.0, metavar="FT",
                    help="picture columns outside everything the look located count free this "
                         "far (default 8; 0: off, then blank walls stop the vehicle)")

@@ -188,3 +188,28 @@ def test_across_sight_growth_drops_the_range_error_only():
     assert sorted(set(np.round(full[:, 2], 3))) == [7.625, 7.875, 8.125, 8.375, 8.625]
     assert sorted(set(np.round(across[:, 2], 3))) == [7.875, 8.125, 8.375]
     assert sorted(set(np.round(across[:, 0], 3))) == sorted(set(np.round(full[:, 0], 3)))
+
+
+def test_rig_drive_passes_clearance_at_and_growth_to_the_loop(tmp_path, monkeypatch):
+    """``rig drive --clearance-at centre --growth across`` reach the loop's
+    DriveConfig (the bench's options of the same names); a bad value is
+    refused by argparse."""
+    import planner.loop
+    from rig.main import main
+    seen = {}
+
+    class Caught(Exception):
+        pass
+
+    def fake_run(room, start, cfg, **kw):
+        seen["cfg"] = cfg
+        raise Caught                                  # stop before any look
+    monkeypatch.setattr(planner.loop, "run", fake_run)
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(tmp_path), "--clearance-at", "centre", "--growth", "across"])
+    assert seen["cfg"].clearance_at == "centre" and seen["cfg"].growth == "across"
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(tmp_path)])
+    assert seen["cfg"].clearance_at == "anywhere" and seen["cfg"].growth == "covariance"
+    with pytest.raises(SystemExit):
+        main(["drive", "--out", str(tmp_path), "--growth", "sideways"])
