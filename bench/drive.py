@@ -112,6 +112,19 @@ def main(argv=None) -> int:
     ap.add_argument("--growth", choices=("covariance", "across"), default="covariance",
                     help="a located hit grown by its whole covariance (the dissertation's, "
                          "default) or by its error across the sight line only")
+    ap.add_argument("--uncertain", choices=("blocked", "look"), default="blocked",
+                    help="no path avoids the uncertain cells (hit by one look): head for the "
+                         "reachable cell nearest the goal (default), or plan through them and "
+                         "go look again")
+    ap.add_argument("--look-around", choices=("sweep", "evidence"), default="sweep",
+                    help="when the vehicle cannot move: face the path and sweep (default), or "
+                         "look at where its path lacks evidence, from where a look shows it")
+    ap.add_argument("--progress", choices=("moved", "evidence"), default="moved",
+                    help="what resets the count of looks without progress: any motion "
+                         "(default), or a shorter way left than ever or new free space seen")
+    ap.add_argument("--reverse", choices=("off", "on"), default="off",
+                    help="the vehicle may BACK straight over space seen free (the profile's "
+                         "reverse; default off)")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -133,10 +146,14 @@ def main(argv=None) -> int:
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                           clearance_at=args.clearance_at, growth=args.growth,
+                          uncertain=args.uncertain, look_around=args.look_around,
+                          progress=args.progress,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
                           pose_method=args.pose_method,
-                          profile=DEFAULT if args.margin is None else
-                          dataclasses.replace(DEFAULT, margin_ft=args.margin))
+                          profile=dataclasses.replace(
+                              DEFAULT, reverse=args.reverse == "on",
+                              margin_ft=DEFAULT.margin_ft if args.margin is None
+                              else args.margin))
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal
@@ -179,7 +196,8 @@ def main(argv=None) -> int:
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
-        "clearance_at": args.clearance_at, "growth": args.growth,
+        "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
+        "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
