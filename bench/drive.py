@@ -125,6 +125,9 @@ def main(argv=None) -> int:
     ap.add_argument("--reverse", choices=("off", "on"), default="off",
                     help="the vehicle may BACK straight over space seen free (the profile's "
                          "reverse; default off)")
+    ap.add_argument("--track-free", choices=("poses", "swept"), default="poses",
+                    help="free where the vehicle stood: its footprint at each pose (default), or "
+                         "the footprint swept by every move and pivot, shrunk by the margin")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -147,7 +150,7 @@ def main(argv=None) -> int:
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                           clearance_at=args.clearance_at, growth=args.growth,
                           uncertain=args.uncertain, look_around=args.look_around,
-                          progress=args.progress,
+                          progress=args.progress, track_free=args.track_free,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
                           pose_method=args.pose_method,
                           profile=dataclasses.replace(
@@ -198,6 +201,7 @@ def main(argv=None) -> int:
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
+        "track_free": args.track_free,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,

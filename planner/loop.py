@@ -78,6 +78,7 @@ POSES = ("fused", "dead_reckoning")
 UNCERTAIN_PLANS = ("blocked", "look")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
+TRACK_FREES = ("poses", "swept")
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -126,6 +127,10 @@ class DriveConfig:
                                           # "evidence" (measured, not adopted): look at
                                           # where the path lacks it, from where it shows
                                           # (_fetch_evidence)
+    track_free: str = "poses"             # free where the vehicle stood: "poses": its
+                                          # footprint at each pose; "swept" (a named
+                                          # option): every pose between as well, shrunk
+                                          # by the margin (_mark_track_free)
     progress: str = "moved"               # what resets the count toward max_stuck:
                                           # "moved": any motion; "evidence" (measured, not
                                           # adopted): a shorter way left than ever, or new
@@ -322,12 +327,37 @@ class Perception:
                               free_looks=self.free_looks, free_band=self.free_band)
 
 
-def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0) -> None:
+def swept_poses(track, step_ft: float = 0.25, step_deg: float = 10.0) -> list:
+    """The poses between consecutive poses of a track: a straight move sampled
+    every ``step_ft``, a pivot every ``step_deg`` (the footprint's sweep)."""
+    if not track:
+        return []
+    out = [track[0]]
+    for a, b in zip(track[:-1], track[1:]):
+        turn = wrap(b.heading_deg - a.heading_deg)
+        dist = math.hypot(b.x - a.x, b.z - a.z)
+        n = max(1, int(math.ceil(max(abs(turn) / step_deg, dist / step_ft))))
+        for k in range(1, n + 1):
+            t = k / n
+            out.append(State(a.x + t * (b.x - a.x), a.z + t * (b.z - a.z),
+                             wrap(a.heading_deg + t * turn)))
+    return out
+
+
+def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0,
+                     swept_margin: float | None = None) -> None:
     """Where the vehicle has stood is free: its footprint rectangle at every
     dead-reckoned pose (and, with ``disc_ft``, a disc of that radius about the
-    first pose: the clear spot it was set down in)."""
+    first pose: the clear spot it was set down in).  With ``swept_margin`` (a
+    named option, ``DriveConfig.track_free="swept"``) also every pose between
+    them (the footprint swept by each move and pivot), the footprint shrunk by
+    that margin on every side against the estimate's error."""
     from world.collide import footprint_corners
     mask = np.zeros(fm.shape, np.uint8)
+    if swept_margin is not None:
+        track = swept_poses(track)
+        footprint = (max(footprint[0] - 2 * swept_margin, 0.0),
+                     max(footprint[1] - 2 * swept_margin, 0.0))
     for s in track:
         c = footprint_corners(s.x, s.z, s.heading_deg, footprint)
         poly = np.stack([(c[:, 0] - fm.x0) / fm.cell, (c[:, 1] - fm.z0) / fm.cell], 1)
@@ -757,7 +787,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
-                          ("uncertain", UNCERTAIN_PLANS)):
+                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
@@ -813,7 +843,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             look_est, look_dead = est, veh.dead
             model.update(points, est, Pose, prof.camera_pitch_deg)
             fm = model.floor_map([(est.x, est.z), goal])
-            _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft)
+            _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
+                             prof.margin_ft if cfg.track_free == "swept" else None)
             if cfg.known_walls:
                 _mark_walls(fm, room.bounds)
             safe = clearance_map(fm, prof.planning_radius_ft,

@@ -180,3 +180,32 @@ def test_the_evidence_options_drive_the_tiny_room_without_collision():
     assert res.travelled_ft <= 1.3 * res.optimal_ft
     with pytest.raises(ValueError, match="unknown look_around 'spin'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, look_around="spin"))
+
+
+def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
+    """``track_free="swept"``: a 2 ft move then a 90 deg pivot; the poses
+    between are marked too (the middle of the move, the pivot's corners at 45
+    deg), the footprint shrunk by the margin; the default marks only the
+    poses themselves (nothing at the move's middle)."""
+    from planner.loop import _mark_track_free, swept_poses
+    track = [State(0.0, 0.0, 0.0), State(0.0, 2.0, 0.0), State(0.0, 2.0, 90.0)]
+    poses = swept_poses(track)
+    assert poses[0] == track[0] and poses[-1] == track[-1]
+    assert any(abs(p.z - 1.0) < 1e-9 and p.heading_deg == 0.0 for p in poses)
+    assert sorted(p.heading_deg for p in poses if p.z == 2.0) == pytest.approx(
+        [10.0 * k for k in range(10)])                   # every 10 deg of the pivot
+    # a 1 x 1 ft footprint: the default leaves the move's middle (z = 1) unmarked
+    fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(fm, track, (1.0, 1.0))
+    assert fm.state_at(0.0, 0.1) == FREE and fm.state_at(0.0, 1.0) == UNKNOWN
+    fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(fm, track, (1.0, 1.0), swept_margin=0.1)
+    assert fm.state_at(0.0, 1.0) == FREE
+    # a 1 x 3 ft footprint: its 45 deg pose in the pivot about (0, 2) reaches (0.9, 2.9)
+    poses_only = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(poses_only, track, (1.0, 3.0))
+    swept = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(swept, track, (1.0, 3.0), swept_margin=0.25)
+    assert swept.state_at(0.9, 2.9) == FREE and poses_only.state_at(0.9, 2.9) == UNKNOWN
+    # shrunk by 0.25 ft: 0.4 ft beside the start (inside the 0.5 ft half width) is not
+    assert poses_only.state_at(0.4, 0.0) == FREE and swept.state_at(0.4, 0.0) == UNKNOWN
