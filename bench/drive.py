@@ -15,7 +15,9 @@ taut, and time).
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
-pose's error on the same run beside it.
+pose's error on the same run beside it.  The summary ends with the rooms by how their
+drives ended (``stop_reasons``: reached, narrower than the vehicle, the goal too near an
+obstacle on the map, cannot turn, ...).
 
 Numbers go into docs/planner.md with the command that made them.
 """
@@ -51,6 +53,26 @@ def search_side_by_side(fmap, start, goal, radius):
             ln = raw_ln = None
         out += [ln, raw_ln, 1e3 * (time.perf_counter() - t)]
     return out
+
+
+STOP_KINDS = (                     # (kind, a phrase of the loop's reason), first match wins
+    ("reached", "goal reached"),
+    ("collision", "hit something"),
+    ("narrower than the vehicle", "narrower than the vehicle"),
+    ("goal too near an obstacle on the map", "from an obstacle; the vehicle needs"),
+    ("cannot turn", "cannot turn"),
+    ("path kept, turning to look", "turning to look"),
+    ("looks used up", "looks used up"),
+    ("path kept, not driven", "(kept)"),
+)
+
+
+def stop_kind(reason: str) -> str:
+    """The kind of a drive's ending, for the table of stop reasons."""
+    for kind, phrase in STOP_KINDS:
+        if phrase in reason:
+            return kind
+    return "other"
 
 
 def seeded_tasks(args):
@@ -228,6 +250,10 @@ def main(argv=None) -> int:
                                                           for r in rows])),
         "dead_error_ft_mean_median": float(np.median([r["dead_error_ft_mean"] for r in rows])),
     }
+    kinds = {}
+    for r in rows:
+        kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])
+    summary["stop_reasons"] = kinds
     print()
     for k, v in summary.items():
         print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")

@@ -209,3 +209,28 @@ def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
     assert swept.state_at(0.9, 2.9) == FREE and poses_only.state_at(0.9, 2.9) == UNKNOWN
     # shrunk by 0.25 ft: 0.4 ft beside the start (inside the 0.5 ft half width) is not
     assert poses_only.state_at(0.4, 0.0) == FREE and swept.state_at(0.4, 0.0) == UNKNOWN
+
+
+def test_bench_sorts_the_stop_reasons_by_kind():
+    """bench/drive.py's table of stop reasons, on reasons the loop writes."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "bench" / "drive.py"
+    spec = importlib.util.spec_from_file_location("bench_drive", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    k = bench.stop_kind
+    assert k("goal reached") == "reached"
+    assert k("stopped after 8 looks without progress: no path: the way from the start to the "
+             "goal is narrower than the vehicle (1.58 ft) near (1, 2) ft") == \
+        "narrower than the vehicle"
+    assert k("stopped after 8 looks without progress: goal not reachable (the goal (1, 2) ft is "
+             "0.71 ft from an obstacle; the vehicle needs 0.79 ft); toward (1, 1) (cannot turn: "
+             "space within its radius not seen free)") == "goal too near an obstacle on the map"
+    assert k("stopped after 8 looks without progress: path to the goal (kept) (cannot turn: "
+             "space within its radius not seen free)") == "cannot turn"
+    assert k("stopped after 8 looks without progress: path to the goal (kept)") == \
+        "path kept, not driven"
+    assert k("stopped: the vehicle hit something (true footprint against the room)") == \
+        "collision"
+    assert k("stopped by Ctrl-C after 2 looks") == "other"
