@@ -15,7 +15,9 @@ taut, and time).
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
-pose's error on the same run beside it.
+pose's error on the same run beside it.  The summary ends with the rooms by how their
+drives ended (``stop_reasons``: reached, narrower than the vehicle, the goal too near an
+obstacle on the map, cannot turn, ...).
 
 Numbers go into docs/planner.md with the command that made them.
 """
@@ -51,6 +53,26 @@ def search_side_by_side(fmap, start, goal, radius):
             ln = raw_ln = None
         out += [ln, raw_ln, 1e3 * (time.perf_counter() - t)]
     return out
+
+
+STOP_KINDS = (                     # (kind, a phrase of the loop's reason), first match wins
+    ("reached", "goal reached"),
+    ("collision", "hit something"),
+    ("narrower than the vehicle", "narrower than the vehicle"),
+    ("goal too near an obstacle on the map", "from an obstacle; the vehicle needs"),
+    ("cannot turn", "cannot turn"),
+    ("path kept, turning to look", "turning to look"),
+    ("looks used up", "looks used up"),
+    ("path kept, not driven", "(kept)"),
+)
+
+
+def stop_kind(reason: str) -> str:
+    """The kind of a drive's ending, for the table of stop reasons."""
+    for kind, phrase in STOP_KINDS:
+        if phrase in reason:
+            return kind
+    return "other"
 
 
 def seeded_tasks(args):
@@ -112,6 +134,22 @@ def main(argv=None) -> int:
     ap.add_argument("--growth", choices=("covariance", "across"), default="covariance",
                     help="a located hit grown by its whole covariance (the dissertation's, "
                          "default) or by its error across the sight line only")
+    ap.add_argument("--uncertain", choices=("blocked", "look"), default="blocked",
+                    help="no path avoids the uncertain cells (hit by one look): head for the "
+                         "reachable cell nearest the goal (default), or plan through them and "
+                         "go look again")
+    ap.add_argument("--look-around", choices=("sweep", "evidence"), default="sweep",
+                    help="when the vehicle cannot move: face the path and sweep (default), or "
+                         "look at where its path lacks evidence, from where a look shows it")
+    ap.add_argument("--progress", choices=("moved", "evidence"), default="moved",
+                    help="what resets the count of looks without progress: any motion "
+                         "(default), or a shorter way left than ever or new free space seen")
+    ap.add_argument("--reverse", choices=("off", "on"), default="off",
+                    help="the vehicle may BACK straight over space seen free (the profile's "
+                         "reverse; default off)")
+    ap.add_argument("--track-free", choices=("poses", "swept"), default="poses",
+                    help="free where the vehicle stood: its footprint at each pose (default), or "
+                         "the footprint swept by every move and pivot, shrunk by the margin")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -133,10 +171,14 @@ def main(argv=None) -> int:
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                           clearance_at=args.clearance_at, growth=args.growth,
+                          uncertain=args.uncertain, look_around=args.look_around,
+                          progress=args.progress, track_free=args.track_free,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
                           pose_method=args.pose_method,
-                          profile=DEFAULT if args.margin is None else
-                          dataclasses.replace(DEFAULT, margin_ft=args.margin))
+                          profile=dataclasses.replace(
+                              DEFAULT, reverse=args.reverse == "on",
+                              margin_ft=DEFAULT.margin_ft if args.margin is None
+                              else args.margin))
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal
@@ -179,7 +221,9 @@ def main(argv=None) -> int:
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
-        "clearance_at": args.clearance_at, "growth": args.growth,
+        "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
+        "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
+        "track_free": args.track_free,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
@@ -206,6 +250,10 @@ def main(argv=None) -> int:
                                                           for r in rows])),
         "dead_error_ft_mean_median": float(np.median([r["dead_error_ft_mean"] for r in rows])),
     }
+    kinds = {}
+    for r in rows:
+        kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])
+    summary["stop_reasons"] = kinds
     print()
     for k, v in summary.items():
         print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")

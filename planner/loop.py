@@ -62,11 +62,11 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
-from vehicle.commands import Forward, Turn, format_commands
+from vehicle.commands import Back, Forward, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle
 from .floormap import FLOOR_Y, FloorMap, project_octree, true_floor_map
-from .octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
     mark_free_rays, mark_occupied, memory_bytes, new_octree, spans_cells
 from .perception import MAX_RANGE_FT, floor_scan
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
@@ -75,6 +75,10 @@ from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
 
 SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
 POSES = ("fused", "dead_reckoning")
+UNCERTAIN_PLANS = ("blocked", "look")
+LOOK_AROUNDS = ("sweep", "evidence")
+PROGRESSES = ("moved", "evidence")
+TRACK_FREES = ("poses", "swept")
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -118,6 +122,23 @@ class DriveConfig:
                                           # model's, model.mapping.Walker) or
                                           # "dead_reckoning" (the odometry alone)
     pose_method: str = "robust"           # the walk's driving method under "fused"
+    look_around: str = "sweep"            # the vehicle cannot move: "sweep": face the
+                                          # path, then turn +35 / -70 deg in place;
+                                          # "evidence" (measured, not adopted): look at
+                                          # where the path lacks it, from where it shows
+                                          # (_fetch_evidence)
+    track_free: str = "poses"             # free where the vehicle stood: "poses": its
+                                          # footprint at each pose; "swept" (a named
+                                          # option): every pose between as well, shrunk
+                                          # by the margin (_mark_track_free)
+    progress: str = "moved"               # what resets the count toward max_stuck:
+                                          # "moved": any motion; "evidence" (measured, not
+                                          # adopted): a shorter way left than ever, or new
+                                          # free space seen
+    uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
+                                          # toward the reachable cell nearest the goal;
+                                          # "look" (measured, not adopted): plan through
+                                          # them and look again, never driven near (plan())
 
 
 @dataclass
@@ -306,12 +327,37 @@ class Perception:
                               free_looks=self.free_looks, free_band=self.free_band)
 
 
-def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0) -> None:
+def swept_poses(track, step_ft: float = 0.25, step_deg: float = 10.0) -> list:
+    """The poses between consecutive poses of a track: a straight move sampled
+    every ``step_ft``, a pivot every ``step_deg`` (the footprint's sweep)."""
+    if not track:
+        return []
+    out = [track[0]]
+    for a, b in zip(track[:-1], track[1:]):
+        turn = wrap(b.heading_deg - a.heading_deg)
+        dist = math.hypot(b.x - a.x, b.z - a.z)
+        n = max(1, int(math.ceil(max(abs(turn) / step_deg, dist / step_ft))))
+        for k in range(1, n + 1):
+            t = k / n
+            out.append(State(a.x + t * (b.x - a.x), a.z + t * (b.z - a.z),
+                             wrap(a.heading_deg + t * turn)))
+    return out
+
+
+def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0,
+                     swept_margin: float | None = None) -> None:
     """Where the vehicle has stood is free: its footprint rectangle at every
     dead-reckoned pose (and, with ``disc_ft``, a disc of that radius about the
-    first pose: the clear spot it was set down in)."""
+    first pose: the clear spot it was set down in).  With ``swept_margin`` (a
+    named option, ``DriveConfig.track_free="swept"``) also every pose between
+    them (the footprint swept by each move and pivot), the footprint shrunk by
+    that margin on every side against the estimate's error."""
     from world.collide import footprint_corners
     mask = np.zeros(fm.shape, np.uint8)
+    if swept_margin is not None:
+        track = swept_poses(track)
+        footprint = (max(footprint[0] - 2 * swept_margin, 0.0),
+                     max(footprint[1] - 2 * swept_margin, 0.0))
     for s in track:
         c = footprint_corners(s.x, s.z, s.heading_deg, footprint)
         poly = np.stack([(c[:, 0] - fm.x0) / fm.cell, (c[:, 1] - fm.z0) / fm.cell], 1)
@@ -478,6 +524,151 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
     return out
 
 
+def _first_unseen(fm: FloorMap, pts):
+    """The first point of the path (sampled a quarter cell apart) whose cell is
+    not seen free, or None: where the next look should be aimed."""
+    for a, b in zip(pts[:-1], pts[1:]):
+        s = segment_samples(a, b, fm.cell / 4)
+        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        bad = ~inside
+        bad[inside] = fm.cells[i[inside], j[inside]] != FREE
+        k = np.flatnonzero(bad)
+        if len(k) and math.hypot(*(s[k[0]] - np.asarray(pts[0], float))) > 1e-6:
+            return float(s[k[0], 0]), float(s[k[0], 1])
+    return None
+
+
+def _blocker(fm: FloorMap, safe: Passable, pts, near_ft: float):
+    """Where the path's execution would stop for want of evidence: the first
+    sample of the path (a quarter cell apart) outside the space seen free, or
+    within the vehicle's radius of an uncertain cell, and the cell to look at
+    there (the nearest cell not seen free: unknown or uncertain).  None when
+    the path has no such place."""
+    look_at = (fm.cells == UNKNOWN) | (fm.cells == UNCERTAIN)
+    if not look_at.any():
+        return None
+    n = int(math.ceil((safe.radius + fm.cell) / fm.cell))
+    for a, b in zip(pts[:-1], pts[1:]):
+        s = segment_samples(a, b, fm.cell / 4)
+        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        bad = ~inside
+        bad[inside] = (fm.cells[i[inside], j[inside]] != FREE) | ~safe.ok[i[inside], j[inside]]
+        for k in np.flatnonzero(bad):
+            if not inside[k]:
+                return None
+            i0, j0 = i[k], j[k]
+            ii, jj = np.mgrid[max(i0 - n, 0):min(i0 + n + 1, fm.shape[0]),
+                              max(j0 - n, 0):min(j0 + n + 1, fm.shape[1])]
+            m = look_at[ii, jj]
+            if not m.any():
+                continue                  # near a confirmed obstacle: nothing to look at
+            cx, cz = fm.centre(ii[m], jj[m])
+            d = np.hypot(cx - s[k, 0], cz - s[k, 1])
+            q = int(np.argmin(d))
+            return float(cx[q]), float(cz[q])
+    return None
+
+
+def _viewpoint(fm: FloorMap, safe_seen: Passable, est: State, target, near_ft: float,
+               tried, far_ft: float = 2.0):
+    """A path (polyline) through space seen free to a place from which
+    ``target`` can be looked at: between ``near_ft`` + 0.3 ft and ``near_ft`` +
+    ``far_ft`` from it (nearer, a look proves nothing there), not within 0.5 ft
+    of a place in ``tried``, the nearest such place first.  None without one."""
+    p = _escape_start(safe_seen, (est.x, est.z))
+    si, sj = fm.index(est.x, est.z)
+    if not fm.inside(si, sj) or not p.ok[si, sj]:
+        return None
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    ii, jj = np.nonzero(comp == comp[si, sj])
+    cx, cz = fm.centre(ii, jj)
+    dt = np.hypot(cx - target[0], cz - target[1])
+    keep = (dt >= near_ft + 0.3) & (dt <= near_ft + far_ft)
+    for q in tried + [(est.x, est.z)]:
+        keep &= np.hypot(cx - q[0], cz - q[1]) > 0.5
+    if not keep.any():
+        return None
+    cx, cz = cx[keep], cz[keep]
+    order = np.argsort(np.hypot(cx - est.x, cz - est.z))
+    for k in order[:4]:
+        v = (float(cx[k]), float(cz[k]))
+        try:
+            return shorten(p, astar(p, (est.x, est.z), v))
+        except NoPath:
+            continue
+    return None
+
+
+def _back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProfile) -> list:
+    """``[BACK d]``: as far as ``dist`` (at most the profile's step) straight
+    back along the heading, cut by the same rules as a forward move
+    (:func:`_safe_prefix` on the heading turned round: the swept width and
+    the tail seen free, nothing known within the radius); ``[]`` when less
+    than 0.05 ft is allowed."""
+    dist = min(dist, prof.step_ft)
+    if dist <= 0.05:
+        return []
+    behind = State(est.x, est.z, wrap(est.heading_deg + 180.0))
+    seg = _safe_prefix([Forward(dist)], behind, safe, seen, dist, None,
+                       prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
+                       0.0)
+    d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
+    return [Back(round(d, 3))] if d > 0.05 else []
+
+
+LOOKS_PER_VIEWPOINT = 3      # looks at one blocker from one place before trying another
+
+
+def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft: float,
+                    prof: VehicleProfile, cfg, tried: dict):
+    """(commands, note) that go and get the evidence the path lacks, or None.
+    The place where the path's execution stops (:func:`_blocker`: a cell not
+    seen free, or an uncertain cell within the vehicle's radius of it) is
+    looked at: turned to, when it lies far enough (``near_ft``) to show in a
+    look and outside the view just taken; otherwise (too near to show, or
+    looked at from here already) the vehicle drives, through space seen free,
+    to a place from which it can be seen (:func:`_viewpoint`), then turns to
+    it.  ``tried`` maps each blocker's cell to the places it was looked at from."""
+    u = _blocker(fm, safe, pts, near_ft)
+    if u is None:
+        return None
+    tried = tried.setdefault(fm.index(*u), [])
+    here = (est.x, est.z)
+    d = math.hypot(u[0] - here[0], u[1] - here[1])
+    off = wrap(heading_to(here, u) - est.heading_deg)
+    looked = sum(math.hypot(q[0] - here[0], q[1] - here[1]) <= 0.5 for q in tried)
+    if d < near_ft + 0.2 and prof.reverse and abs(off) <= HALF_FOV_DEG - 4.0:
+        # too near to show, and ahead: back straight off until it shows
+        seg = _back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
+        if seg:
+            return seg, f" (backing off to look at ({u[0]:.1f}, {u[1]:.1f}))"
+    if d >= near_ft + 0.2 and looked < LOOKS_PER_VIEWPOINT:
+        if abs(off) <= HALF_FOV_DEG - 4.0:
+            # the look just taken saw it and left it unresolved: a cell hit once
+            # needs more than one look through it to be cleared; look again
+            tried.append(here)
+            return [], f" (looking again at ({u[0]:.1f}, {u[1]:.1f}))"
+        if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+            return [Turn(round(off, 2))], f" (turning to look at ({u[0]:.1f}, {u[1]:.1f}))"
+    seen_only = clearance_map(fm, prof.planning_radius_ft, "blocked", uncertain="blocked",
+                              at=cfg.clearance_at)
+    vp = _viewpoint(fm, seen_only, est, u, near_ft, tried)
+    if vp is None or len(vp) < 2:
+        return None
+    cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
+    seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
+                       prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
+                       prof.radius_ft)
+    if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
+        return None
+    return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
+                 f"({vp[-1][0]:.1f}, {vp[-1][1]:.1f}))")
+
+
 def _nearest_reachable(p: Passable, start, goal):
     """The passable cell reachable from the start that is nearest the goal."""
     fm = p.fmap
@@ -532,10 +723,35 @@ def _escape_start(p: Passable, start) -> Passable:
 def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     """(polyline, commands, note) from the estimate toward the goal, or raise
     NoPath.  The previous path is kept while it stays passable and is no more
-    than ``keep_ft`` longer than a new one (no dithering between two ways round)."""
+    than ``keep_ft`` longer than a new one (no dithering between two ways round).
+
+    Uncertain cells (hit by one look, not yet confirmed by a second) block the
+    path; when none avoids them (``cfg.uncertain="blocked"``, the default) the
+    vehicle heads for the reachable cell nearest the goal.  With ``"look"`` (a
+    named option, measured and not adopted: docs/planner.md) the path may pass
+    through them: the vehicle drives toward them (never nearer than its
+    radius: the execution still treats them as obstacles) and looks again, so
+    a second look confirms or clears them."""
+    if cfg.uncertain not in UNCERTAIN_PLANS:
+        raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
+                         f"{', '.join(UNCERTAIN_PLANS)}")
+    if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
+        return _plan(fm, est, goal, cfg, prev, "blocked")
+    try:
+        return _plan(fm, est, goal, cfg, prev, "blocked", nearest=False)
+    except NoPath as exc:
+        try:
+            pts, cmds, _ = _plan(fm, est, goal, cfg, prev, "free", nearest=False)
+            return pts, cmds, f"{exc}; through uncertain cells, to look at them"
+        except NoPath:
+            return _plan(fm, est, goal, cfg, prev, "blocked")
+
+
+def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
+          nearest: bool = True):
     search = SEARCHES[cfg.search]
     r = cfg.profile.planning_radius_ft
-    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain="blocked",
+    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
                                     at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
     try:
@@ -547,6 +763,8 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
         elif prev:
             note = "path to the goal (replanned)"
     except NoPath as exc:
+        if not nearest:
+            raise
         # the goal itself may look blocked from afar (a far feature's grown
         # covariance): head for the reachable cell nearest it and look again
         target = _nearest_reachable(p, start, goal)
@@ -568,6 +786,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     prof = cfg.profile
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
+    for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
+                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES)):
+        if getattr(cfg, name) not in allowed:
+            raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
     walker = None
     if cfg.pose == "fused":
@@ -587,12 +809,15 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                        near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     model.growth = cfg.growth
+    near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
+    tried: dict = {}                      # blocker cell -> places it was looked at from
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []
     t_start = time.perf_counter()
     reached, reason = False, ""
     stuck = 0
+    best_left, most_free = math.inf, 0    # the shortest way left so far, the most free cells
     last_reason = ""
     sweep = 0
     prev_path = None
@@ -618,7 +843,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             look_est, look_dead = est, veh.dead
             model.update(points, est, Pose, prof.camera_pitch_deg)
             fm = model.floor_map([(est.x, est.z), goal])
-            _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft)
+            _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
+                             prof.margin_ft if cfg.track_free == "swept" else None)
             if cfg.known_walls:
                 _mark_walls(fm, room.bounds)
             safe = clearance_map(fm, prof.planning_radius_ft,
@@ -628,6 +854,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             seen_eyes = None
             if cfg.trust_view:
                 seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
+            fetching = False
             try:
                 pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
                 seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
@@ -635,7 +862,14 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    prof.length_ft / 2 + prof.margin_ft,
                                    prof.radius_ft)
                 left = path_length(pts)
-                if not any(isinstance(c, Forward) for c in seg):
+                if not any(isinstance(c, Forward) for c in seg) and \
+                        cfg.look_around == "evidence":
+                    got = _fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
+                    if got is not None:
+                        seg, how = got
+                        note += how
+                        fetching = True
+                if not fetching and not any(isinstance(c, Forward) for c in seg):
                     # nothing known free ahead: face the path and look again
                     first = pts[1] if len(pts) > 1 else goal
                     t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
@@ -645,15 +879,20 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             except NoPath as exc:
                 pts, left, note, seg = [], None, str(exc), []
                 last_reason = str(exc)
-            if not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0 for c in seg):
+            if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
+                                                for c in seg)):
                 # no motion: turn to look, toward the goal first, then sweep
                 sweep += 1
                 t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
+                back = _back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
                 if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
                     seg = [Turn(round(t, 2))]
                     note += " (turning to look)"
+                elif back:
+                    seg = back
+                    note += " (cannot turn here: backing to where it can)"
                 else:
                     seg = []
                     note += " (cannot turn: space within its radius not seen free)"
@@ -666,10 +905,19 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     (est.x, est.z, est.heading_deg), look_dead, d)[0]))
             moved = math.hypot(veh.true.x - before[0], veh.true.z - before[1])
             if moved > 0.05:
-                stuck = 0
                 sweep = 0
+            if cfg.progress == "moved":
+                progressed = moved > 0.05
             else:
-                stuck += 1
+                # progress is a shorter way left than ever before, or new free
+                # space seen (half a square foot): moving to and fro is not
+                progressed = False
+                if left is not None and left < best_left - 0.25:
+                    best_left, progressed = left, True
+                n_free = int((fm.cells == FREE).sum())
+                if n_free >= most_free + 8:
+                    most_free, progressed = n_free, True
+            stuck = 0 if progressed else stuck + 1
             cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
                         left, format_commands(seg), note, t1 - t0, t2 - t1,
                         list(pts), fm if keep_maps else None)

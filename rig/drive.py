@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from diskfmt.rdos import write_atomic
@@ -104,6 +105,10 @@ def cmd_drive(args) -> int:
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                       max_looks=args.max_looks, eyes=args.eyes,
                       pose=args.pose, pose_method=args.pose_method,
+                      clearance_at=args.clearance_at, growth=args.growth,
+                      look_around=args.look_around, progress=args.progress,
+                      uncertain=args.uncertain, track_free=args.track_free,
+                      profile=replace(DEFAULT, reverse=args.reverse == "on"),
                       blank_ft=args.blank_ft if args.blank_ft > 0 else None)
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
@@ -176,6 +181,27 @@ def add_parser(sub) -> None:
     from model.pose import ESTIMATORS
     d.add_argument("--pose-method", default="robust", choices=ESTIMATORS,
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
+    d.add_argument("--clearance-at", choices=("anywhere", "centre"), default="anywhere",
+                   help="where in a passable cell the vehicle's centre may be: anywhere (the "
+                        "dissertation's cross-section test, default) or its centre, every "
+                        "position then tested by its exact distance to the blocked cells")
+    d.add_argument("--growth", choices=("covariance", "across"), default="covariance",
+                   help="a located hit grown by its whole covariance (the dissertation's, "
+                        "default) or by its error across the sight line only")
+    d.add_argument("--look-around", choices=("sweep", "evidence"), default="sweep",
+                   help="when the vehicle cannot move: face the path and sweep (default), or look "
+                        "at where the path lacks evidence, from a place a look shows it")
+    d.add_argument("--progress", choices=("moved", "evidence"), default="moved",
+                   help="what resets the count of looks without progress: any motion (default), "
+                        "or a shorter way left than ever or new free space seen")
+    d.add_argument("--uncertain", choices=("blocked", "look"), default="blocked",
+                   help="no path avoids the uncertain cells (hit by one look): head for the "
+                        "reachable cell nearest the goal (default), or plan through them and look")
+    d.add_argument("--reverse", choices=("off", "on"), default="off",
+                   help="the vehicle may BACK straight over space seen free (default off)")
+    d.add_argument("--track-free", choices=("poses", "swept"), default="poses",
+                   help="free where the vehicle stood: its footprint at each pose (default), or "
+                        "the footprint swept by every move and pivot, shrunk by the margin")
     d.add_argument("--blank-ft", type=float, default=8.0, metavar="FT",
                    help="picture columns outside everything the look located count free this "
                         "far (default 8; 0: off, then blank walls stop the vehicle)")

@@ -188,3 +188,36 @@ def test_across_sight_growth_drops_the_range_error_only():
     assert sorted(set(np.round(full[:, 2], 3))) == [7.625, 7.875, 8.125, 8.375, 8.625]
     assert sorted(set(np.round(across[:, 2], 3))) == [7.875, 8.125, 8.375]
     assert sorted(set(np.round(across[:, 0], 3))) == sorted(set(np.round(full[:, 0], 3)))
+
+
+def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
+    """``rig drive --clearance-at centre --growth across`` and the behaviour
+    options reach the loop's DriveConfig (the bench's options of the same
+    names); the defaults are the loop's; a bad value is refused by argparse."""
+    import planner.loop
+    from rig.main import main
+    seen = {}
+
+    class Caught(Exception):
+        pass
+
+    def fake_run(room, start, cfg, **kw):
+        seen["cfg"] = cfg
+        raise Caught                                  # stop before any look
+    monkeypatch.setattr(planner.loop, "run", fake_run)
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(tmp_path), "--clearance-at", "centre", "--growth", "across",
+              "--look-around", "evidence", "--progress", "evidence", "--uncertain", "look",
+              "--reverse", "on", "--track-free", "swept"])
+    c = seen["cfg"]
+    assert c.clearance_at == "centre" and c.growth == "across"
+    assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
+        ("evidence", "evidence", "look", "swept", True)
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(tmp_path)])
+    c = seen["cfg"]
+    assert c.clearance_at == "anywhere" and c.growth == "covariance"
+    assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
+        ("sweep", "moved", "blocked", "poses", False)
+    with pytest.raises(SystemExit):
+        main(["drive", "--out", str(tmp_path), "--growth", "sideways"])

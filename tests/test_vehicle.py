@@ -24,7 +24,7 @@ def test_parse_all_verbs_and_round_trip():
 
 
 @pytest.mark.parametrize("text, message", [
-    ("FORWRD 2", r"command 1 'FORWRD 2': unknown command 'FORWRD' \(expected FORWARD, TURN"),
+    ("FORWRD 2", r"command 1 'FORWRD 2': unknown command 'FORWRD' \(expected FORWARD, BACK, TURN"),
     ("TURN 10; FORWARD", r"command 2 'FORWARD': FORWARD takes 1 number, got 0"),
     ("FORWARD 1 2", r"FORWARD takes 1 number, got 2"),
     ("ARC 1", r"ARC takes 2 numbers, got 1"),
@@ -107,3 +107,29 @@ def test_profile_default_and_validation():
     assert DEFAULT.planning_radius_ft == pytest.approx(DEFAULT.radius_ft + 0.15)
     with pytest.raises(ValueError, match="width_ft must be positive"):
         VehicleProfile(width_ft=0)
+
+
+def test_back_moves_straight_backward_keeping_the_heading():
+    """BACK d: the true pose d ft behind along the heading, the heading kept;
+    the wheels report the distance (10 % too far here) backward too; a
+    profile without reverse refuses it; the string round-trips."""
+    from vehicle.commands import Back
+    assert parse("B 1.5; back .5") == [Back(1.5), Back(0.5)]
+    assert format_commands([Back(1.5)]) == "BACK 1.5"
+    with pytest.raises(CommandError, match="BACK distance must not be negative"):
+        parse("BACK -1")
+    import dataclasses
+    rev = dataclasses.replace(DEFAULT, reverse=True)
+    v = Vehicle([], OPEN, State(0.0, 0.0, 90.0), rev, noise=FixedNoise())   # facing +X
+    assert v.execute("BACK 2")
+    assert (v.true.x, v.true.z, v.true.heading_deg) == pytest.approx((-2.0, 0.0, 90.0))
+    assert (v.dead.x, v.dead.z) == pytest.approx((-2.2, 0.0))
+    assert v.travelled_ft == pytest.approx(2.0)
+    # backing into a wall behind collides like driving into one
+    w = Vehicle([], (-1.0, 5.0, -5.0, 5.0), State(0.0, 0.0, 90.0), rev)
+    assert not w.execute("BACK 1")
+    assert w.collisions == 1 and w.true.x > -1.0 + 0.5 - 1e-9
+    fwd_only = Vehicle([], OPEN, State(0.0, 0.0, 0.0))              # the default: forward only
+    assert DEFAULT.reverse is False
+    with pytest.raises(ValueError, match="does not allow reverse"):
+        fwd_only.execute("BACK 1")

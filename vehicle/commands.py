@@ -4,12 +4,14 @@ string for the vehicle"), in the spirit of the HERO-1's and the Stanford
 Cart's: one command per statement, statements separated by ``;`` or new
 lines, verbs case-insensitive, numbers in feet and degrees::
 
-    FORWARD 2.5        move straight ahead 2.5 ft (negative not allowed: forward only)
+    FORWARD 2.5        move straight ahead 2.5 ft (negative not allowed)
+    BACK 1.0           move straight backward 1.0 ft, heading kept (a vehicle whose
+                       profile allows reverse: ``VehicleProfile.reverse``)
     TURN -30           pivot in place; positive turns right (heading from +Z toward +X)
     ARC 1.5 45         drive a circular arc of radius 1.5 ft turning 45 deg right
     STOP               end of the string; nothing after it is allowed
 
-Short forms ``F``, ``T``, ``A``, ``S`` are accepted.  ``#`` starts a comment.
+Short forms ``F``, ``B``, ``T``, ``A``, ``S`` are accepted.  ``#`` starts a comment.
 :func:`parse` raises :class:`CommandError` naming the statement, its number
 and what is wrong; :func:`format_commands` writes the canonical string
 (``parse(format_commands(c)) == c``).
@@ -32,6 +34,11 @@ class Forward:
 
 
 @dataclass(frozen=True)
+class Back:
+    distance_ft: float
+
+
+@dataclass(frozen=True)
 class Turn:
     angle_deg: float
 
@@ -47,11 +54,11 @@ class Stop:
     pass
 
 
-Command = Forward | Turn | Arc | Stop
+Command = Forward | Back | Turn | Arc | Stop
 
-_VERBS = {"FORWARD": "FORWARD", "F": "FORWARD", "TURN": "TURN", "T": "TURN",
+_VERBS = {"FORWARD": "FORWARD", "F": "FORWARD", "BACK": "BACK", "B": "BACK", "TURN": "TURN", "T": "TURN",
           "ARC": "ARC", "A": "ARC", "STOP": "STOP", "S": "STOP"}
-_ARITY = {"FORWARD": 1, "TURN": 1, "ARC": 2, "STOP": 0}
+_ARITY = {"FORWARD": 1, "BACK": 1, "TURN": 1, "ARC": 2, "STOP": 0}
 _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)$")
 
 
@@ -86,7 +93,7 @@ def parse(text: str) -> list[Command]:
         verb = _VERBS.get(toks[0].upper())
         if verb is None:
             raise CommandError(f"{where}: unknown command {toks[0]!r} "
-                               f"(expected FORWARD, TURN, ARC or STOP)")
+                               f"(expected FORWARD, BACK, TURN, ARC or STOP)")
         args = toks[1:]
         if len(args) != _ARITY[verb]:
             raise CommandError(f"{where}: {verb} takes {_ARITY[verb]} number"
@@ -97,6 +104,10 @@ def parse(text: str) -> list[Command]:
                 raise CommandError(f"{where}: FORWARD distance must not be negative "
                                    f"(the vehicle drives forward only)")
             out.append(Forward(vals[0]))
+        elif verb == "BACK":
+            if vals[0] < 0:
+                raise CommandError(f"{where}: BACK distance must not be negative")
+            out.append(Back(vals[0]))
         elif verb == "TURN":
             if abs(vals[0]) > 180:
                 raise CommandError(f"{where}: TURN angle must be within -180..180 deg")
@@ -124,6 +135,8 @@ def format_commands(cmds) -> str:
     for c in cmds:
         if isinstance(c, Forward):
             parts.append(f"FORWARD {_num(c.distance_ft)}")
+        elif isinstance(c, Back):
+            parts.append(f"BACK {_num(c.distance_ft)}")
         elif isinstance(c, Turn):
             parts.append(f"TURN {_num(c.angle_deg)}")
         elif isinstance(c, Arc):

@@ -9,7 +9,11 @@ turns (turning radius 0: the HERO-1 turns its single drive wheel across and
 pivots), the rig pitched 25 deg down (like the Stanford Cart's camera: level,
 a camera 3 ft up with the rig's 37 deg tall view sees no floor nearer than
 9 ft), at most 1.5 ft of forward travel between looks (the Stanford Cart
-moved about 2.5 ft per look), forward only.  ``margin_ft`` is added to the
+moved about 2.5 ft per look), forward only.  ``reverse`` (off by default;
+the HERO-1's drive wheel turns either way) allows ``BACK``: the closed loop
+may then back straight along its heading over space seen free, to see what is
+too near to show in a look or to get room to pivot (measured, not adopted:
+docs/planner.md).  ``margin_ft`` is added to the
 vehicle's radius when planning, against the error of the position estimate.
 """
 
@@ -28,6 +32,7 @@ class VehicleProfile:
     turning_radius_ft: float = 0.0   # 0: pivot turns
     step_ft: float = 1.5             # most forward travel between looks
     margin_ft: float = 0.15          # added to the radius for planning
+    reverse: bool = False            # BACK allowed (the HERO-1's drive wheel reverses)
 
     def __post_init__(self):
         for name in ("width_ft", "length_ft", "camera_height_ft", "step_ft"):

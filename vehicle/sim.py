@@ -21,7 +21,7 @@ import math
 from dataclasses import dataclass, field
 
 from world.collide import footprint_hits_boxes
-from .commands import Arc, Forward, Stop, Turn, parse
+from .commands import Arc, Back, Forward, Stop, Turn, parse
 from .profile import DEFAULT, VehicleProfile
 
 
@@ -41,6 +41,9 @@ def advance(s: State, cmd) -> State:
     h = math.radians(s.heading_deg)
     if isinstance(cmd, Forward):
         return State(s.x + cmd.distance_ft * math.sin(h), s.z + cmd.distance_ft * math.cos(h),
+                     s.heading_deg)
+    if isinstance(cmd, Back):
+        return State(s.x - cmd.distance_ft * math.sin(h), s.z - cmd.distance_ft * math.cos(h),
                      s.heading_deg)
     if isinstance(cmd, Turn):
         return State(s.x, s.z, _wrap(s.heading_deg + cmd.angle_deg))
@@ -63,6 +66,9 @@ def _pieces(cmd, sweep_ft: float, sweep_deg: float):
     if isinstance(cmd, Forward):
         n = max(1, math.ceil(cmd.distance_ft / sweep_ft))
         return [Forward(cmd.distance_ft / n)] * n
+    if isinstance(cmd, Back):
+        n = max(1, math.ceil(cmd.distance_ft / sweep_ft))
+        return [Back(cmd.distance_ft / n)] * n
     if isinstance(cmd, Turn):
         n = max(1, math.ceil(abs(cmd.angle_deg) / sweep_deg))
         return [Turn(cmd.angle_deg / n)] * n
@@ -101,6 +107,9 @@ class Vehicle:
     def execute(self, commands) -> bool:
         """Run a command string or list; False when a collision stopped it."""
         cmds = parse(commands) if isinstance(commands, str) else list(commands)
+        if not self.profile.reverse and any(isinstance(c, Back) for c in cmds):
+            raise ValueError("BACK: this vehicle's profile does not allow reverse "
+                             "(VehicleProfile.reverse is False)")
         for cmd in cmds:
             if isinstance(cmd, Stop):
                 break
@@ -133,6 +142,8 @@ class Vehicle:
             h = math.radians(self.dead.heading_deg + mt / 2)
             chord = md if abs(mt) < 1e-9 or not isinstance(cmd, Arc) else \
                 2 * (md / math.radians(abs(mt))) * math.sin(math.radians(abs(mt)) / 2)
+            if isinstance(cmd, Back):
+                chord = -chord            # the wheels turn backward: the same heading
             self.dead = State(self.dead.x + chord * math.sin(h), self.dead.z + chord * math.cos(h),
                               _wrap(self.dead.heading_deg + mt))
         self.true_track.append(self.true)

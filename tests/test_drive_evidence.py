@@ -1,0 +1,236 @@
+"""The loop's behaviour when the way lacks evidence (planner.loop): where the
+path's execution would stop (_blocker), a place a look there shows from
+(_viewpoint), the commands that fetch that look (_fetch_evidence), and the plan
+through uncertain cells (plan, ``uncertain="look"``).  All on hand-made floor
+maps with 0.25 ft cells, checked against their own geometry."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.floormap import FloorMap
+from planner.loop import DriveConfig, _blocker, _fetch_evidence, _viewpoint, near_visible_ft, plan
+from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
+from planner.search import clearance_map
+from planner.trajectory import polyline
+from vehicle.profile import DEFAULT
+from vehicle.sim import State
+
+R = DEFAULT.planning_radius_ft
+NEAR = near_visible_ft(DEFAULT, 0.8)            # 2.33 ft: nearer, a look shows nothing
+
+
+def corridor_map():
+    """A 20 x 20 ft map: unknown everywhere but a seen-free corridor 4 ft wide
+    along z from -8 to +2 ft about x = 0 (cells -2 <= x < 2)."""
+    cells = np.full((80, 80), UNKNOWN, np.uint8)
+    fm = FloorMap(cells, -10.0, -10.0, 0.25)
+    i0, _ = fm.index(0.0, -8.0)
+    i1, _ = fm.index(0.0, 2.0)
+    _, j0 = fm.index(-2.0, 0.0)
+    _, j1 = fm.index(2.0, 0.0)
+    cells[i0:i1, j0:j1] = FREE
+    return fm
+
+
+def cell_states_along(fm, pts):
+    out = set()
+    for a, b in zip(pts[:-1], pts[1:]):
+        for t in np.linspace(0, 1, 50):
+            x, z = a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])
+            out.add(int(fm.cells[fm.index(x, z)]))
+    return out
+
+
+def test_blocker_is_the_first_cell_not_seen_free_on_the_path():
+    fm = corridor_map()
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    # straight up the corridor and on into the unknown beyond z = 2
+    u = _blocker(fm, safe, [(0.0, -6.0), (0.0, 6.0)], NEAR)
+    assert u is not None
+    assert u[0] == pytest.approx(0.125) or u[0] == pytest.approx(-0.125)
+    assert u[1] == pytest.approx(2.125)               # the first row of unknown cells
+    # a path wholly inside the corridor, clear of its sides, has no blocker
+    assert _blocker(fm, safe, [(0.0, -6.0), (0.0, -1.0)], NEAR) is None
+
+
+def test_blocker_is_an_uncertain_cell_within_the_radius_of_the_path():
+    fm = corridor_map()
+    i, j = fm.index(0.9, -3.0)
+    fm.cells[i, j] = UNCERTAIN                        # 0.9 ft beside the path: within R
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    u = _blocker(fm, safe, [(0.0, -6.0), (0.0, -1.0)], NEAR)
+    assert u == pytest.approx(fm.centre(i, j))
+
+
+def test_viewpoint_is_reached_through_seen_free_space_at_a_distance_a_look_shows():
+    fm = corridor_map()
+    seen_only = clearance_map(fm, R, "blocked", uncertain="blocked")
+    target = (0.125, 2.125)
+    est = State(0.0, 1.0, 0.0)                        # 1.1 ft from it: too near to see it
+    vp = _viewpoint(fm, seen_only, est, target, NEAR, [])
+    assert vp is not None and len(vp) >= 2
+    d = math.hypot(vp[-1][0] - target[0], vp[-1][1] - target[1])
+    assert NEAR + 0.3 <= d <= NEAR + 2.0
+    assert cell_states_along(fm, vp) == {FREE}        # never through space not seen free
+    # a place already looked from is not chosen again
+    vp2 = _viewpoint(fm, seen_only, est, target, NEAR, [vp[-1]])
+    assert math.hypot(vp2[-1][0] - vp[-1][0], vp2[-1][1] - vp[-1][1]) > 0.5
+
+
+def test_fetch_evidence_backs_off_to_look_at_what_is_too_near_to_see():
+    """The vehicle 1 ft short of the unknown, facing it: a look from here shows
+    nothing nearer than 2.33 ft, so it drives (turning round: forward only)
+    through seen-free space to where the first unknown cell shows, then turns
+    to it and looks (up to three looks from one place)."""
+    fm = corridor_map()
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    cfg = DriveConfig(goal=(0.0, 8.0))
+    est = State(0.0, 1.0, 0.0)
+    tried = {}
+    seg, note = _fetch_evidence(fm, safe, seen, est, [(0.0, 1.0), (0.0, 8.0)], NEAR, DEFAULT,
+                                cfg, tried)
+    assert "to look at (0.1, 2.1)" in note or "to look at (-0.1, 2.1)" in note
+    where = polyline(seg, est.x, est.z, est.heading_deg)
+    assert cell_states_along(fm, where) == {FREE}
+    # forward only: it first turns round (and looks before driving the new way) ...
+    assert len(seg) == 1 and abs(seg[0].angle_deg) > 120
+    turned = State(est.x, est.z, est.heading_deg + seg[0].angle_deg)
+    seg, note = _fetch_evidence(fm, safe, seen, turned, [(0.0, 1.0), (0.0, 8.0)], NEAR, DEFAULT,
+                                cfg, tried)
+    # ... then drives away from the unknown
+    where = polyline(seg, turned.x, turned.z, turned.heading_deg)
+    assert cell_states_along(fm, where) == {FREE}
+    u = (0.0, 2.125)
+    assert math.hypot(where[-1][0] - u[0], where[-1][1] - u[1]) > 2.0
+    # standing where it shows, facing it: look again, no motion
+    there = State(0.0, 2.125 - NEAR - 0.5, 0.0)
+    seg, note = _fetch_evidence(fm, safe, seen, there, [(there.x, there.z), (0.0, 8.0)], NEAR,
+                                DEFAULT, cfg, tried)
+    assert seg == [] and "looking again" in note
+    # facing away: turn to it
+    away = State(there.x, there.z, 90.0)
+    seg, note = _fetch_evidence(fm, safe, seen, away, [(away.x, away.z), (0.0, 8.0)], NEAR,
+                                DEFAULT, cfg, {})
+    assert len(seg) == 1 and seg[0].angle_deg == pytest.approx(-90.0, abs=5.0)
+
+
+def test_plan_passes_uncertain_cells_only_when_no_way_avoids_them():
+    """A wall across the map with one gap, an uncertain cell in the gap: the
+    dissertation's plan (uncertain blocked) finds no way; ``uncertain="look"``
+    plans through the gap to look again; the executed moves still treat the
+    cell as an obstacle (the safe map blocks it)."""
+    cells = np.full((60, 60), FREE, np.uint8)
+    fm = FloorMap(cells, -7.5, -7.5, 0.25)
+    i, _ = fm.index(0.0, 0.0)
+    cells[i, :] = OCCUPIED
+    _, j0 = fm.index(-1.5, 0.0)
+    _, j1 = fm.index(1.5, 0.0)
+    cells[i, j0:j1] = FREE                            # a 3 ft gap
+    gi, gj = fm.index(0.0, 0.0)
+    cells[gi, gj] = UNCERTAIN                         # a possible obstacle in it
+    est = State(0.0, -5.0, 0.0)
+    goal = (0.0, 5.0)
+    _, _, note = plan(fm, est, goal, DriveConfig(goal=goal))          # the default
+    assert note.startswith("goal not reachable")     # toward the reachable cell nearest it
+    pts, cmds, note = plan(fm, est, goal, DriveConfig(goal=goal, uncertain="look"))
+    assert "through uncertain cells" in note
+    assert min(abs(p[1]) for p in pts) < 1.0 or len(pts) == 2      # it goes through the gap
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    assert not safe.ok[gi, gj]
+    with pytest.raises(ValueError, match="unknown uncertain-cell plan"):
+        plan(fm, est, goal, DriveConfig(goal=goal, uncertain="maybe"))
+
+
+def test_back_prefix_backs_over_seen_free_space_only():
+    """BACK along the heading over the corridor (seen free), cut where the
+    tail would reach the unknown below z = -8 ft; none for a vehicle that
+    cannot reverse."""
+    import dataclasses
+    from planner.loop import _back_prefix
+    from vehicle.commands import Back
+    fm = corridor_map()
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    assert _back_prefix(State(0.0, 0.0, 0.0), 1.0, safe, seen, DEFAULT) == [Back(1.0)]
+    seg = _back_prefix(State(0.0, -6.5, 0.0), 1.5, safe, seen, DEFAULT)
+    tail = DEFAULT.length_ft / 2 + DEFAULT.margin_ft
+    assert len(seg) == 1 and isinstance(seg[0], Back)
+    assert -6.5 - seg[0].distance_ft - tail >= -8.0 - 1e-6          # the tail stays seen
+    assert seg[0].distance_ft > 0.5
+    assert _back_prefix(State(0.0, -7.3, 0.0), 1.0, safe, seen, DEFAULT) == []
+
+
+def test_the_evidence_options_drive_the_tiny_room_without_collision():
+    """The named options together (look at what the path lacks, progress by
+    evidence, reverse allowed, plan through uncertain cells) still reach the
+    tiny room's goal with oracle eyes, no collision; a bad option value is
+    refused."""
+    import dataclasses
+    from planner.loop import run
+    from planner.tiny import GOAL, tiny_room
+    from world.odometry import OdometryNoise
+    cfg = DriveConfig(goal=GOAL, eyes="truth", look_around="evidence", progress="evidence",
+                      uncertain="look", profile=dataclasses.replace(DEFAULT, reverse=True))
+    res = run(tiny_room(), State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    with pytest.raises(ValueError, match="unknown look_around 'spin'"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, look_around="spin"))
+
+
+def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
+    """``track_free="swept"``: a 2 ft move then a 90 deg pivot; the poses
+    between are marked too (the middle of the move, the pivot's corners at 45
+    deg), the footprint shrunk by the margin; the default marks only the
+    poses themselves (nothing at the move's middle)."""
+    from planner.loop import _mark_track_free, swept_poses
+    track = [State(0.0, 0.0, 0.0), State(0.0, 2.0, 0.0), State(0.0, 2.0, 90.0)]
+    poses = swept_poses(track)
+    assert poses[0] == track[0] and poses[-1] == track[-1]
+    assert any(abs(p.z - 1.0) < 1e-9 and p.heading_deg == 0.0 for p in poses)
+    assert sorted(p.heading_deg for p in poses if p.z == 2.0) == pytest.approx(
+        [10.0 * k for k in range(10)])                   # every 10 deg of the pivot
+    # a 1 x 1 ft footprint: the default leaves the move's middle (z = 1) unmarked
+    fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(fm, track, (1.0, 1.0))
+    assert fm.state_at(0.0, 0.1) == FREE and fm.state_at(0.0, 1.0) == UNKNOWN
+    fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(fm, track, (1.0, 1.0), swept_margin=0.1)
+    assert fm.state_at(0.0, 1.0) == FREE
+    # a 1 x 3 ft footprint: its 45 deg pose in the pivot about (0, 2) reaches (0.9, 2.9)
+    poses_only = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(poses_only, track, (1.0, 3.0))
+    swept = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
+    _mark_track_free(swept, track, (1.0, 3.0), swept_margin=0.25)
+    assert swept.state_at(0.9, 2.9) == FREE and poses_only.state_at(0.9, 2.9) == UNKNOWN
+    # shrunk by 0.25 ft: 0.4 ft beside the start (inside the 0.5 ft half width) is not
+    assert poses_only.state_at(0.4, 0.0) == FREE and swept.state_at(0.4, 0.0) == UNKNOWN
+
+
+def test_bench_sorts_the_stop_reasons_by_kind():
+    """bench/drive.py's table of stop reasons, on reasons the loop writes."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "bench" / "drive.py"
+    spec = importlib.util.spec_from_file_location("bench_drive", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    k = bench.stop_kind
+    assert k("goal reached") == "reached"
+    assert k("stopped after 8 looks without progress: no path: the way from the start to the "
+             "goal is narrower than the vehicle (1.58 ft) near (1, 2) ft") == \
+        "narrower than the vehicle"
+    assert k("stopped after 8 looks without progress: goal not reachable (the goal (1, 2) ft is "
+             "0.71 ft from an obstacle; the vehicle needs 0.79 ft); toward (1, 1) (cannot turn: "
+             "space within its radius not seen free)") == "goal too near an obstacle on the map"
+    assert k("stopped after 8 looks without progress: path to the goal (kept) (cannot turn: "
+             "space within its radius not seen free)") == "cannot turn"
+    assert k("stopped after 8 looks without progress: path to the goal (kept)") == \
+        "path kept, not driven"
+    assert k("stopped: the vehicle hit something (true footprint against the room)") == \
+        "collision"
+    assert k("stopped by Ctrl-C after 2 looks") == "other"
