@@ -524,22 +524,6 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
     return out
 
 
-def _first_unseen(fm: FloorMap, pts):
-    """The first point of the path (sampled a quarter cell apart) whose cell is
-    not seen free, or None: where the next look should be aimed."""
-    for a, b in zip(pts[:-1], pts[1:]):
-        s = segment_samples(a, b, fm.cell / 4)
-        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
-        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
-        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
-        bad = ~inside
-        bad[inside] = fm.cells[i[inside], j[inside]] != FREE
-        k = np.flatnonzero(bad)
-        if len(k) and math.hypot(*(s[k[0]] - np.asarray(pts[0], float))) > 1e-6:
-            return float(s[k[0], 0]), float(s[k[0], 1])
-    return None
-
-
 def _blocker(fm: FloorMap, safe: Passable, pts, near_ft: float):
     """Where the path's execution would stop for want of evidence: the first
     sample of the path (a quarter cell apart) outside the space seen free, or
