@@ -112,6 +112,10 @@ def main(argv=None) -> int:
     ap.add_argument("--growth", choices=("covariance", "across"), default="covariance",
                     help="a located hit grown by its whole covariance (the dissertation's, "
                          "default) or by its error across the sight line only")
+    ap.add_argument("--cell-ft", type=float, default=None, metavar="FT",
+                    help="the octree's finest cell: the fewest levels over the 32 ft volume "
+                         "of interest whose cell is no larger (default: depth 7, 0.25 ft; "
+                         "0.125 is depth 8)")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -120,8 +124,14 @@ def main(argv=None) -> int:
         return true_maps(args)
 
     from planner.loop import DriveConfig, run
+    from planner.octree import VolumeOfInterest
     from vehicle.profile import DEFAULT
     from world.odometry import OdometryNoise
+    try:
+        voi = DriveConfig.voi if args.cell_ft is None else \
+            VolumeOfInterest.for_accuracy(args.cell_ft)
+    except ValueError as exc:
+        ap.error(f"--cell-ft: {exc}")
 
     rows = []
     print(f"{'room':>4} {'goal':>14} {'ok':>3} {'coll':>4} {'looks':>5} {'trav ft':>7} "
@@ -134,7 +144,7 @@ def main(argv=None) -> int:
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                           clearance_at=args.clearance_at, growth=args.growth,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
-                          pose_method=args.pose_method,
+                          pose_method=args.pose_method, voi=voi,
                           profile=DEFAULT if args.margin is None else
                           dataclasses.replace(DEFAULT, margin_ft=args.margin))
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
@@ -180,6 +190,7 @@ def main(argv=None) -> int:
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "growth": args.growth,
+        "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,

@@ -112,12 +112,30 @@ def insert_rays(tree: pyoctomap.OcTree, points: np.ndarray, origin, max_range: f
         tree.insertPointCloud(pts, np.asarray(origin, dtype=np.float64), max_range)
 
 
+_KEY_OFFSET = 1 << 20          # 21 bits per axis: +-2**20 cells
+
+
+def _pack(keys: np.ndarray) -> np.ndarray:
+    """Integer cell keys (N, 3) as one int64 each, ordered as the rows are
+    lexicographically (x, then y, then z)."""
+    k = keys.astype(np.int64) + _KEY_OFFSET
+    return (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
+
+
+def _unpack(packed: np.ndarray) -> np.ndarray:
+    """The (N, 3) integer cell keys of :func:`_pack`."""
+    p = np.asarray(packed, np.int64)
+    mask = (1 << 21) - 1
+    return np.stack([(p >> 42) & mask, (p >> 21) & mask, p & mask], 1) - _KEY_OFFSET
+
+
 def cell_centres(points, res: float) -> np.ndarray:
-    """The distinct cells (their centres) holding ``points``."""
+    """The distinct cells (their centres) holding ``points``, in the
+    lexicographic order of their keys."""
     pts = np.asarray(points, float).reshape(-1, 3)
     if not len(pts):
         return pts
-    return (np.unique(np.floor(pts / res), axis=0) + 0.5) * res
+    return (_unpack(np.unique(_pack(np.floor(pts / res)))) + 0.5) * res
 
 
 def feature_cells(mean, cov, res: float, sigmas: float = 2.0) -> np.ndarray:
@@ -176,19 +194,21 @@ def insert_surface(tree: pyoctomap.OcTree, a, b, c=None) -> int:
     return mark_occupied(tree, surface_cells(a, b, tree.getResolution(), c))
 
 
-def _pack(keys: np.ndarray) -> np.ndarray:
-    k = keys.astype(np.int64) + (1 << 20)
-    return (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
+MAX_GROWTH_FT = 1.5         # how far a feature is grown from its mean along an axis, at most
 
 
-def features_cells(means, covs, res: float, sigmas: float = 2.0, max_cells: int = 6
+def features_cells(means, covs, res: float, sigmas: float = 2.0, max_cells: int | None = None
                    ) -> np.ndarray:
     """:func:`feature_cells` for many features at once (vectorised), each grown
-    at most ``max_cells`` cells from its mean along an axis."""
+    at most ``max_cells`` cells from its mean along an axis (default
+    :data:`MAX_GROWTH_FT` in cells, so the cap is the same distance at every
+    depth of the octree: 6 cells of 0.25 ft, 12 of 0.125 ft)."""
     means = np.asarray(means, float).reshape(-1, 3)
     covs = np.asarray(covs, float).reshape(-1, 3, 3)
     if not len(means):
         return means
+    if max_cells is None:
+        max_cells = max(1, int(round(MAX_GROWTH_FT / res)))
     half = sigmas * np.sqrt(np.clip(np.diagonal(covs, axis1=1, axis2=2), 0, None))
     k = np.minimum(np.ceil(half / res).max(0).astype(int) + 1, max_cells)
     offs = np.stack(np.meshgrid(*[np.arange(-a, a + 1) for a in k], indexing="ij"),

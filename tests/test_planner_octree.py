@@ -161,3 +161,28 @@ def test_free_looks_two_misses_needed():
     assert query(t, (0.125, 0.125, 2.0), free_looks=2) == UNKNOWN      # one look through
     insert_rays(t, far, (0.125, 0.125, 0.125))
     assert query(t, (0.125, 0.125, 2.0), free_looks=2) == FREE
+
+
+def test_cell_centres_equal_the_plain_unique_rows():
+    # the packed-key version against numpy's row-wise unique, negative
+    # coordinates and points on cell edges included
+    from planner.octree import cell_centres
+    rng = np.random.default_rng(11)
+    pts = np.vstack([rng.uniform(-40, 40, (5000, 3)),
+                     rng.integers(-80, 80, (500, 3)) * 0.125])
+    for res in (0.25, 0.125):
+        plain = (np.unique(np.floor(pts / res), axis=0) + 0.5) * res
+        assert np.array_equal(cell_centres(pts, res), plain)
+
+
+def test_feature_growth_capped_at_the_same_distance_at_every_depth():
+    # a feature with a 10 ft sigma along X is grown 1.5 ft each way (plus its
+    # own cell) whatever the cell size: 6 cells of 0.25 ft, 12 of 0.125 ft
+    from planner.octree import MAX_GROWTH_FT, features_cells
+    mean = np.array([[0.01, 0.01, 0.01]])
+    cov = np.diag([100.0, 1e-6, 1e-6])[None]
+    for res in (0.25, 0.125):
+        x = features_cells(mean, cov, res)[:, 0]
+        assert len(x) == 2 * round(MAX_GROWTH_FT / res) + 1
+        assert x.min() == pytest.approx(-MAX_GROWTH_FT + res / 2)
+        assert x.max() == pytest.approx(MAX_GROWTH_FT + res / 2)
