@@ -61,8 +61,53 @@ class VolumeOfInterest:
         return cls(side_ft, depth)
 
 
+class Octree(pyoctomap.OcTree):
+    """OctoMap's occupancy tree, which also logs the finest cells that its
+    batch updates (:meth:`updateNodes` with room coordinates, as
+    :func:`mark_occupied` and :func:`mark_free_rays` make them) touch.  The
+    floor map's projection (:func:`planner.floormap.project_octree`) then
+    reads back only those cells since the last projection instead of every
+    leaf, the cost of a look instead of the model's size.  Any other change
+    (a point cloud's ray casting, a single-node or key update, clearing,
+    reading a file) marks the log incomplete, and the projection then
+    redraws from all leaves as before."""
+
+    def __init__(self, resolution: float):
+        self.touched: list[np.ndarray] = []      # packed keys (:func:`_pack`) per update
+        self.log_complete = True
+
+    def _key_of(self, coords) -> np.ndarray:
+        # OctoMap's own key: the coordinate as a float point3d, then
+        # floor(coordinate / resolution) (OcTreeBaseImpl::coordToKey)
+        c = np.asarray(coords, np.float32).astype(np.float64).reshape(-1, 3)
+        return np.floor(c * (1.0 / self.getResolution()))
+
+    def updateNodes(self, values, update, lazy_eval=False):
+        out = super().updateNodes(values, update, lazy_eval)
+        if values is not None and len(values):
+            if isinstance(values, np.ndarray) and values.dtype.kind == "f":
+                self.touched.append(_pack(self._key_of(values)))
+            else:
+                self.log_complete = False
+        return out
+
+    def _untracked(name):
+        def method(self, *args, **kwargs):
+            self.log_complete = False
+            return getattr(pyoctomap.OcTree, name)(self, *args, **kwargs)
+        method.__name__ = name
+        method.__doc__ = f"OctoMap's {name}; the change log is then incomplete."
+        return method
+
+    for _name in ("insertPointCloud", "updateNode", "deleteNode", "clear", "read",
+                  "readBinary", "setResolution", "expandNode", "createNodeChild",
+                  "deleteNodeChild", "toMaxLikelihood"):
+        locals()[_name] = _untracked(_name)
+    del _name, _untracked
+
+
 def new_octree(voi: VolumeOfInterest = VolumeOfInterest(), confirm_looks: int = 1
-               ) -> pyoctomap.OcTree:
+               ) -> Octree:
     """An empty model.  OctoMap's log-odds update is +0.85 for a hit and -0.41
     for a miss (probabilities 0.7 / 0.4); a cell is OCCUPIED once its log-odds
     reach ``confirm_looks - 1`` hits above one (so ``confirm_looks`` looks
@@ -70,7 +115,7 @@ def new_octree(voi: VolumeOfInterest = VolumeOfInterest(), confirm_looks: int = 
     misses than hits; ``free_looks`` of them, see :func:`free_below`),
     UNCERTAIN when hit but not yet confirmed, and UNKNOWN when never seen (or
     seen through too few times)."""
-    tree = pyoctomap.OcTree(voi.resolution)
+    tree = Octree(voi.resolution)
     if confirm_looks < 1:
         raise ValueError(f"confirm_looks must be at least 1, got {confirm_looks!r}")
     hit = math.log(tree.getProbHit() / (1 - tree.getProbHit()))
@@ -290,6 +335,20 @@ def leaves(tree: pyoctomap.OcTree, bbx_min=None, bbx_max=None, free_looks: int =
         c, s, lo = c[keep], s[keep], lo[keep]
     state = _classify(lo, tree.getOccupancyThresLog(), free_below(free_looks))
     return c, s, state
+
+
+def logodds_at(tree: pyoctomap.OcTree, packed_keys: np.ndarray) -> np.ndarray:
+    """The log-odds of the cells with the given packed keys (:func:`_pack`),
+    read from the tree (NaN for a cell not in it: unknown)."""
+    res = tree.getResolution()
+    centres = (_unpack(packed_keys) + 0.5) * res
+    out = np.full(len(centres), np.nan)
+    search = tree.search
+    for n, c in enumerate(centres):
+        node = search(c)
+        if node is not None:
+            out[n] = node.getLogOdds()
+    return out
 
 
 def memory_bytes(tree: pyoctomap.OcTree) -> int:

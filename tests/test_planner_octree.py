@@ -186,3 +186,47 @@ def test_feature_growth_capped_at_the_same_distance_at_every_depth():
         assert len(x) == 2 * round(MAX_GROWTH_FT / res) + 1
         assert x.min() == pytest.approx(-MAX_GROWTH_FT + res / 2)
         assert x.max() == pytest.approx(MAX_GROWTH_FT + res / 2)
+
+
+def test_projection_from_touched_cells_equals_the_one_from_all_leaves():
+    # looks of rays carved free and hits marked (some twice: occupied, some
+    # once: uncertain, some seen through again), at heights in and out of the
+    # band, with big uniform regions that OctoMap prunes into larger leaves;
+    # after every look the map read back from the touched cells equals the
+    # map drawn from every leaf, at both depths
+    from planner.octree import mark_free_rays, mark_occupied
+    rng = np.random.default_rng(5)
+    for depth in (7, 8):
+        t = new_octree(VolumeOfInterest(32.0, depth), confirm_looks=2)
+        res = t.getResolution()
+        # a solid block, then carved: whole pruned leaves that later split
+        block = np.stack(np.meshgrid(*[(np.arange(16) + 0.5) * res] * 3, indexing="ij"),
+                         -1).reshape(-1, 3)
+        mark_occupied(t, block)
+        for look in range(12):
+            o = np.array([rng.uniform(-2, 2), rng.uniform(-1, 1), rng.uniform(-2, 2)])
+            ang = np.radians(rng.uniform(0, 360) + np.linspace(-20, 20, 40))
+            ends = o + rng.uniform(1, 6, (40, 1)) * np.stack(
+                [np.sin(ang), rng.uniform(-0.3, 0.3, 40), np.cos(ang)], 1)
+            mark_free_rays(t, o, ends, start_ft=rng.choice([0.0, 1.0]))
+            mark_occupied(t, np.unique(np.floor(ends[::2] / res), axis=0) * res + res / 2)
+            assert t.log_complete
+            for band, free_band in (((-0.5, 0.5), None), ((-0.3, 2.0), (0.2, 2.0))):
+                for free_looks in (1, 2):
+                    kw = dict(band=band, free_band=free_band, free_looks=free_looks)
+                    fast = project_octree(t, (-6.0, 6.0, -6.0, 6.0), **kw)
+                    full = project_octree(t, (-6.0, 6.0, -6.0, 6.0), from_leaves=True, **kw)
+                    assert np.array_equal(fast.cells, full.cells)
+                    assert (fast.x0, fast.z0, fast.cell) == (full.x0, full.z0, full.cell)
+        states = set(np.unique(fast.cells).tolist())
+        assert {FREE, OCCUPIED, UNCERTAIN, UNKNOWN} <= states
+        assert t.getNumLeafNodes() < len(t.__dict__["_touched_cells"].keys)   # pruned
+
+
+def test_untracked_changes_fall_back_to_all_leaves():
+    t = new_octree(VolumeOfInterest(32.0, 7))
+    insert_rays(t, np.array([[0.125, 0.125, 5.125]]), (0.125, 0.125, 0.125))
+    assert not t.log_complete                       # OctoMap's own ray casting: not logged
+    fm = project_octree(t, (-3.0, 3.0, 0.0, 8.0), band=(-0.5, 2.75))
+    assert fm.state_at(0.125, 6.125) == UNKNOWN and fm.state_at(0.125, 5.125) == OCCUPIED
+    assert fm.state_at(0.125, 3.0) == FREE
