@@ -53,6 +53,16 @@ def search_side_by_side(fmap, start, goal, radius):
     return out
 
 
+def final_map_losses(room, fmap, radius):
+    """planner.floormap.map_losses of a run's final map against the TRUE room
+    drawn on the same grid."""
+    from planner.floormap import map_losses, true_floor_map
+    ex = fmap.extent()
+    bx0, bx1, bz0, bz1 = room.bounds
+    margin = max(bx0 - ex[0], ex[1] - bx1, bz0 - ex[2], ex[3] - bz1, 0.0) + fmap.cell
+    return map_losses(fmap, true_floor_map(room.obstacles, room.bounds, fmap.cell, margin), radius)
+
+
 def seeded_tasks(args):
     """(seed, room, start state, goal or None) for the seeded rooms the bench runs."""
     from planner.loop import random_goal
@@ -116,6 +126,10 @@ def main(argv=None) -> int:
                     help="the octree's finest cell: the fewest levels over the 32 ft volume "
                          "of interest whose cell is no larger (default: depth 7, 0.25 ft; "
                          "0.125 is depth 8)")
+    ap.add_argument("--losses", action="store_true",
+                    help="also sort the final map's wrongly blocked cells (cell rounding of "
+                         "hits, growth, false matches) and the passable cells each costs, "
+                         "against the true room (planner.floormap.map_losses)")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -167,6 +181,8 @@ def main(argv=None) -> int:
                "estimate_error_ft_final": float(res.track_errors()[-1]),
                "dead_error_ft_mean": float(np.mean(res.track_errors(res.dead_track))),
                "dead_error_ft_final": float(res.track_errors(res.dead_track)[-1])}
+        if args.losses and last:
+            row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
         rows.append(row)
 
         def f(v, w, d=1):
@@ -217,6 +233,10 @@ def main(argv=None) -> int:
                                                           for r in rows])),
         "dead_error_ft_mean_median": float(np.median([r["dead_error_ft_mean"] for r in rows])),
     }
+    if args.losses:
+        keys = [k for k in rows[0].get("map_losses", {}) if k != "cell_ft"]
+        summary["map_losses_total"] = {k: sum(r["map_losses"][k] for r in rows
+                                              if "map_losses" in r) for k in keys}
     print()
     for k, v in summary.items():
         print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")

@@ -191,3 +191,60 @@ def true_floor_map(obstacles, bounds, cell: float, margin: float = 1.0) -> Floor
         occ |= rows[:, None] & cols[None, :]
     fm.cells[occ] = OCCUPIED
     return fm
+
+
+def map_losses(fm: FloorMap, truth: FloorMap, radius: float) -> dict:
+    """Where a floor map loses free space and width against the TRUE room's
+    map on the same grid (both aligned to multiples of one cell; the true map
+    must cover the map).  Cells the map blocks (occupied or uncertain) that are
+    free in the room are sorted by their distance to the nearest true obstacle
+    cell: ``rounding`` (a neighbour of it: the cell rounding of a hit on its
+    face), ``growth`` (within the feature growth cap of 1.5 ft and a cell:
+    a hit grown by its covariance, or its range error) and ``false`` (farther:
+    a false match).  ``passable_*`` count the cells where the vehicle of
+    ``radius`` may stand (:func:`planner.search.clearance_map`, unknown free,
+    uncertain blocked): in the true room, and lost on the map as the blocked
+    cells of each kind are added in that order.  ``seen_*`` count the true free
+    cells the map shows free / leaves unknown."""
+    import cv2
+
+    from .octree import MAX_GROWTH_FT
+    from .search import clearance_map
+    if abs(fm.cell - truth.cell) > 1e-12:
+        raise ValueError(f"cells differ: {fm.cell} and {truth.cell} ft")
+    di = int(round((fm.z0 - truth.z0) / fm.cell))
+    dj = int(round((fm.x0 - truth.x0) / fm.cell))
+    nz, nx = fm.shape
+    if di < 0 or dj < 0 or di + nz > truth.shape[0] or dj + nx > truth.shape[1]:
+        raise ValueError("the true map does not cover the map")
+    occ_true = truth.cells[di:di + nz, dj:dj + nx] == OCCUPIED
+    dt = cv2.distanceTransform((~occ_true).astype(np.uint8), cv2.DIST_L2,
+                               cv2.DIST_MASK_PRECISE) * fm.cell     # centre to centre, ft
+    blocked = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
+    wrong = blocked & ~occ_true
+    kinds = {"rounding": wrong & (dt <= 1.5 * fm.cell),
+             "growth": wrong & (dt > 1.5 * fm.cell) & (dt <= MAX_GROWTH_FT + 1.5 * fm.cell),
+             "false": wrong & (dt > MAX_GROWTH_FT + 1.5 * fm.cell)}
+    free_true = ~occ_true
+    out = {"cell_ft": fm.cell, "true_free": int(free_true.sum()),
+           "seen_free": int((free_true & (fm.cells == FREE)).sum()),
+           "seen_unknown": int((free_true & (fm.cells == UNKNOWN)).sum()),
+           "true_obstacle_mapped_free": int((occ_true & (fm.cells == FREE)).sum())}
+    for k, m in kinds.items():
+        out[f"blocked_{k}"] = int(m.sum())
+        out[f"blocked_{k}_uncertain"] = int((m & (fm.cells == UNCERTAIN)).sum())
+
+    def passable(block):
+        cells = np.where(block, OCCUPIED, FREE).astype(np.uint8)
+        return clearance_map(FloorMap(cells, fm.x0, fm.z0, fm.cell), radius, "free").ok
+    p_true = passable(occ_true)
+    out["passable_true"] = int(p_true.sum())
+    block = occ_true & blocked
+    prev = p_true & passable(block)
+    for k, m in kinds.items():
+        block = block | m
+        now = p_true & passable(block)
+        out[f"passable_lost_{k}"] = int((prev & ~now).sum())
+        prev = now
+    out["passable_map"] = int((p_true & prev).sum())
+    return out

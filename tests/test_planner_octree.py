@@ -230,3 +230,38 @@ def test_untracked_changes_fall_back_to_all_leaves():
     fm = project_octree(t, (-3.0, 3.0, 0.0, 8.0), band=(-0.5, 2.75))
     assert fm.state_at(0.125, 6.125) == UNKNOWN and fm.state_at(0.125, 5.125) == OCCUPIED
     assert fm.state_at(0.125, 3.0) == FREE
+
+
+def test_map_losses_sorts_the_wrongly_blocked_cells_and_the_width_they_cost():
+    from planner.floormap import FloorMap, map_losses
+    # a room of 0.25 ft cells (38 x 38 inside, one cell of wall round it)
+    # with a wall across row 8 leaving a gap of columns 5..12 (2 ft); the map
+    # knows the walls and adds: the gap's left neighbour (rounding), a cell 3
+    # rows from the wall (growth), an uncertain cell 11 cells from everything
+    # (false), and leaves one free cell unknown
+    c = 0.25
+    truth = np.full((40, 40), FREE, np.uint8)
+    truth[0, :] = truth[-1, :] = truth[:, 0] = truth[:, -1] = OCCUPIED
+    truth[8, 1:5] = OCCUPIED
+    truth[8, 13:39] = OCCUPIED
+    fm = truth.copy()
+    fm[8, 5] = OCCUPIED
+    fm[11, 3] = OCCUPIED
+    fm[28, 20] = UNCERTAIN
+    fm[4, 9] = UNKNOWN
+    out = map_losses(FloorMap(fm, 0.0, 0.0, c), FloorMap(truth, 0.0, 0.0, c), radius=0.5)
+    assert out["blocked_rounding"] == 1 and out["blocked_rounding_uncertain"] == 0
+    assert out["blocked_growth"] == 1
+    assert out["blocked_false"] == 1 and out["blocked_false_uncertain"] == 1
+    assert out["seen_unknown"] == 1
+    assert out["true_obstacle_mapped_free"] == 0
+    # the 2 ft gap passes a vehicle of radius 0.5 ft in the room; the
+    # rounding cell at its side costs passable cells in it
+    gap = FloorMap(truth, 0.0, 0.0, c)
+    from planner.search import clearance_map
+    assert clearance_map(gap, 0.5, "free").ok[8, 5:13].any()
+    assert out["passable_lost_rounding"] > 0
+    assert out["passable_map"] + out["passable_lost_rounding"] + out["passable_lost_growth"] + \
+        out["passable_lost_false"] == out["passable_true"]
+    with pytest.raises(ValueError, match="cells differ"):
+        map_losses(FloorMap(fm, 0.0, 0.0, 0.125), FloorMap(truth, 0.0, 0.0, c), 0.5)
