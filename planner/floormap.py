@@ -205,7 +205,8 @@ def map_losses(fm: FloorMap, truth: FloorMap, radius: float) -> dict:
     ``radius`` may stand (:func:`planner.search.clearance_map`, unknown free,
     uncertain blocked): in the true room, and lost on the map as the blocked
     cells of each kind are added in that order.  ``seen_*`` count the true free
-    cells the map shows free / leaves unknown."""
+    cells the map shows free / leaves unknown; ``passable_lost_uncertain_only``
+    the lost passable cells that only the uncertain cells cost."""
     import cv2
 
     from .octree import MAX_GROWTH_FT
@@ -247,4 +248,7 @@ def map_losses(fm: FloorMap, truth: FloorMap, radius: float) -> dict:
         out[f"passable_lost_{k}"] = int((prev & ~now).sum())
         prev = now
     out["passable_map"] = int((p_true & prev).sum())
+    # of the cells lost, those that only the uncertain (unconfirmed) cells cost
+    out["passable_lost_uncertain_only"] = int((p_true & ~prev & passable(
+        fm.cells == OCCUPIED)).sum())
     return out

@@ -261,6 +261,7 @@ def test_map_losses_sorts_the_wrongly_blocked_cells_and_the_width_they_cost():
     from planner.search import clearance_map
     assert clearance_map(gap, 0.5, "free").ok[8, 5:13].any()
     assert out["passable_lost_rounding"] > 0
+    assert 0 < out["passable_lost_uncertain_only"] <= out["passable_lost_false"]
     assert out["passable_map"] + out["passable_lost_rounding"] + out["passable_lost_growth"] + \
         out["passable_lost_false"] == out["passable_true"]
     with pytest.raises(ValueError, match="cells differ"):
