@@ -139,7 +139,7 @@ CARVE = ("range", "error")
 
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
-               carve: str = "range") -> FloorScan:
+               carve: str = "range", blank_alone: bool = True) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -156,7 +156,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     ``"error"`` (a named option) only up to the near end of that range's
     error bound (LCSL's two-sigma ``ep``): a located edge may lie up to its
     bound farther than the surface it bounds, and a blank face between two
-    such edges, carved to their range, is carved into."""
+    such edges, carved to their range, is carved into.
+
+    ``blank_alone=False`` (a named option) applies ``blank_ft`` only to a look
+    that located something: a look that located nothing at all may face a
+    blank surface nearer than anything (or nearer than the lowest obstacle
+    shows), and carving its whole view to ``blank_ft`` carves through it."""
     if carve not in CARVE:
         raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     R = np.asarray(R, float)
@@ -181,7 +186,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
             continue
         cols.append(c)
         near.append(idx[supported[np.argmin(z[supported])]])
-    if not cols and not blank_ft:
+    if not cols and (not blank_ft or not blank_alone):
         return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
     cols, near = np.array(cols, int), np.array(near, int)
     rng = xyz_c[near, 2]
@@ -215,7 +220,9 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         # a box face wider than the picture too)
         lo_c = cols[0] if len(cols) else 129
         hi_c = cols[-1] if len(cols) else 0
-        for side in (np.arange(1, lo_c), np.arange(hi_c + 1, 129)):
+        sides = (np.arange(1, lo_c), np.arange(hi_c + 1, 129)) if len(cols) else \
+            (np.arange(1, 129),)                      # (not the whole view twice)
+        for side in sides:
             if len(side):
                 edge_r = reach[0] if (len(cols) and side[0] == 1) else \
                     (reach[-1] if len(cols) else blank_ft)

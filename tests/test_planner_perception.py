@@ -32,3 +32,20 @@ def test_floor_scan_carves_to_the_near_end_of_the_error_bound_when_asked():
     assert len(left) == 39 and len(right) == 19 + 68
     with pytest.raises(ValueError, match="carve"):
         floor_scan(pts, R, origin, band=(-1.0, 2.75), carve="nearest")
+
+
+def test_a_look_that_located_nothing_carves_nothing_when_asked():
+    R = np.eye(3)
+    origin = np.zeros(3)
+    # by default (blank columns free up to 8 ft) the whole view is carved:
+    # each of the 128 columns once, at 8 ft
+    alone = floor_scan([], R, origin, band=(-1.0, 2.75), blank_ft=8.0)
+    assert len(alone.free_ends) == 128
+    assert np.allclose(np.hypot(alone.free_ends[:, 0], alone.free_ends[:, 2]),
+                       8.0 / np.cos(np.arctan((np.arange(1, 129) - 0.5 - 64) / 180)))
+    none = floor_scan([], R, origin, band=(-1.0, 2.75), blank_ft=8.0, blank_alone=False)
+    assert len(none.free_ends) == 0 and len(none.hits) == 0
+    # a look that located one edge still carves its blank columns
+    pts = [_pt(50, 40, 5.0), _pt(52, 40, 5.02)]
+    some = floor_scan(pts, R, origin, band=(-1.0, 2.75), blank_ft=8.0, blank_alone=False)
+    assert len(some.free_ends) == 127
