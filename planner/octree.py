@@ -91,19 +91,22 @@ class Octree(pyoctomap.OcTree):
                 self.log_complete = False
         return out
 
-    def _untracked(name):
-        def method(self, *args, **kwargs):
-            self.log_complete = False
-            return getattr(pyoctomap.OcTree, name)(self, *args, **kwargs)
-        method.__name__ = name
-        method.__doc__ = f"OctoMap's {name}; the change log is then incomplete."
-        return method
 
-    for _name in ("insertPointCloud", "updateNode", "deleteNode", "clear", "read",
-                  "readBinary", "setResolution", "expandNode", "createNodeChild",
-                  "deleteNodeChild", "toMaxLikelihood"):
-        locals()[_name] = _untracked(_name)
-    del _name, _untracked
+def _untracked(name: str):
+    """OctoMap's method ``name``, after which the change log is incomplete."""
+    def method(self, *args, **kwargs):
+        self.log_complete = False
+        return getattr(pyoctomap.OcTree, name)(self, *args, **kwargs)
+    method.__name__ = method.__qualname__ = name
+    method.__doc__ = f"OctoMap's {name}; the change log is then incomplete."
+    return method
+
+
+for _name in ("insertPointCloud", "updateNode", "deleteNode", "clear", "read", "readBinary",
+              "setResolution", "expandNode", "createNodeChild", "deleteNodeChild",
+              "toMaxLikelihood"):
+    setattr(Octree, _name, _untracked(_name))
+del _name
 
 
 def new_octree(voi: VolumeOfInterest = VolumeOfInterest(), confirm_looks: int = 1
