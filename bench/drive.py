@@ -12,6 +12,11 @@ same final map of each run, from the start to the goal (path length pulled
 taut, and time).
 
     python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
+    python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
+
+``--losses`` sorts each run's final map against the true room: the cells it
+blocks wrongly (the cell rounding of hits, growth, false matches), the true
+obstacle cells it shows free, and the passable cells each kind costs.
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
