@@ -12,6 +12,11 @@ same final map of each run, from the start to the goal (path length pulled
 taut, and time).
 
     python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
+    python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
+
+``--losses`` sorts each run's final map against the true room: the cells it
+blocks wrongly (the cell rounding of hits, growth, false matches), the true
+obstacle cells it shows free, and the passable cells each kind costs.
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
@@ -73,6 +78,14 @@ def stop_kind(reason: str) -> str:
         if phrase in reason:
             return kind
     return "other"
+def final_map_losses(room, fmap, radius):
+    """planner.floormap.map_losses of a run's final map against the TRUE room
+    drawn on the same grid."""
+    from planner.floormap import map_losses, true_floor_map
+    ex = fmap.extent()
+    bx0, bx1, bz0, bz1 = room.bounds
+    margin = max(bx0 - ex[0], ex[1] - bx1, bz0 - ex[2], ex[3] - bz1, 0.0) + fmap.cell
+    return map_losses(fmap, true_floor_map(room.obstacles, room.bounds, fmap.cell, margin), radius)
 
 
 def seeded_tasks(args):
@@ -150,6 +163,14 @@ def main(argv=None) -> int:
     ap.add_argument("--track-free", choices=("poses", "swept"), default="poses",
                     help="free where the vehicle stood: its footprint at each pose (default), or "
                          "the footprint swept by every move and pivot, shrunk by the margin")
+    ap.add_argument("--cell-ft", type=float, default=None, metavar="FT",
+                    help="the octree's finest cell: the fewest levels over the 32 ft volume "
+                         "of interest whose cell is no larger (default: depth 7, 0.25 ft; "
+                         "0.125 is depth 8)")
+    ap.add_argument("--losses", action="store_true",
+                    help="also sort the final map's wrongly blocked cells (cell rounding of "
+                         "hits, growth, false matches) and the passable cells each costs, "
+                         "against the true room (planner.floormap.map_losses)")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -158,8 +179,14 @@ def main(argv=None) -> int:
         return true_maps(args)
 
     from planner.loop import DriveConfig, run
+    from planner.octree import VolumeOfInterest
     from vehicle.profile import DEFAULT
     from world.odometry import OdometryNoise
+    try:
+        voi = DriveConfig.voi if args.cell_ft is None else \
+            VolumeOfInterest.for_accuracy(args.cell_ft)
+    except ValueError as exc:
+        ap.error(f"--cell-ft: {exc}")
 
     rows = []
     print(f"{'room':>4} {'goal':>14} {'ok':>3} {'coll':>4} {'looks':>5} {'trav ft':>7} "
@@ -174,7 +201,7 @@ def main(argv=None) -> int:
                           uncertain=args.uncertain, look_around=args.look_around,
                           progress=args.progress, track_free=args.track_free,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
-                          pose_method=args.pose_method,
+                          pose_method=args.pose_method, voi=voi,
                           profile=dataclasses.replace(
                               DEFAULT, reverse=args.reverse == "on",
                               margin_ft=DEFAULT.margin_ft if args.margin is None
@@ -199,6 +226,8 @@ def main(argv=None) -> int:
                "estimate_error_ft_final": float(res.track_errors()[-1]),
                "dead_error_ft_mean": float(np.mean(res.track_errors(res.dead_track))),
                "dead_error_ft_final": float(res.track_errors(res.dead_track)[-1])}
+        if args.losses and last:
+            row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
         rows.append(row)
 
         def f(v, w, d=1):
@@ -224,6 +253,8 @@ def main(argv=None) -> int:
         "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free,
+        "clearance_at": args.clearance_at, "growth": args.growth,
+        "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
@@ -254,6 +285,10 @@ def main(argv=None) -> int:
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])
     summary["stop_reasons"] = kinds
+    if args.losses:
+        keys = [k for k in rows[0].get("map_losses", {}) if k != "cell_ft"]
+        summary["map_losses_total"] = {k: sum(r["map_losses"][k] for r in rows
+                                              if "map_losses" in r) for k in keys}
     print()
     for k, v in summary.items():
         print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")

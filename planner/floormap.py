@@ -22,7 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, leaves
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, _classify, _unpack, free_below, leaves, \
+    logodds_at
 
 FLOOR_Y = 3.0          # the floor plane in room coordinates (Y down, cameras at Y = 0)
 
@@ -80,12 +81,79 @@ def _paint(mask: np.ndarray, fm: FloorMap, cx, cz, half) -> None:
         mask[a:b, c:d] = True
 
 
+class TouchedCells:
+    """The log-odds of every finest cell an :class:`~planner.octree.Octree`'s
+    logged updates have touched, read back from the tree: the cells whose
+    union is the tree's leaves (a cell is only created by an update, and a
+    pruned leaf covers only cells that were), kept up to date one look at a
+    time (:meth:`refresh` reads only the cells touched since the last)."""
+
+    def __init__(self):
+        self.keys = np.zeros(0, np.int64)        # packed keys, sorted
+        self.logodds = np.zeros(0)
+
+    def refresh(self, tree) -> int:
+        """Read back the cells touched since the last refresh; returns how many."""
+        if not tree.touched:
+            return 0
+        new = np.unique(np.concatenate(tree.touched))
+        tree.touched.clear()
+        lo = logodds_at(tree, new)
+        pos = np.searchsorted(self.keys, new)
+        known = (pos < len(self.keys)) & (self.keys[np.minimum(pos, len(self.keys) - 1)] == new) \
+            if len(self.keys) else np.zeros(len(new), bool)
+        self.logodds[pos[known]] = lo[known]
+        if (~known).any():
+            keys = np.concatenate([self.keys, new[~known]])
+            order = np.argsort(keys, kind="stable")
+            self.keys = keys[order]
+            self.logodds = np.concatenate([self.logodds, lo[~known]])[order]
+        return len(new)
+
+
+def _project_touched(tree, fm: FloorMap, band, free_band, free_looks: int) -> dict:
+    """:func:`project_octree`'s masks from the tree's touched cells (equal to
+    the masks from all leaves: tested)."""
+    cache = tree.__dict__.setdefault("_touched_cells", TouchedCells())
+    cache.refresh(tree)
+    res = tree.getResolution()
+    masks = {st: np.zeros(fm.shape, bool) for st in (FREE, UNCERTAIN, OCCUPIED)}
+    if not len(cache.keys):
+        return masks
+    k = _unpack(cache.keys)
+    lo = cache.logodds
+    y = (k[:, 1] + 0.5) * res
+    h = res / 2
+    inband = (y + h > band[0]) & (y - h < band[1]) & ~np.isnan(lo)
+    fb = band if free_band is None else free_band
+    infree = inband & (y + h > fb[0]) & (y - h < fb[1])
+    i = k[:, 2] - int(round(fm.z0 / res))
+    j = k[:, 0] - int(round(fm.x0 / res))
+    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    state = np.full(len(lo), UNKNOWN, np.uint8)
+    state[inband] = _classify(lo[inband], tree.getOccupancyThresLog(), free_below(free_looks))
+    for st, mask in masks.items():
+        m = (infree if st == FREE else inband) & inside & (state == st)
+        mask[i[m], j[m]] = True
+    return masks
+
+
 def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.0,
-                   free_looks: int = 1, free_band=None) -> FloorMap:
+                   free_looks: int = 1, free_band=None, from_leaves: bool = False) -> FloorMap:
     """The octree projected over the height band ``band`` = (Y top, Y bottom)
-    of the vehicle's passage (room Y, down positive) onto a grid over ``bounds``."""
+    of the vehicle's passage (room Y, down positive) onto a grid over ``bounds``.
+
+    A tree whose updates are all logged (:class:`~planner.octree.Octree`, as
+    :func:`~planner.octree.new_octree` makes) is projected from the cells
+    those updates touched, read back a look at a time; any other tree, or
+    ``from_leaves``, from all its leaves (the reference: the same map)."""
     res = tree.getResolution()
     fm = empty_map(bounds, res, margin)
+    if not from_leaves and getattr(tree, "log_complete", False):
+        masks = _project_touched(tree, fm, band, free_band, free_looks)
+        for st in (FREE, UNCERTAIN, OCCUPIED):           # later wins
+            fm.cells[masks[st]] = st
+        return fm
     ex = fm.extent()
     lo = np.array([ex[0], band[0], ex[2]])
     hi = np.array([ex[1], band[1], ex[3]])
@@ -123,3 +191,64 @@ def true_floor_map(obstacles, bounds, cell: float, margin: float = 1.0) -> Floor
         occ |= rows[:, None] & cols[None, :]
     fm.cells[occ] = OCCUPIED
     return fm
+
+
+def map_losses(fm: FloorMap, truth: FloorMap, radius: float) -> dict:
+    """Where a floor map loses free space and width against the TRUE room's
+    map on the same grid (both aligned to multiples of one cell; the true map
+    must cover the map).  Cells the map blocks (occupied or uncertain) that are
+    free in the room are sorted by their distance to the nearest true obstacle
+    cell: ``rounding`` (a neighbour of it: the cell rounding of a hit on its
+    face), ``growth`` (within the feature growth cap of 1.5 ft and a cell:
+    a hit grown by its covariance, or its range error) and ``false`` (farther:
+    a false match).  ``passable_*`` count the cells where the vehicle of
+    ``radius`` may stand (:func:`planner.search.clearance_map`, unknown free,
+    uncertain blocked): in the true room, and lost on the map as the blocked
+    cells of each kind are added in that order.  ``seen_*`` count the true free
+    cells the map shows free / leaves unknown; ``passable_lost_uncertain_only``
+    the lost passable cells that only the uncertain cells cost."""
+    import cv2
+
+    from .octree import MAX_GROWTH_FT
+    from .search import clearance_map
+    if abs(fm.cell - truth.cell) > 1e-12:
+        raise ValueError(f"cells differ: {fm.cell} and {truth.cell} ft")
+    di = int(round((fm.z0 - truth.z0) / fm.cell))
+    dj = int(round((fm.x0 - truth.x0) / fm.cell))
+    nz, nx = fm.shape
+    if di < 0 or dj < 0 or di + nz > truth.shape[0] or dj + nx > truth.shape[1]:
+        raise ValueError("the true map does not cover the map")
+    occ_true = truth.cells[di:di + nz, dj:dj + nx] == OCCUPIED
+    dt = cv2.distanceTransform((~occ_true).astype(np.uint8), cv2.DIST_L2,
+                               cv2.DIST_MASK_PRECISE) * fm.cell     # centre to centre, ft
+    blocked = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
+    wrong = blocked & ~occ_true
+    kinds = {"rounding": wrong & (dt <= 1.5 * fm.cell),
+             "growth": wrong & (dt > 1.5 * fm.cell) & (dt <= MAX_GROWTH_FT + 1.5 * fm.cell),
+             "false": wrong & (dt > MAX_GROWTH_FT + 1.5 * fm.cell)}
+    free_true = ~occ_true
+    out = {"cell_ft": fm.cell, "true_free": int(free_true.sum()),
+           "seen_free": int((free_true & (fm.cells == FREE)).sum()),
+           "seen_unknown": int((free_true & (fm.cells == UNKNOWN)).sum()),
+           "true_obstacle_mapped_free": int((occ_true & (fm.cells == FREE)).sum())}
+    for k, m in kinds.items():
+        out[f"blocked_{k}"] = int(m.sum())
+        out[f"blocked_{k}_uncertain"] = int((m & (fm.cells == UNCERTAIN)).sum())
+
+    def passable(block):
+        cells = np.where(block, OCCUPIED, FREE).astype(np.uint8)
+        return clearance_map(FloorMap(cells, fm.x0, fm.z0, fm.cell), radius, "free").ok
+    p_true = passable(occ_true)
+    out["passable_true"] = int(p_true.sum())
+    block = occ_true & blocked
+    prev = p_true & passable(block)
+    for k, m in kinds.items():
+        block = block | m
+        now = p_true & passable(block)
+        out[f"passable_lost_{k}"] = int((prev & ~now).sum())
+        prev = now
+    out["passable_map"] = int((p_true & prev).sum())
+    # of the cells lost, those that only the uncertain (unconfirmed) cells cost
+    out["passable_lost_uncertain_only"] = int((p_true & ~prev & passable(
+        fm.cells == OCCUPIED)).sum())
+    return out

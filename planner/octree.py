@@ -61,8 +61,56 @@ class VolumeOfInterest:
         return cls(side_ft, depth)
 
 
+class Octree(pyoctomap.OcTree):
+    """OctoMap's occupancy tree, which also logs the finest cells that its
+    batch updates (:meth:`updateNodes` with room coordinates, as
+    :func:`mark_occupied` and :func:`mark_free_rays` make them) touch.  The
+    floor map's projection (:func:`planner.floormap.project_octree`) then
+    reads back only those cells since the last projection instead of every
+    leaf, the cost of a look instead of the model's size.  Any other change
+    (a point cloud's ray casting, a single-node or key update, clearing,
+    reading a file) marks the log incomplete, and the projection then
+    redraws from all leaves as before."""
+
+    def __init__(self, resolution: float):
+        self.touched: list[np.ndarray] = []      # packed keys (:func:`_pack`) per update
+        self.log_complete = True
+
+    def _key_of(self, coords) -> np.ndarray:
+        # OctoMap's own key: the coordinate as a float point3d, then
+        # floor(coordinate / resolution) (OcTreeBaseImpl::coordToKey)
+        c = np.asarray(coords, np.float32).astype(np.float64).reshape(-1, 3)
+        return np.floor(c * (1.0 / self.getResolution()))
+
+    def updateNodes(self, values, update, lazy_eval=False):
+        out = super().updateNodes(values, update, lazy_eval)
+        if values is not None and len(values):
+            if isinstance(values, np.ndarray) and values.dtype.kind == "f":
+                self.touched.append(_pack(self._key_of(values)))
+            else:
+                self.log_complete = False
+        return out
+
+
+def _untracked(name: str):
+    """OctoMap's method ``name``, after which the change log is incomplete."""
+    def method(self, *args, **kwargs):
+        self.log_complete = False
+        return getattr(pyoctomap.OcTree, name)(self, *args, **kwargs)
+    method.__name__ = method.__qualname__ = name
+    method.__doc__ = f"OctoMap's {name}; the change log is then incomplete."
+    return method
+
+
+for _name in ("insertPointCloud", "updateNode", "deleteNode", "clear", "read", "readBinary",
+              "setResolution", "expandNode", "createNodeChild", "deleteNodeChild",
+              "toMaxLikelihood"):
+    setattr(Octree, _name, _untracked(_name))
+del _name
+
+
 def new_octree(voi: VolumeOfInterest = VolumeOfInterest(), confirm_looks: int = 1
-               ) -> pyoctomap.OcTree:
+               ) -> Octree:
     """An empty model.  OctoMap's log-odds update is +0.85 for a hit and -0.41
     for a miss (probabilities 0.7 / 0.4); a cell is OCCUPIED once its log-odds
     reach ``confirm_looks - 1`` hits above one (so ``confirm_looks`` looks
@@ -70,7 +118,7 @@ def new_octree(voi: VolumeOfInterest = VolumeOfInterest(), confirm_looks: int = 
     misses than hits; ``free_looks`` of them, see :func:`free_below`),
     UNCERTAIN when hit but not yet confirmed, and UNKNOWN when never seen (or
     seen through too few times)."""
-    tree = pyoctomap.OcTree(voi.resolution)
+    tree = Octree(voi.resolution)
     if confirm_looks < 1:
         raise ValueError(f"confirm_looks must be at least 1, got {confirm_looks!r}")
     hit = math.log(tree.getProbHit() / (1 - tree.getProbHit()))
@@ -112,12 +160,30 @@ def insert_rays(tree: pyoctomap.OcTree, points: np.ndarray, origin, max_range: f
         tree.insertPointCloud(pts, np.asarray(origin, dtype=np.float64), max_range)
 
 
+_KEY_OFFSET = 1 << 20          # 21 bits per axis: +-2**20 cells
+
+
+def _pack(keys: np.ndarray) -> np.ndarray:
+    """Integer cell keys (N, 3) as one int64 each, ordered as the rows are
+    lexicographically (x, then y, then z)."""
+    k = keys.astype(np.int64) + _KEY_OFFSET
+    return (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
+
+
+def _unpack(packed: np.ndarray) -> np.ndarray:
+    """The (N, 3) integer cell keys of :func:`_pack`."""
+    p = np.asarray(packed, np.int64)
+    mask = (1 << 21) - 1
+    return np.stack([(p >> 42) & mask, (p >> 21) & mask, p & mask], 1) - _KEY_OFFSET
+
+
 def cell_centres(points, res: float) -> np.ndarray:
-    """The distinct cells (their centres) holding ``points``."""
+    """The distinct cells (their centres) holding ``points``, in the
+    lexicographic order of their keys."""
     pts = np.asarray(points, float).reshape(-1, 3)
     if not len(pts):
         return pts
-    return (np.unique(np.floor(pts / res), axis=0) + 0.5) * res
+    return (_unpack(np.unique(_pack(np.floor(pts / res)))) + 0.5) * res
 
 
 def feature_cells(mean, cov, res: float, sigmas: float = 2.0) -> np.ndarray:
@@ -176,19 +242,21 @@ def insert_surface(tree: pyoctomap.OcTree, a, b, c=None) -> int:
     return mark_occupied(tree, surface_cells(a, b, tree.getResolution(), c))
 
 
-def _pack(keys: np.ndarray) -> np.ndarray:
-    k = keys.astype(np.int64) + (1 << 20)
-    return (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
+MAX_GROWTH_FT = 1.5         # how far a feature is grown from its mean along an axis, at most
 
 
-def features_cells(means, covs, res: float, sigmas: float = 2.0, max_cells: int = 6
+def features_cells(means, covs, res: float, sigmas: float = 2.0, max_cells: int | None = None
                    ) -> np.ndarray:
     """:func:`feature_cells` for many features at once (vectorised), each grown
-    at most ``max_cells`` cells from its mean along an axis."""
+    at most ``max_cells`` cells from its mean along an axis (default
+    :data:`MAX_GROWTH_FT` in cells, so the cap is the same distance at every
+    depth of the octree: 6 cells of 0.25 ft, 12 of 0.125 ft)."""
     means = np.asarray(means, float).reshape(-1, 3)
     covs = np.asarray(covs, float).reshape(-1, 3, 3)
     if not len(means):
         return means
+    if max_cells is None:
+        max_cells = max(1, int(round(MAX_GROWTH_FT / res)))
     half = sigmas * np.sqrt(np.clip(np.diagonal(covs, axis1=1, axis2=2), 0, None))
     k = np.minimum(np.ceil(half / res).max(0).astype(int) + 1, max_cells)
     offs = np.stack(np.meshgrid(*[np.arange(-a, a + 1) for a in k], indexing="ij"),
@@ -270,6 +338,20 @@ def leaves(tree: pyoctomap.OcTree, bbx_min=None, bbx_max=None, free_looks: int =
         c, s, lo = c[keep], s[keep], lo[keep]
     state = _classify(lo, tree.getOccupancyThresLog(), free_below(free_looks))
     return c, s, state
+
+
+def logodds_at(tree: pyoctomap.OcTree, packed_keys: np.ndarray) -> np.ndarray:
+    """The log-odds of the cells with the given packed keys (:func:`_pack`),
+    read from the tree (NaN for a cell not in it: unknown)."""
+    res = tree.getResolution()
+    centres = (_unpack(packed_keys) + 0.5) * res
+    out = np.full(len(centres), np.nan)
+    search = tree.search
+    for n, c in enumerate(centres):
+        node = search(c)
+        if node is not None:
+            out[n] = node.getLogOdds()
+    return out
 
 
 def memory_bytes(tree: pyoctomap.OcTree) -> int:

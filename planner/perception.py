@@ -134,9 +134,12 @@ class FloorScan:
     spans: list              # index pairs into hits: one surface between two boundary lines
 
 
+CARVE = ("range", "error")
+
+
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
-               max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None
-               ) -> FloorScan:
+               max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
+               carve: str = "range", blank_alone: bool = True) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -146,7 +149,21 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     columns at most ``max_gap_px`` apart, the columns between are free up to
     the nearer of the two (the surface between two boundary lines, or a gap
     whose far side is not seen); two neighbours at one range are joined by a
-    surface span."""
+    surface span.
+
+    ``carve`` says how far the columns with no range of their own are free:
+    ``"range"`` up to the range of the bounding column (or ``blank_ft``);
+    ``"error"`` (a named option) only up to the near end of that range's
+    error bound (LCSL's two-sigma ``ep``): a located edge may lie up to its
+    bound farther than the surface it bounds, and a blank face between two
+    such edges, carved to their range, is carved into.
+
+    ``blank_alone=False`` (a named option) applies ``blank_ft`` only to a look
+    that located something: a look that located nothing at all may face a
+    blank surface nearer than anything (or nearer than the lowest obstacle
+    shows), and carving its whole view to ``blank_ft`` carves through it."""
+    if carve not in CARVE:
+        raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     R = np.asarray(R, float)
     origin = np.asarray(left_centre, float)
     xyz_c, cov_c, line, loc1, ep = camera_points(points)
@@ -169,10 +186,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
             continue
         cols.append(c)
         near.append(idx[supported[np.argmin(z[supported])]])
-    if not cols and not blank_ft:
+    if not cols and (not blank_ft or not blank_alone):
         return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
     cols, near = np.array(cols, int), np.array(near, int)
     rng = xyz_c[near, 2]
+    # how far a column bounded by this one is free
+    reach = rng if carve == "range" else np.maximum(rng - ep[near], 0.0)
 
     def to_room(col, z):
         x = (col - 0.5 - CX_128) * z / FOCAL_128
@@ -189,7 +208,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         if b - a > 1 and b - a <= gap_px:
             between = np.arange(a + 1, b)
             free_cols.append(between)
-            free_rng.append(np.full(len(between), min(rng[k], rng[k + 1])))
+            free_rng.append(np.full(len(between), min(reach[k], reach[k + 1])))
         if b - a <= max_gap_px:
             tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
             if abs(rng[k] - rng[k + 1]) <= tol:
@@ -201,10 +220,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         # a box face wider than the picture too)
         lo_c = cols[0] if len(cols) else 129
         hi_c = cols[-1] if len(cols) else 0
-        for side in (np.arange(1, lo_c), np.arange(hi_c + 1, 129)):
+        sides = (np.arange(1, lo_c), np.arange(hi_c + 1, 129)) if len(cols) else \
+            (np.arange(1, 129),)                      # (not the whole view twice)
+        for side in sides:
             if len(side):
-                edge_r = rng[0] if (len(cols) and side[0] == 1) else \
-                    (rng[-1] if len(cols) else blank_ft)
+                edge_r = reach[0] if (len(cols) and side[0] == 1) else \
+                    (reach[-1] if len(cols) else blank_ft)
                 free_cols.append(side)
                 free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))
                                         if len(cols) else float(blank_ft)))
