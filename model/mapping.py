@@ -100,6 +100,12 @@ class WalkConfig:
     # (model.kalman.consider_update).  Reported and scored; the matcher and the pose keep
     # using the filter's own
     consider: str | None = None
+    # retiring the unseen (named alternative; None: off, the model remembers everything): a
+    # vertex that looks whose pose was fixed predicted well inside their view (8 px in from
+    # the picture's edges, within max_range_ft) did not match, this many times per look it
+    # was seen in, leaves the model (a phantom of a wrong stereo match is seen once and never
+    # again where it claims to be)
+    retire_unseen: int | None = None
 
 
 @dataclass
@@ -284,6 +290,8 @@ class Walker:
         if config.consider is not None and config.kalman == "ci":
             raise ValueError("the consider covariance follows the Kalman gain: use it with "
                              "--kalman a30 or a29, not ci")
+        if config.retire_unseen is not None and config.retire_unseen < 1:
+            raise ValueError(f"retire unseen {config.retire_unseen!r}: must be at least 1")
         if config.feature_gate is not None and not config.feature_gate > 0:
             raise ValueError(f"feature gate {config.feature_gate!r}: must be a positive "
                              "chi-square bound")
@@ -418,6 +426,8 @@ class Walker:
                               pose_floor=config.pose_sigma_floor if k > 0 else None,
                               honest=honest, consider=config.consider,
                               feature_gate=config.feature_gate)
+        if config.retire_unseen is not None and k > 0 and pose_est.method == "fused":
+            _retire_unseen(model, match.pairs, pose_est, k, rows, config)
         est_xzh = estimates["fused"]
         est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
@@ -545,6 +555,25 @@ def _measured_covariances(obs, est: PoseEstimate, config: WalkConfig, lines,
     q = np.array([o.q for o in obs])
     camera = floored_pose(est, *(config.pose_sigma_floor or MEASURED_POSE_SIGMA_FLOOR))
     return measurement_covariance_a29(est.M, cq, camera.pose_covariance_at(q))
+
+
+def _retire_unseen(model, pairs, est: PoseEstimate, look: int, rows, config: WalkConfig) -> None:
+    """Count a miss for every vertex the fixed pose predicts well inside the view that
+    no observation matched; retire those missed ``retire_unseen`` times per look seen."""
+    from .matching import in_view
+    ids, means, _, _, _ = model.vertex_arrays()
+    if not len(ids):
+        return
+    near = np.linalg.norm(means - est.left, axis=1) <= config.max_range_ft
+    inside = in_view(means, est.left, est.R, rows[0], rows[1], margin=-8.0) & near
+    matched = {vid for vid, _ in pairs}
+    for vid in ids[inside]:
+        v = model.vertices[int(vid)]
+        if int(vid) in matched or v.first_look == look:
+            continue
+        v.missed += 1
+        if v.missed >= config.retire_unseen * v.looks:
+            model.retire(int(vid))
 
 
 def _wrong(model, pairs, obs_truth) -> int:

@@ -49,6 +49,7 @@ class Vertex:
     # unless the walk's ``consider`` option is on
     report_cov: np.ndarray | None = None
     contradicted: int = 0            # looks whose matched observation failed the feature gate
+    missed: int = 0                  # looks that should have seen it, well inside the view, and did not
 
 
 @dataclass
@@ -148,7 +149,8 @@ class SymbolicModel:
                           "first_look": v.first_look, "last_look": v.last_look,
                           "truth": arr(v.truth),
                           "shape": None if v.shape is None else list(v.shape),
-                          "report_cov": arr(v.report_cov), "contradicted": v.contradicted}
+                          "report_cov": arr(v.report_cov), "contradicted": v.contradicted,
+                          "missed": v.missed}
                          for v in self.vertices.values()],
             "retired_vertices": sorted(self.retired),
             "lines": [{"id": ln.id, "centre": arr(ln.centre), "centre_cov": arr(ln.centre_cov),

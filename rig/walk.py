@@ -163,8 +163,9 @@ def summary_text(result, rows) -> str:
     if result.config.consider:
         out.append(f"  (inside 2 sigma of the consider covariance ({result.config.consider}); of "
                    f"the filter's own: {100 * (fs['filter_inside_2sigma'] or 0):.0f} %)")
-    if result.config.feature_gate:
-        out.append(f"  feature gate: {fs['retired']} vertices retired (contradicted by later looks)")
+    if result.config.feature_gate or result.config.retire_unseen:
+        out.append(f"  {fs['retired']} vertices retired (contradicted by later looks, or unseen "
+                   "where they should have been seen)")
     out.append(f"correspondences: {matched} matched, {wrong} wrong "
                f"({100 * wrong / max(matched, 1):.0f} %); {used} used by the driving method, "
                f"{used_wrong} of them wrong ({100 * used_wrong / max(used, 1):.0f} %)")
@@ -212,6 +213,7 @@ def walk_json(result, label: str, rows) -> dict:
         "column_error_px": result.config.column_error_px,
         "pose_sigma_floor": result.config.pose_sigma_floor,
         "feature_gate": result.config.feature_gate, "consider": result.config.consider,
+        "retire_unseen": result.config.retire_unseen,
         "match": result.config.match,
         "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
                          if m == "dead_reckoning" or m in result.records[0].estimates},
@@ -263,7 +265,8 @@ def cmd_walk(args) -> int:
                         lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range,
                         shape_max_bits=None if args.shape_bits < 0 else args.shape_bits,
                         column_error_px=args.column_error, pose_sigma_floor=args.pose_floor,
-                        feature_gate=args.feature_gate, consider=args.consider)
+                        feature_gate=args.feature_gate, consider=args.consider,
+                        retire_unseen=args.retire_unseen)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -273,7 +276,8 @@ def cmd_walk(args) -> int:
           + (f", pose floor {args.pose_floor[0]:g} ft {args.pose_floor[1]:g} deg"
              if args.pose_floor else "")
           + (f", feature gate {args.feature_gate:g}" if args.feature_gate else "")
-          + (f", consider covariance {args.consider}" if args.consider else ""))
+          + (f", consider covariance {args.consider}" if args.consider else "")
+          + (f", retire unseen {args.retire_unseen}" if args.retire_unseen else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -364,6 +368,16 @@ def _feature_gate(text: str) -> float:
     return value
 
 
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: a whole number of looks, at least 1")
+    return value
+
+
 def add_parser(sub) -> argparse.ArgumentParser:
     w = sub.add_parser(
         "walk", help="walk a room: many looks, one model, where the camera is",
@@ -406,6 +420,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "and its own covariance is not fused but starts its own feature; a "
                         "feature contradicted as often as confirmed (twice at least) leaves "
                         f"the model (CHI2 default {FEATURE_GATE_DEFAULT:g}, 99.9 %%)")
+    w.add_argument("--retire-unseen", type=_positive_int, default=None, metavar="N",
+                   help="a vertex that N looks per look it was seen in predicted well inside "
+                        "their view, and did not see, leaves the model (off by default: the "
+                        "model remembers everything, as written)")
     w.add_argument("--consider", choices=("bound", "joseph"), default=None,
                    help="with --kalman a30 or a29: every feature also carries the consider "
                         "covariance of its mean under the measured errors (calibrated column "

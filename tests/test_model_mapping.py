@@ -186,3 +186,35 @@ def test_consider_covariance_is_scored_and_the_filter_kept():
     # does not shrink at all
     np.testing.assert_allclose(np.diag(v.cov), np.diag(o.cov)[[1, 2, 0]] / 2, rtol=1e-9)
     assert np.all(np.diag(v.report_cov) >= np.diag(honest[0]) * (1 - 1e-9))
+
+
+def test_retire_unseen_takes_out_what_a_fixed_pose_should_have_seen():
+    # three vertices: 10 ft straight ahead (well inside the view), 10 ft ahead but 40 degrees
+    # to the side (outside the 39 degree field of view) and 20 ft ahead (beyond the 15 ft the
+    # model uses).  A look that matches none of them misses only the first; with N = 1 it is
+    # retired after one miss per look it was seen in, a vertex seen twice after two
+    from model.mapping import WalkConfig, _retire_unseen
+    from model.symbolic import SymbolicModel
+    est = _given_pose()
+    est = PoseEstimate("fused", est.left, est.M, est.inliers, covariance6=est.covariance6)
+    model = SymbolicModel()
+    C = np.eye(3) * 0.01
+    ahead = model.add_vertex(est.left + [0, 0, 10.0], C, "top", (3, 9), 0)
+    side = model.add_vertex(est.left + [10 * np.sin(np.radians(40)), 0,
+                                        10 * np.cos(np.radians(40))], C, "top", (3, 9), 0)
+    far = model.add_vertex(est.left + [0, 0, 20.0], C, "top", (3, 9), 0)
+    twice = model.add_vertex(est.left + [0.5, 0.5, 8.0], C, "bottom", (3, 9), 0)
+    twice.looks = 2
+    config = WalkConfig(retire_unseen=1)
+    _retire_unseen(model, [], est, 1, (8, 113), config)
+    assert ahead.id in model.retired and ahead.missed == 1
+    assert side.id in model.vertices and far.id in model.vertices
+    assert side.missed == far.missed == 0
+    assert twice.id in model.vertices and twice.missed == 1
+    # a matched vertex is not missed; the twice-seen one goes at its second miss
+    _retire_unseen(model, [(side.id, 0)], est, 2, (8, 113), config)
+    assert twice.id in model.retired and side.missed == 0
+    # a vertex added in this very look is not counted
+    new = model.add_vertex(est.left + [0, 0, 9.0], C, "top", (3, 9), 3)
+    _retire_unseen(model, [], est, 3, (8, 113), config)
+    assert new.id in model.vertices and new.missed == 0

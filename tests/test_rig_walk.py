@@ -122,11 +122,12 @@ def test_rig_walk_with_consider_covariance_and_feature_gate(tmp_path, short_walk
     # the JSON, every reported covariance is a covariance
     out = tmp_path / "o"
     rc = main(["walk", "--looks", "3", "--kalman", "a29", "--consider", "bound",
-               "--feature-gate", "--out", str(out), "--json", str(tmp_path / "w.json"),
-               "--quiet"])
+               "--feature-gate", "--retire-unseen", "1", "--out", str(out), "--json",
+               str(tmp_path / "w.json"), "--quiet"])
     assert rc == 0
     doc = json.loads((tmp_path / "w.json").read_text())
     assert doc["consider"] == "bound" and doc["feature_gate"] == pytest.approx(16.27)
+    assert doc["retire_unseen"] == 1
     m = doc["model"]
     assert m["inside_2sigma"] >= m["filter_inside_2sigma"]
     assert m["retired"] >= 0
@@ -135,10 +136,11 @@ def test_rig_walk_with_consider_covariance_and_feature_gate(tmp_path, short_walk
         assert np.linalg.eigvalsh(np.array(v["report_cov"])).min() > 0
     default = json.loads((short_walk[1] / "w.json").read_text())
     assert default["consider"] is None and default["feature_gate"] is None
+    assert default["retire_unseen"] is None and default["model"]["retired"] == 0
 
 
 @pytest.mark.parametrize("opt", [["--feature-gate", "0"], ["--feature-gate", "x"],
-                                 ["--consider", "wide"]])
+                                 ["--consider", "wide"], ["--retire-unseen", "0"]])
 def test_bad_consider_and_gate_values_are_refused(opt, capsys):
     with pytest.raises(SystemExit) as exc:
         main(["walk", *opt, "--quiet"])
