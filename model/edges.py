@@ -45,10 +45,11 @@ E_D = 0.5              # EDMAX of LCSL, px
 # claims 0.25 px; the disparity's core is as LCSL assumes (68 % within 0.37-0.43 px against
 # its 0.5 px sigma).  The calibrated column bound is two measured sigmas.
 CALIBRATED_COLUMN_ERROR_PX = 2.0
-# The measured 95.4 % points (bench/walk.py --calibrate, bundled walk), the two-sigma bounds of
-# the consider covariance (model.kalman.consider_update): disparity 1.70 px (LCSL's bound 1 px;
-# the excess is the tail of wrong stereo matches) and the end row 1.84 px (A-18 with half the
-# line spacing: 1.5 px at every 2nd line)
+# The measured 95.4 % points (bench/walk.py --calibrate), the two-sigma bounds of the consider
+# covariance (model.kalman.consider_update): disparity 1.70 px on the bundled lab's loop once
+# round (1.21 px twice round; LCSL's bound 1 px, the excess the tail of wrong stereo matches;
+# the larger kept) and the end row 1.84 px (1.80 twice round; A-18 with half the line
+# spacing: 1.5 px at every 2nd line)
 MEASURED_DISPARITY_ERROR_PX = 1.7
 MEASURED_ROW_ERROR_PX = 1.84
 
