@@ -136,6 +136,18 @@ def test_rig_walk_with_consider_covariance_and_feature_gate(tmp_path, short_walk
         assert np.linalg.eigvalsh(np.array(v["report_cov"])).min() > 0
     default = json.loads((short_walk[1] / "w.json").read_text())
     assert default["consider"] is None and default["feature_gate"] is None
+    # the consider covariance alone never reaches the filter, the matcher or the pose: the
+    # same walk under plain A-29 gives the same poses and the same model to the digit
+    rc = main(["walk", "--looks", "3", "--kalman", "a29", "--consider", "bound", "--out",
+               str(tmp_path / "c"), "--json", str(tmp_path / "c.json"), "--quiet"])
+    rc2 = main(["walk", "--looks", "3", "--kalman", "a29", "--out", str(tmp_path / "p"),
+                "--json", str(tmp_path / "p.json"), "--quiet"])
+    assert rc == rc2 == 0
+    c, p = (json.loads((tmp_path / n).read_text()) for n in ("c.json", "p.json"))
+    assert [lk["methods"]["fused"] for lk in c["looks"]] == [lk["methods"]["fused"]
+                                                             for lk in p["looks"]]
+    assert c["model"]["rms_error_ft"] == p["model"]["rms_error_ft"]
+    assert c["model"]["filter_inside_2sigma"] == p["model"]["inside_2sigma"]
     assert default["retire_unseen"] is None and default["model"]["retired"] == 0
 
 
