@@ -41,7 +41,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
 from model.geometry import wrap_deg  # noqa: E402
-from model.mapping import MEASURED_POSE_SIGMA_FLOOR, WalkConfig, run_walk  # noqa: E402
+from model.mapping import (FEATURE_GATE_CHI2, MEASURED_POSE_SIGMA_FLOOR, WalkConfig,  # noqa: E402
+                           run_walk)
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
 from world.render import render_look  # noqa: E402
@@ -50,13 +51,16 @@ from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
 def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64,
-             column_error=E_LR, pose_floor=None):
+             column_error=E_LR, pose_floor=None, **named):
+    """One walk; ``named``: more WalkConfig options (consider, feature_gate, retire_unseen,
+    match)."""
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
     t0 = time.perf_counter()
     res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
                    WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
                               max_range_ft=max_range, shape_max_bits=shape,
-                              column_error_px=column_error, pose_sigma_floor=pose_floor))
+                              column_error_px=column_error, pose_sigma_floor=pose_floor,
+                              **named))
     return res, time.perf_counter() - t0
 
 
@@ -148,13 +152,18 @@ def feature_stats(results) -> dict:
     same5 = [h for h in hist if len(h) >= 5]
     rms5 = ([float(np.sqrt(np.mean([h[k] ** 2 for h in same5]))) for k in (0, 4)]
             if same5 else [None, None])
-    inside, scored, feats, conf_in, conf = [], 0, 0, [], 0
+    inside, scored, feats, conf_in, conf, filt, retired = [], 0, 0, [], 0, [], 0
+    retired_wrong = 0
     for res in results:
         fs = res.feature_scores()
         feats += fs["features"]
+        retired += len(res.model.retired)
+        retired_wrong += sum(1 for v in res.model.retired.values() if v.truth is not None
+                             and np.linalg.norm(v.mean - v.truth) > WRONG_FEATURE_FT)
         if fs["scored"]:
             scored += fs["scored"]
             inside.append(fs["inside_2sigma"] * fs["scored"])
+            filt.append(fs["filter_inside_2sigma"] * fs["scored"])
         if fs["confirmed"]:
             conf += fs["confirmed"]
             conf_in.append(fs["confirmed_inside_2sigma"] * fs["confirmed"])
@@ -167,11 +176,17 @@ def feature_stats(results) -> dict:
     return {"curve": curve, "same_features": len(same), "same_rms_1": first, "same_rms_10": tenth,
             "same5_features": len(same5), "same5_rms_1": rms5[0], "same5_rms_5": rms5[1],
             "inside_2sigma": sum(inside) / scored if scored else None, "features": feats,
+            "filter_inside_2sigma": sum(filt) / scored if scored else None,
+            "consider": results[0].config.consider, "retired": retired,
+            "retired_wrong": retired_wrong,
             "confirmed": conf, "confirmed_inside_2sigma": sum(conf_in) / conf if conf else None,
             "wrong_share": wrong / matched if matched else None,
             "used_wrong_share": used_wrong / used if used else None,
             "median_look_ms": float(np.median(look_ms)), "median_scan_ms": float(np.median(scan_ms)),
             "p90_look_ms": float(np.percentile(look_ms, 90))}
+
+
+WRONG_FEATURE_FT = 0.5    # a retired vertex farther than this from its truth was a wrong one
 
 
 def fmt(v, p=2):
@@ -190,8 +205,9 @@ def method_table(title, errs) -> str:
 
 def feature_table(sets) -> str:
     rows = ["| set | features | RMS ft after 1 / 2 / 3 / 5 / 10 looks (features) | same features: "
-            "RMS after 1st -> 10th look; 1st -> 5th | inside 2 sigma (all; confirmed) | wrong corr. (all / used) | ms per look "
-            "(median, p90; scan) |", "|---|---|---|---|---|---|---|"]
+            "RMS after 1st -> 10th look; 1st -> 5th | inside 2 sigma (all; confirmed) [the filter's own] | "
+            "retired (of them > 0.5 ft off) | wrong corr. (all / used) | ms per look "
+            "(median, p90; scan) |", "|---|---|---|---|---|---|---|---|"]
     for name, f in sets:
         curve = " / ".join(f"{c['rms']:.2f} ({c['features']})" for c in f["curve"]
                            if c["looks"] in (1, 2, 3, 5, 10))
@@ -200,7 +216,9 @@ def feature_table(sets) -> str:
         same += (f"; 1st -> 5th: {fmt(f['same5_rms_1'])} -> {fmt(f['same5_rms_5'])} "
                  f"({f['same5_features']})" if f["same5_features"] else "")
         rows.append(f"| {name} | {f['features']} | {curve} | {same} | "
-                    f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
+                    f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']})"
+                    + (f" [{100 * (f['filter_inside_2sigma'] or 0):.0f} %]" if f["consider"] else "")
+                    + f" | {f['retired']} ({f['retired_wrong']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
                     f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "
                     f"{f['p90_look_ms']:.0f}; {f['median_scan_ms']:.0f} |")
     return "\n".join(rows)
@@ -261,9 +279,25 @@ def main(argv=None) -> int:
               "covariance intersection, calibrated column error": dict(kalman="ci",
                                                                        column_error=cal),
               "covariance intersection, calibrated column error and pose floor":
-                  dict(kalman="ci", column_error=cal, pose_floor=floor)}
-    bundled_honest = {name: one_walk(lab, poses, **kw)[0] for name, kw in honest.items()}
-    rooms_honest_sets = ("A-29", "covariance intersection, calibrated column error and pose floor")
+                  dict(kalman="ci", column_error=cal, pose_floor=floor),
+              "A-29, consider covariance (bound)": dict(kalman="a29", consider="bound"),
+              "A-29, consider covariance (Joseph)": dict(kalman="a29", consider="joseph"),
+              "A-29, consider (bound), retire unseen 1": dict(kalman="a29", consider="bound",
+                                                              retire_unseen=1),
+              "A-29, consider (bound), retire unseen 1, feature gate":
+                  dict(kalman="a29", consider="bound", retire_unseen=1,
+                       feature_gate=FEATURE_GATE_CHI2),
+              "A-29, improved stereo matcher, consider (bound)":
+                  dict(kalman="a29", consider="bound", match="improved"),
+              "A-29, improved stereo matcher, consider (bound), retire unseen 1":
+                  dict(kalman="a29", consider="bound", match="improved", retire_unseen=1)}
+    bundled_honest = {}
+    for name, kw in honest.items():
+        bundled_honest[name], took = one_walk(lab, poses, **kw)
+        print(f"bundled, {name}: {took:.0f} s", file=sys.stderr)
+    rooms_honest_sets = ("A-29", "covariance intersection, calibrated column error and pose floor",
+                         "A-29, consider covariance (bound)",
+                         "A-29, consider (bound), retire unseen 1")
     rooms, rooms_honest = [], {name: [] for name in rooms_honest_sets}
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)
@@ -271,7 +305,8 @@ def main(argv=None) -> int:
         res, took = one_walk(room, walk)
         rooms.append(res)
         rooms_honest["A-29"].append(one_walk(room, walk, kalman="a29")[0])
-        rooms_honest[rooms_honest_sets[1]].append(one_walk(room, walk, **honest[rooms_honest_sets[1]])[0])
+        for name in rooms_honest_sets[1:]:
+            rooms_honest[name].append(one_walk(room, walk, **honest[name])[0])
         print(f"room {seed}: {took:.0f} s", file=sys.stderr)
     doc = {"bundled": method_errors([bundled]), "rooms": method_errors(rooms),
            "bundled_a29": method_errors([bundled29]), "bundled_every_line": method_errors([bundled1]),

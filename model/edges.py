@@ -45,6 +45,13 @@ E_D = 0.5              # EDMAX of LCSL, px
 # claims 0.25 px; the disparity's core is as LCSL assumes (68 % within 0.37-0.43 px against
 # its 0.5 px sigma).  The calibrated column bound is two measured sigmas.
 CALIBRATED_COLUMN_ERROR_PX = 2.0
+# The measured 95.4 % points (bench/walk.py --calibrate), the two-sigma bounds of the consider
+# covariance (model.kalman.consider_update): disparity 1.70 px on the bundled lab's loop once
+# round (1.21 px twice round; LCSL's bound 1 px, the excess the tail of wrong stereo matches;
+# the larger kept) and the end row 1.84 px (1.80 twice round; A-18 with half the line
+# spacing: 1.5 px at every 2nd line)
+MEASURED_DISPARITY_ERROR_PX = 1.7
+MEASURED_ROW_ERROR_PX = 1.84
 
 
 @dataclass(frozen=True)
@@ -98,17 +105,23 @@ class SurfaceObservation:
 
 
 def locate(col: float, row: float, disparity: float, camera: Camera, e_d: float = E_D,
-           e_col: float = E_LR) -> tuple[np.ndarray, np.ndarray] | None:
+           e_col: float = E_LR, e_disp: float | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """A-6..A-8 and A-13, A-17, A-18 in float64, offsets from the picture centre:
     ``(q, C)`` with C of A-20, or None when the disparity is not above the
     disparity error (1 px), as LCSL refuses.
 
     ``e_col`` is the column's location bound in A-17 (as written LCSL's
     ELMAX, 0.5 px; the named alternative :data:`CALIBRATED_COLUMN_ERROR_PX`
-    is the measured one).  The disparity bound of A-13 stays LCSL's."""
+    is the measured one).  The disparity bound of A-13 is LCSL's (1 px); ``e_disp``
+    replaces it in the covariance only (the consider covariance's measured bound),
+    None where the disparity is not above it."""
     e = 2 * E_LR
     if disparity <= e:
         return None
+    if e_disp is not None:
+        if disparity <= e_disp:
+            return None
+        e = e_disp
     dl = col - camera.centre_col
     dd = row - camera.centre_row
     dp = camera.ds * camera.dv / disparity                       # A-6

@@ -83,6 +83,47 @@ def covariance_intersection(mean, cov, z, R, steps: int = 21) -> tuple[np.ndarra
     return m, (Pb + np.swapaxes(Pb, -1, -2)) / 2
 
 
+def kalman_gain(cov, R) -> np.ndarray:
+    """The static update's gain ``K = P (P + R)^-1`` (one feature or a stack)."""
+    cov = np.asarray(cov, dtype=np.float64)
+    return np.swapaxes(np.linalg.solve(cov + np.asarray(R, dtype=np.float64), cov), -1, -2)
+
+
+def consider_update(K, report_cov, R_true, correlated: bool = True,
+                    steps: int = 21) -> np.ndarray:
+    """The consider covariance: how uncertain the filter's mean REALLY is when its
+    gain ``K`` was computed from one covariance and the errors are those of another.
+
+    The filter's mean moves by ``m' = (I - K) m + K z``, so its error is
+    ``e' = (I - K) e + K e_z``.  With ``report_cov`` the covariance of ``e`` and
+    ``R_true`` the measured (honest) covariance of ``e_z``:
+
+    * ``correlated=False`` (Joseph form): ``(I-K) P (I-K)^T + K R K^T``, exact
+      when the look's error is independent of the feature's;
+    * ``correlated=True`` (default): the bound that holds whatever their
+      correlation, ``A / w + B / (1 - w)`` with ``A = (I-K) P (I-K)^T`` and
+      ``B = K R K^T`` (``Cov(a + b) <= Cov(a)/w + Cov(b)/(1-w)`` for any w in
+      (0, 1)), ``w`` chosen on a grid to minimise the trace — covariance
+      intersection's argument applied to the filter's own gain.
+
+    Only the reported covariance changes; the mean and the filter's covariance
+    (which the matcher gates with and the pose weighs by) are the filter's."""
+    K = np.asarray(K, dtype=np.float64)
+    I_K = np.eye(3) - K
+    A = I_K @ np.asarray(report_cov, dtype=np.float64) @ np.swapaxes(I_K, -1, -2)
+    B = K @ np.asarray(R_true, dtype=np.float64) @ np.swapaxes(K, -1, -2)
+    if not correlated:
+        P = A + B
+    else:
+        w = np.linspace(0.0, 1.0, steps + 2)[1:-1]                     # open interval
+        cand = (A[None] / w.reshape(-1, *([1] * A.ndim))
+                + B[None] / (1 - w).reshape(-1, *([1] * B.ndim)))
+        best = np.argmin(np.trace(cand, axis1=-2, axis2=-1), axis=0)
+        P = np.take_along_axis(cand, best[None, ..., None, None] if A.ndim == 3
+                               else np.asarray(best).reshape(1, 1, 1), axis=0)[0]
+    return (P + np.swapaxes(P, -1, -2)) / 2
+
+
 KALMAN_MODES = {"a30": "camera error ignored (as written)",
                 "a29": "camera error propagated (alternative)",
                 "ci": "A-29's measurement covariance, fused by covariance intersection "

@@ -35,10 +35,12 @@ from typing import Callable
 
 import numpy as np
 
-from .edges import E_LR, Camera, group_vertical_edges, surface_observations, vertex_observations
+from .edges import (CALIBRATED_COLUMN_ERROR_PX, E_LR, MEASURED_DISPARITY_ERROR_PX,
+                    MEASURED_ROW_ERROR_PX, Camera, group_vertical_edges, locate,
+                    surface_observations, vertex_observations)
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
-from .kalman import (covariance_intersection, measurement_covariance_a29,
-                     measurement_covariance_a30, static_update)
+from .kalman import (consider_update, covariance_intersection, kalman_gain,
+                     measurement_covariance_a29, measurement_covariance_a30, static_update)
 from .matching import MATCHERS, MatchResult
 from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
 from .symbolic import SymbolicModel
@@ -53,6 +55,8 @@ MEASURED_POSE_SIGMA_FLOOR = (0.13, 0.85)
 CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
 TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
 WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
+FEATURE_GATE_CHI2 = 16.27     # the feature gate's default: chi-square 99.9 %, 3 degrees of freedom
+CONSIDER_MODES = ("bound", "joseph")
 
 
 @dataclass
@@ -83,6 +87,25 @@ class WalkConfig:
     # only); None: the fused pose's covariance as computed.  MEASURED_POSE_SIGMA_FLOOR is the
     # driving pose's measured error on the bundled walk (docs/model.md)
     pose_sigma_floor: tuple[float, float] | None = None
+    # the feature gate (named alternative; None: every pair the driving pose kept is fused, as
+    # written): a pair whose innovation lies outside this chi-square bound of the feature's and
+    # the observation's covariance (the consider covariances where kept) is a wrong merge: not
+    # fused; the observation starts a feature of its own (a split), and a feature contradicted
+    # in as many looks as it was confirmed, and in two at least, leaves the model
+    feature_gate: float | None = None
+    # the consider covariance (named alternative; None: off): beside the filter's covariance
+    # every feature carries the covariance of its mean under the MEASURED errors (the
+    # calibrated column error, the measured pose floor in A-29's camera term), "bound" holding
+    # whatever the looks' correlation, "joseph" for independent looks
+    # (model.kalman.consider_update).  Reported and scored; the matcher and the pose keep
+    # using the filter's own
+    consider: str | None = None
+    # retiring the unseen (named alternative; None: off, the model remembers everything): a
+    # vertex that looks whose pose was fixed predicted well inside their view (8 px in from
+    # the picture's edges, within max_range_ft) did not match, this many times per look it
+    # was seen in, leaves the model (a phantom of a wrong stereo match is seen once and never
+    # again where it claims to be)
+    retire_unseen: int | None = None
 
 
 @dataclass
@@ -125,27 +148,32 @@ class WalkResult:
     def feature_scores(self) -> dict:
         """RMS error (ft) and share of truths inside 2 sigma over the vertices
         with a truth; the Mahalanobis-2 radius share too."""
-        errs, inside, inside_r2, confirmed = [], [], [], []
+        errs, inside, inside_r2, confirmed, inside_filter = [], [], [], [], []
         for v in self.model.vertices.values():
             if v.truth is None:
                 continue
             d = v.mean - v.truth
             errs.append(float(d @ d))
-            m2 = float(d @ np.linalg.solve(v.cov, d))
+            m2 = float(d @ np.linalg.solve(v.cov if v.report_cov is None else v.report_cov, d))
             inside.append(m2 <= CHI2_3DOF_2SIGMA)
             inside_r2.append(m2 <= 4.0)
+            inside_filter.append(float(d @ np.linalg.solve(v.cov, d)) <= CHI2_3DOF_2SIGMA)
             confirmed.append(v.looks >= 2)
         if not errs:
             return {"features": len(self.model.vertices), "scored": 0, "rms_error_ft": None,
                     "inside_2sigma": None, "inside_mahalanobis_2": None, "confirmed": 0,
                     "confirmed_rms_error_ft": None, "confirmed_median_error_ft": None,
-                    "confirmed_inside_2sigma": None, "median_error_ft": None}
+                    "confirmed_inside_2sigma": None, "median_error_ft": None,
+                    "filter_inside_2sigma": None, "retired": len(self.model.retired)}
         errs, inside, confirmed = np.array(errs), np.array(inside), np.array(confirmed)
         return {"features": len(self.model.vertices), "scored": len(errs),
                 "rms_error_ft": float(np.sqrt(np.mean(errs))),
                 "median_error_ft": float(np.sqrt(np.median(errs))),
                 "inside_2sigma": float(np.mean(inside)),
                 "inside_mahalanobis_2": float(np.mean(inside_r2)),
+                # with the consider covariance on: the share inside the filter's own covariance
+                "filter_inside_2sigma": float(np.mean(inside_filter)),
+                "retired": len(self.model.retired),
                 "confirmed": int(confirmed.sum()),
                 "confirmed_rms_error_ft": float(np.sqrt(np.mean(errs[confirmed])))
                 if confirmed.any() else None,
@@ -256,6 +284,17 @@ class Walker:
         if self.matcher is None:
             raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
                              f"{', '.join(MATCHERS)}")
+        if config.consider is not None and config.consider not in CONSIDER_MODES:
+            raise ValueError(f"unknown consider covariance {config.consider!r}; one of "
+                             f"{', '.join(CONSIDER_MODES)}")
+        if config.consider is not None and config.kalman == "ci":
+            raise ValueError("the consider covariance follows the Kalman gain: use it with "
+                             "--kalman a30 or a29, not ci")
+        if config.retire_unseen is not None and config.retire_unseen < 1:
+            raise ValueError(f"retire unseen {config.retire_unseen!r}: must be at least 1")
+        if config.feature_gate is not None and not config.feature_gate > 0:
+            raise ValueError(f"feature gate {config.feature_gate!r}: must be a positive "
+                             "chi-square bound")
         if config.match not in ("1985", "improved"):
             raise ValueError(f"--match {config.match!r}: choose 1985 or improved")
         self.config = config
@@ -375,10 +414,20 @@ class Walker:
         estimates["dead_reckoning"] = (dr.x, dr.z, dr.heading_deg)
         t_up = time.perf_counter()
         kalman = config.kalman if pose_est.method != "prior" else "a29"
+        # scored before the update: the feature gate may retire a vertex of these pairs
+        wrong = _wrong(model, match.pairs, obs_truth)
+        used_wrong = _wrong(model, pairs_used, obs_truth)
+        honest = None
+        if config.consider is not None:
+            honest = _measured_covariances(obs, pose_est, config, lines, given=k == 0)
         added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
                               kalman, k, obs_truth, obs_truth_id, history,
                               surface_observations(edges, look.left_bi),
-                              pose_floor=config.pose_sigma_floor if k > 0 else None)
+                              pose_floor=config.pose_sigma_floor if k > 0 else None,
+                              honest=honest, consider=config.consider,
+                              feature_gate=config.feature_gate)
+        if config.retire_unseen is not None and k > 0 and pose_est.method == "fused":
+            _retire_unseen(model, match.pairs, pose_est, k, rows, config)
         est_xzh = estimates["fused"]
         est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
@@ -388,8 +437,6 @@ class Walker:
         if prev_xzh is not None:
             vel = velocity(prev_xzh, prev_cov, est_xzh, est_cov, config.look_interval_s)
         prev_xzh, prev_cov = est_xzh, est_cov
-        wrong = _wrong(model, match.pairs, obs_truth)
-        used_wrong = _wrong(model, pairs_used, obs_truth)
         rec = LookRecord(
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
@@ -483,6 +530,52 @@ def floored_pose(est: PoseEstimate, position_ft: float, heading_deg: float) -> P
     return dataclasses.replace(est, covariance6=cov6, Cc=None)
 
 
+def _measured_covariances(obs, est: PoseEstimate, config: WalkConfig, lines,
+                          given: bool = False) -> np.ndarray:
+    """The observations' covariances in room axes under the MEASURED errors: the
+    calibrated column bound (model.edges.CALIBRATED_COLUMN_ERROR_PX), the measured
+    disparity and row bounds (MEASURED_DISPARITY_ERROR_PX, MEASURED_ROW_ERROR_PX) and A-29's camera
+    term with the measured pose floor (MEASURED_POSE_SIGMA_FLOOR, or the walk's own
+    ``pose_sigma_floor``); ``given``: the start, whose pose is known (no camera term).
+    For the consider covariance."""
+    if not obs:
+        return np.zeros((0, 3, 3))
+    step = float(np.median(np.diff(lines))) if len(lines) > 1 else 1.0
+    cq = []
+    for o in obs:
+        # the row bound: the measured one at every 2nd line, scaled with the line spacing
+        located = locate(o.col, o.row, o.disparity, config.camera,
+                         e_d=MEASURED_ROW_ERROR_PX * (0.5 + step / 2) / 1.5,
+                         e_col=max(config.column_error_px, CALIBRATED_COLUMN_ERROR_PX),
+                         e_disp=MEASURED_DISPARITY_ERROR_PX)
+        cq.append(o.cov if located is None else located[1])
+    cq = np.array(cq)
+    if given:
+        return measurement_covariance_a30(est.M, cq)
+    q = np.array([o.q for o in obs])
+    camera = floored_pose(est, *(config.pose_sigma_floor or MEASURED_POSE_SIGMA_FLOOR))
+    return measurement_covariance_a29(est.M, cq, camera.pose_covariance_at(q))
+
+
+def _retire_unseen(model, pairs, est: PoseEstimate, look: int, rows, config: WalkConfig) -> None:
+    """Count a miss for every vertex the fixed pose predicts well inside the view that
+    no observation matched; retire those missed ``retire_unseen`` times per look seen."""
+    from .matching import in_view
+    ids, means, _, _, _ = model.vertex_arrays()
+    if not len(ids):
+        return
+    near = np.linalg.norm(means - est.left, axis=1) <= config.max_range_ft
+    inside = in_view(means, est.left, est.R, rows[0], rows[1], margin=-8.0) & near
+    matched = {vid for vid, _ in pairs}
+    for vid in ids[inside]:
+        v = model.vertices[int(vid)]
+        if int(vid) in matched or v.first_look == look:
+            continue
+        v.missed += 1
+        if v.missed >= config.retire_unseen * v.looks:
+            model.retire(int(vid))
+
+
 def _wrong(model, pairs, obs_truth) -> int:
     n = 0
     for vid, i in pairs:
@@ -493,11 +586,15 @@ def _wrong(model, pairs, obs_truth) -> int:
 
 
 def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
-                  look: int, obs_truth, obs_truth_id, history, surfaces=(), pose_floor=None) -> int:
+                  look: int, obs_truth, obs_truth_id, history, surfaces=(), pose_floor=None,
+                  honest=None, consider: str | None = None,
+                  feature_gate: float | None = None) -> int:
     """Kalman-update the vertices the driving pose kept, add the observations
     no model vertex claimed, link boundary lines.  Returns how many were added.
     ``pose_floor`` (ft, degrees): the least sigma of the pose's floor position
-    and heading in A-29's camera term."""
+    and heading in A-29's camera term.  ``honest`` (N,3,3): the observations'
+    measured covariances, for the ``consider`` covariance (``WalkConfig``);
+    ``feature_gate``: the chi-square bound of the feature gate (``WalkConfig``)."""
     if not obs:
         return 0
     q = np.array([o.q for o in obs])
@@ -511,6 +608,22 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
     vertex_of: dict[int, int] = {}
     for vid, i in pairs_used:
         v = model.vertices[vid]
+        if feature_gate is not None:
+            # the innovation against what the feature and the observation claim (their
+            # consider covariances where kept): far outside, the pair is a wrong merge
+            r = z[i] - v.mean
+            S = ((v.cov if v.report_cov is None else v.report_cov)
+                 + (Rm[i] if honest is None else honest[i]))
+            if float(r @ np.linalg.solve(S, r)) > feature_gate:
+                v.contradicted += 1
+                claimed.discard(i)                 # the observation starts its own feature
+                if v.contradicted >= max(2, v.looks):
+                    model.retire(vid)
+                continue
+        if consider is not None:
+            K = kalman_gain(v.cov, Rm[i])
+            v.report_cov = consider_update(K, v.report_cov, honest[i],
+                                           correlated=consider == "bound")
         if kalman == "ci":
             m, P = covariance_intersection(v.mean, v.cov, z[i], Rm[i])
             v.mean, v.cov = m[0], P[0]
@@ -527,6 +640,8 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         if i in claimed:
             continue
         v = model.add_vertex(z[i], Rm[i], o.kind, o.grey, look)
+        if honest is not None:
+            v.report_cov = honest[i].copy()
         v.shape = o.shape
         v.truth = obs_truth[i].copy()
         v.truth_id = int(obs_truth_id[i])

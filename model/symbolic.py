@@ -44,6 +44,12 @@ class Vertex:
     truth: np.ndarray | None = None  # the world's true location (scoring only)
     truth_id: int = -1               # index of the true corner, -1 none
     shape: tuple | None = None       # Appendix B rectangular map of the corner, last seen
+    # the consider covariance (model.kalman.consider_update): the covariance of ``mean`` under
+    # the measured errors, reported and scored but never used for matching or the pose; None
+    # unless the walk's ``consider`` option is on
+    report_cov: np.ndarray | None = None
+    contradicted: int = 0            # looks whose matched observation failed the feature gate
+    missed: int = 0                  # looks that should have seen it, well inside the view, and did not
 
 
 @dataclass
@@ -77,9 +83,12 @@ class SymbolicModel:
     vertices: dict[int, Vertex] = field(default_factory=dict)
     lines: dict[int, BoundaryLine] = field(default_factory=dict)
     surfaces: dict[int, Surface] = field(default_factory=dict)
+    # vertices taken out of the model (contradicted by later looks: the walk's feature gate),
+    # kept for scoring and the record; never matched again
+    retired: dict[int, Vertex] = field(default_factory=dict)
 
     def add_vertex(self, mean, cov, kind, grey, look: int) -> Vertex:
-        vid = len(self.vertices)
+        vid = len(self.vertices) + len(self.retired)
         v = Vertex(vid, np.asarray(mean, float), np.asarray(cov, float), kind,
                    tuple(int(g) for g in grey), first_look=look, last_look=look)
         self.vertices[vid] = v
@@ -95,6 +104,17 @@ class SymbolicModel:
             if vid is not None:
                 self.vertices[vid].lines.append(lid)
         return line
+
+    def retire(self, vid: int) -> Vertex:
+        """Take a vertex out of the model (into ``retired``); its boundary lines
+        lose that end."""
+        v = self.vertices.pop(vid)
+        self.retired[vid] = v
+        for lid in v.lines:
+            line = self.lines.get(lid)
+            if line is not None:
+                line.ends = tuple(None if e == vid else e for e in line.ends)
+        return v
 
     def refresh_line(self, line: BoundaryLine) -> None:
         """A line whose two ends are vertices takes its centre and end points
@@ -128,8 +148,11 @@ class SymbolicModel:
                           "grey": list(v.grey), "lines": v.lines, "looks": v.looks,
                           "first_look": v.first_look, "last_look": v.last_look,
                           "truth": arr(v.truth),
-                          "shape": None if v.shape is None else list(v.shape)}
+                          "shape": None if v.shape is None else list(v.shape),
+                          "report_cov": arr(v.report_cov), "contradicted": v.contradicted,
+                          "missed": v.missed}
                          for v in self.vertices.values()],
+            "retired_vertices": sorted(self.retired),
             "lines": [{"id": ln.id, "centre": arr(ln.centre), "centre_cov": arr(ln.centre_cov),
                        "ends": list(ln.ends), "end_points": arr(ln.end_points),
                        "surface": ln.surface, "next_line": ln.next_line,

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from model.mapping import FEATURE_GATE_CHI2
 from model.pose import ESTIMATORS, METHOD_NOTES
 
 ALL_METHODS = ("dead_reckoning", "fused", *ESTIMATORS)
@@ -159,6 +160,12 @@ def summary_text(result, rows) -> str:
     out.append(f"  confirmed (seen in 2 looks or more): {fs['confirmed']}, RMS error "
                f"{f(fs['confirmed_rms_error_ft'])} ft (median {f(fs['confirmed_median_error_ft'])}), "
                f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.0f} %")
+    if result.config.consider:
+        out.append(f"  (inside 2 sigma of the consider covariance ({result.config.consider}); of "
+                   f"the filter's own: {100 * (fs['filter_inside_2sigma'] or 0):.0f} %)")
+    if result.config.feature_gate or result.config.retire_unseen:
+        out.append(f"  {fs['retired']} vertices retired (contradicted by later looks, or unseen "
+                   "where they should have been seen)")
     out.append(f"correspondences: {matched} matched, {wrong} wrong "
                f"({100 * wrong / max(matched, 1):.0f} %); {used} used by the driving method, "
                f"{used_wrong} of them wrong ({100 * used_wrong / max(used, 1):.0f} %)")
@@ -205,6 +212,8 @@ def walk_json(result, label: str, rows) -> dict:
         "driver": result.config.driver, "kalman": result.config.kalman,
         "column_error_px": result.config.column_error_px,
         "pose_sigma_floor": result.config.pose_sigma_floor,
+        "feature_gate": result.config.feature_gate, "consider": result.config.consider,
+        "retire_unseen": result.config.retire_unseen,
         "match": result.config.match,
         "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
                          if m == "dead_reckoning" or m in result.records[0].estimates},
@@ -216,6 +225,8 @@ def walk_json(result, label: str, rows) -> dict:
                   "confirmed_rms_error_ft": fs["confirmed_rms_error_ft"],
                   "confirmed_median_error_ft": fs["confirmed_median_error_ft"],
                   "confirmed_inside_2sigma": fs["confirmed_inside_2sigma"],
+                  "filter_inside_2sigma": fs["filter_inside_2sigma"],
+                  "retired": fs["retired"],
                   "lines": len(result.model.lines),
                   "rms_by_looks": [{"looks": n, "features": c, "rms_error_ft": e}
                                    for n, c, e in result.rms_by_looks(20)]},
@@ -245,11 +256,17 @@ def cmd_walk(args) -> int:
     if args.line_step < 1:
         print(f"rig walk: --line-step {args.line_step}: must be at least 1", file=sys.stderr)
         return 2
+    if args.consider is not None and args.kalman == "ci":
+        print("rig walk: --consider follows the Kalman gain: use it with --kalman a30 or a29, "
+              "not ci", file=sys.stderr)
+        return 2
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
                         match=args.match, look_interval_s=args.interval,
                         lines=tuple(range(8, 113, args.line_step)), max_range_ft=args.max_range,
                         shape_max_bits=None if args.shape_bits < 0 else args.shape_bits,
-                        column_error_px=args.column_error, pose_sigma_floor=args.pose_floor)
+                        column_error_px=args.column_error, pose_sigma_floor=args.pose_floor,
+                        feature_gate=args.feature_gate, consider=args.consider,
+                        retire_unseen=args.retire_unseen)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -257,7 +274,10 @@ def cmd_walk(args) -> int:
           f"{args.kalman}, stereo matcher {args.match}"
           + (f", column error {args.column_error:g} px" if args.column_error != 0.5 else "")
           + (f", pose floor {args.pose_floor[0]:g} ft {args.pose_floor[1]:g} deg"
-             if args.pose_floor else ""))
+             if args.pose_floor else "")
+          + (f", feature gate {args.feature_gate:g}" if args.feature_gate else "")
+          + (f", consider covariance {args.consider}" if args.consider else "")
+          + (f", retire unseen {args.retire_unseen}" if args.retire_unseen else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -334,6 +354,30 @@ def _pose_floor(text: str) -> tuple[float, float]:
     return (ft, deg)
 
 
+FEATURE_GATE_DEFAULT = FEATURE_GATE_CHI2
+
+
+def _feature_gate(text: str) -> float:
+    """--feature-gate: a positive chi-square bound."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not np.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: a positive chi-square bound")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: a whole number of looks, at least 1")
+    return value
+
+
 def add_parser(sub) -> argparse.ArgumentParser:
     w = sub.add_parser(
         "walk", help="walk a room: many looks, one model, where the camera is",
@@ -369,6 +413,23 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "position (ft) and heading (degrees) carried into the features; "
                         "'measured' = 0.13,0.85, the driving pose's measured error "
                         "(docs/model.md); default: the pose's own covariance")
+    w.add_argument("--feature-gate", type=_feature_gate, nargs="?", const=FEATURE_GATE_DEFAULT,
+                   default=None, metavar="CHI2",
+                   help="the feature gate (off by default, as written): a matched observation "
+                        "whose innovation is outside this chi-square bound of the feature's "
+                        "and its own covariance is not fused but starts its own feature; a "
+                        "feature contradicted as often as confirmed (twice at least) leaves "
+                        f"the model (CHI2 default {FEATURE_GATE_DEFAULT:g}, 99.9 %%)")
+    w.add_argument("--retire-unseen", type=_positive_int, default=None, metavar="N",
+                   help="a vertex that N looks per look it was seen in predicted well inside "
+                        "their view, and did not see, leaves the model (off by default: the "
+                        "model remembers everything, as written)")
+    w.add_argument("--consider", choices=("bound", "joseph"), default=None,
+                   help="with --kalman a30 or a29: every feature also carries the consider "
+                        "covariance of its mean under the measured errors (calibrated column "
+                        "error, measured pose floor), reported and scored but not used for "
+                        "matching or the pose; bound: holds whatever the looks' correlation; "
+                        "joseph: for independent looks (off by default)")
     w.add_argument("--match", choices=("1985", "improved"), default="1985",
                    help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
                         "improved (the matching package's, where installed)")

@@ -51,9 +51,10 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
         _text(img, f"{gx:g}", (P(gx, z0)[0] - 8, P(gx, z0)[1] + 18), 0.4, GREY)
     for gz in np.arange(np.ceil(z0 / 2) * 2, z1 + 1e-9, 2):
         _text(img, f"{gz:g}", (P(x0, gz)[0] - 35, P(x0, gz)[1] + 4), 0.4, GREY)
-    # the model: vertices and 2-sigma ellipses of the x-z marginal
+    # the model: vertices and 2-sigma ellipses of the x-z marginal (of the covariance the walk
+    # reports: the consider covariance where it is kept)
     for v in result.model.vertices.values():
-        c = v.cov[np.ix_([0, 2], [0, 2])]
+        c = (v.cov if v.report_cov is None else v.report_cov)[np.ix_([0, 2], [0, 2])]
         w, U = np.linalg.eigh(c)
         w = np.sqrt(np.maximum(w, 0)) * 2.0 * s
         ang = float(np.degrees(np.arctan2(-U[1, 1], U[0, 1])))   # picture rows grow downward
@@ -85,8 +86,12 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
         tip = (int(p[0] + 14 * np.sin(h)), int(p[1] - 14 * np.cos(h)))
         cv2.arrowedLine(img, p, tip, TRUE_C, 1, cv2.LINE_AA, tipLength=0.35)
     _text(img, "rig walk: the model from above (x across, z up, ft)", (left, 28), 0.6)
-    _text(img, f"{len(result.model.vertices)} vertices, ellipses at 2 sigma (x-z); "
-               f"grey: true walls and obstacles", (left, 52), 0.45)
+    if result.config.consider:
+        _text(img, f"{len(result.model.vertices)} vertices, consider covariance at 2 sigma (x-z); "
+                   f"grey: the room", (left, 52), 0.45)
+    else:
+        _text(img, f"{len(result.model.vertices)} vertices, ellipses at 2 sigma (x-z); "
+                   f"grey: true walls and obstacles", (left, 52), 0.45)
     y = H - bottom + 40
     for label, col in (("true path (arrows: heading)", TRUE_C),
                        (f"estimated (fused: {driver} + odometry)", EST_C), ("dead reckoning", DR_C)):

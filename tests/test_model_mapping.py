@@ -116,3 +116,105 @@ def test_pose_floor_gives_the_stated_coverage_on_correlated_errors_monte_carlo()
                                 <= CHI2_3DOF_2SIGMA)
     assert 0.93 < np.mean(inside["floored"]) < 0.98
     assert np.mean(inside["claimed"]) < 0.6
+
+
+def _given_pose():
+    R = rotation_from_angles(0.0)
+    return PoseEstimate("given", left_centre((0.0, 0.0, 0.0), R), axes_matrix(R),
+                        np.zeros(0, bool), covariance6=np.zeros((6, 6)))
+
+
+def _obs_at(q):
+    return VertexObservation(np.asarray(q, float), np.diag([0.04, 0.0004, 0.0004]), "top",
+                             64.0, 60.0, 13.5, (3, 9), 0, 60)
+
+
+def test_feature_gate_refuses_a_wrong_merge_splits_and_retires():
+    # one model vertex at 10 ft straight ahead with a 0.2 ft range sigma; an observation
+    # 3 ft farther is 15 sigma off: not fused (the vertex keeps its mean), counted as a
+    # contradiction, and it starts a vertex of its own; contradicted again in a second look,
+    # the vertex (seen once) leaves the model but stays on record
+    from model.mapping import FEATURE_GATE_CHI2, _update_model
+    from model.symbolic import SymbolicModel
+    est = _given_pose()
+    model = SymbolicModel()
+    z0 = est.transform(np.array([[10.0, 0.0, 0.0]]))[0]
+    v = model.add_vertex(z0, np.diag([0.0004, 0.0004, 0.04]), "top", (3, 9), 0)
+    far = _obs_at([13.0, 0.0, 0.0])
+    truth = est.transform(far.q[None])
+    for look in (1, 2):
+        added = _update_model(model, [], [far], [(v.id, 0)], [(v.id, 0)], est, "a30", look,
+                              truth, np.array([-1]), {}, feature_gate=FEATURE_GATE_CHI2)
+        assert added == 1
+        np.testing.assert_allclose(v.mean, z0)
+        assert v.contradicted == look and v.looks == 1
+    assert v.id not in model.vertices and model.retired[v.id] is v
+    assert len(model.vertices) == 2                 # the two split-off vertices
+    assert set(model.vertices).isdisjoint(model.retired)
+    # a near observation passes the gate and is fused as before
+    model = SymbolicModel()
+    v = model.add_vertex(z0, np.diag([0.0004, 0.0004, 0.04]), "top", (3, 9), 0)
+    near = _obs_at([10.1, 0.0, 0.0])
+    added = _update_model(model, [], [near], [(v.id, 0)], [(v.id, 0)], est, "a30", 1,
+                          est.transform(near.q[None]), np.array([-1]), {},
+                          feature_gate=FEATURE_GATE_CHI2)
+    assert added == 0 and v.looks == 2 and v.contradicted == 0
+    assert v.mean[2] == pytest.approx(10.05, abs=1e-9)      # equal range variances: the midpoint
+
+
+def test_consider_covariance_is_scored_and_the_filter_kept():
+    # with the consider covariance on, the vertex keeps the filter's covariance (used by the
+    # matcher) and carries the measured one beside it; the score uses the measured one
+    from model.mapping import WalkConfig, _measured_covariances, _update_model
+    from model.symbolic import SymbolicModel
+    est = _given_pose()
+    model = SymbolicModel()
+    o = _obs_at([10.0, 0.0, 0.0])
+    honest = _measured_covariances([o], est, WalkConfig(), [8, 10, 12], given=True)
+    # the range bound of A-13 with the measured 1.7 px disparity bound at 13.5 px disparity,
+    # by hand: 0.75 * 180 * 1.7 / (13.5^2 - 13.5 * 1.7) ft, two sigma (room z is the range)
+    ep = 0.75 * 180 * 1.7 / (13.5 ** 2 - 13.5 * 1.7)
+    assert honest[0][2, 2] == pytest.approx((ep / 2) ** 2, rel=1e-12)
+    _update_model(model, [], [o], [], [], est, "a30", 0, est.transform(o.q[None]),
+                  np.array([-1]), {}, honest=honest, consider="bound")
+    (v,) = model.vertices.values()
+    np.testing.assert_allclose(v.report_cov, honest[0])
+    np.testing.assert_allclose(np.diag(v.cov), np.diag(o.cov)[[1, 2, 0]])
+    _update_model(model, [], [o], [(v.id, 0)], [(v.id, 0)], est, "a30", 1,
+                  est.transform(o.q[None]), np.array([-1]), {}, honest=honest, consider="bound")
+    # two equal looks: the filter halves its covariance, the bound (they may share one error)
+    # does not shrink at all
+    np.testing.assert_allclose(np.diag(v.cov), np.diag(o.cov)[[1, 2, 0]] / 2, rtol=1e-9)
+    assert np.all(np.diag(v.report_cov) >= np.diag(honest[0]) * (1 - 1e-9))
+
+
+def test_retire_unseen_takes_out_what_a_fixed_pose_should_have_seen():
+    # three vertices: 10 ft straight ahead (well inside the view), 10 ft ahead but 40 degrees
+    # to the side (outside the 39 degree field of view) and 20 ft ahead (beyond the 15 ft the
+    # model uses).  A look that matches none of them misses only the first; with N = 1 it is
+    # retired after one miss per look it was seen in, a vertex seen twice after two
+    from model.mapping import WalkConfig, _retire_unseen
+    from model.symbolic import SymbolicModel
+    est = _given_pose()
+    est = PoseEstimate("fused", est.left, est.M, est.inliers, covariance6=est.covariance6)
+    model = SymbolicModel()
+    C = np.eye(3) * 0.01
+    ahead = model.add_vertex(est.left + [0, 0, 10.0], C, "top", (3, 9), 0)
+    side = model.add_vertex(est.left + [10 * np.sin(np.radians(40)), 0,
+                                        10 * np.cos(np.radians(40))], C, "top", (3, 9), 0)
+    far = model.add_vertex(est.left + [0, 0, 20.0], C, "top", (3, 9), 0)
+    twice = model.add_vertex(est.left + [0.5, 0.5, 8.0], C, "bottom", (3, 9), 0)
+    twice.looks = 2
+    config = WalkConfig(retire_unseen=1)
+    _retire_unseen(model, [], est, 1, (8, 113), config)
+    assert ahead.id in model.retired and ahead.missed == 1
+    assert side.id in model.vertices and far.id in model.vertices
+    assert side.missed == far.missed == 0
+    assert twice.id in model.vertices and twice.missed == 1
+    # a matched vertex is not missed; the twice-seen one goes at its second miss
+    _retire_unseen(model, [(side.id, 0)], est, 2, (8, 113), config)
+    assert twice.id in model.retired and side.missed == 0
+    # a vertex added in this very look is not counted
+    new = model.add_vertex(est.left + [0, 0, 9.0], C, "top", (3, 9), 3)
+    _retire_unseen(model, [], est, 3, (8, 113), config)
+    assert new.id in model.vertices and new.missed == 0

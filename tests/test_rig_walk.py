@@ -114,3 +114,54 @@ def test_bad_honest_covariance_values_are_refused(opt, capsys):
         main(["walk", *opt, "--quiet"])
     assert exc.value.code == 2
     assert opt[0] in capsys.readouterr().err
+
+
+def test_rig_walk_with_consider_covariance_and_feature_gate(tmp_path, short_walk):
+    # the named options end to end on the short walk: the pose and the filter are the A-29
+    # walk's (the consider covariance is only reported), the settings and both shares are in
+    # the JSON, every reported covariance is a covariance
+    out = tmp_path / "o"
+    rc = main(["walk", "--looks", "3", "--kalman", "a29", "--consider", "bound",
+               "--feature-gate", "--retire-unseen", "1", "--out", str(out), "--json",
+               str(tmp_path / "w.json"), "--quiet"])
+    assert rc == 0
+    doc = json.loads((tmp_path / "w.json").read_text())
+    assert doc["consider"] == "bound" and doc["feature_gate"] == pytest.approx(16.27)
+    assert doc["retire_unseen"] == 1
+    m = doc["model"]
+    assert m["inside_2sigma"] >= m["filter_inside_2sigma"]
+    assert m["retired"] >= 0
+    full = json.loads((out / "model.json").read_text())
+    for v in full["model_tables"]["vertices"]:
+        assert np.linalg.eigvalsh(np.array(v["report_cov"])).min() > 0
+    default = json.loads((short_walk[1] / "w.json").read_text())
+    assert default["consider"] is None and default["feature_gate"] is None
+    # the consider covariance alone never reaches the filter, the matcher or the pose: the
+    # same walk under plain A-29 gives the same poses and the same model to the digit
+    rc = main(["walk", "--looks", "3", "--kalman", "a29", "--consider", "bound", "--out",
+               str(tmp_path / "c"), "--json", str(tmp_path / "c.json"), "--quiet"])
+    rc2 = main(["walk", "--looks", "3", "--kalman", "a29", "--out", str(tmp_path / "p"),
+                "--json", str(tmp_path / "p.json"), "--quiet"])
+    assert rc == rc2 == 0
+    c, p = (json.loads((tmp_path / n).read_text()) for n in ("c.json", "p.json"))
+    assert [lk["methods"]["fused"] for lk in c["looks"]] == [lk["methods"]["fused"]
+                                                             for lk in p["looks"]]
+    assert c["model"]["rms_error_ft"] == p["model"]["rms_error_ft"]
+    assert c["model"]["filter_inside_2sigma"] == p["model"]["inside_2sigma"]
+    assert default["retire_unseen"] is None and default["model"]["retired"] == 0
+
+
+@pytest.mark.parametrize("opt", [["--feature-gate", "0"], ["--feature-gate", "x"],
+                                 ["--consider", "wide"], ["--retire-unseen", "0"]])
+def test_bad_consider_and_gate_values_are_refused(opt, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["walk", *opt, "--quiet"])
+    assert exc.value.code == 2
+    assert opt[0] in capsys.readouterr().err
+
+
+def test_consider_with_covariance_intersection_is_refused(tmp_path, capsys):
+    rc = main(["walk", "--looks", "2", "--kalman", "ci", "--consider", "bound",
+               "--out", str(tmp_path / "o"), "--quiet"])
+    assert rc == 2 and "--consider" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()

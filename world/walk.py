@@ -2,10 +2,13 @@
 
 Every walk moves like the Stanford Cart: each step turns in place by at most 15 degrees, then
 drives straight ahead about 0.75 ft (a step that must turn further first turns in place, with
-no drive).  The bundled walk is a loop through the bundled lab, from Pose(0, 0, 0) (the bundled
-pair) up the left side past the crate, across in front of the carton and the bookcase, back down
-the right side past the table and the bin, round behind the start, shipped as ``world/data/lab-walk.csv``
-(written by ``python -m world walk --bundled``).  ``generate_walk`` wanders a room between
+no drive).  The bundled walk goes twice round a loop through the bundled lab, from Pose(0, 0, 0)
+(the bundled pair) up the left side past the crate, across in front of the carton and the
+bookcase, back down the right side past the table and the bin, round behind the start, shipped
+as ``world/data/lab-walk.csv`` (written by ``python -m world walk --bundled``).  Twice, because
+a feature must be seen many times for its error to fall with the looks: once round, with turns
+of 15 degrees a step and a 39 degree field of view, no feature stays in view for more than 8
+looks; the second lap sees the first lap's features again.  ``generate_walk`` wanders a room between
 random goals along shortest paths on a 0.25 ft grid of the free floor.
 
 Walk files are CSV with the header ``x,z,heading_deg,pitch_deg,roll_deg`` (ft and degrees, room
@@ -36,6 +39,7 @@ BUNDLED_WALK = Path(__file__).resolve().parent / "data" / "lab-walk.csv"
 # The bundled loop (x, z), ft: from the start left of the bin and crate, up the left side, across
 # in front of the carton and the bookcase (facing the right wall's posters), down the right side
 # (facing the front wall's door and poster), round behind the start and turned to face forward.
+LAB_LAPS = 2
 LAB_WAYPOINTS = ((0.0, 0.0), (-1.6, 1.4), (-2.6, 3.0), (-2.6, 8.0), (-1.1, 10.0), (0.0, 11.4),
                  (2.2, 11.6), (3.5, 10.0), (3.4, 4.6), (1.6, 1.8), (0.6, -0.6), (-0.4, -1.2))
 
@@ -94,8 +98,10 @@ def follow(waypoints, start_heading: float = 0.0, step: float = STEP_FT,
 
 
 def make_bundled_walk() -> list[Pose]:
-    """The bundled walk, computed (``bundled_walk`` reads the shipped copy)."""
-    return follow(LAB_WAYPOINTS, 0.0, final_heading=0.0, room=bundled_lab())
+    """The bundled walk, computed (``bundled_walk`` reads the shipped copy): ``LAB_LAPS``
+    times round ``LAB_WAYPOINTS``, then turned to face forward."""
+    laps = LAB_WAYPOINTS + LAB_WAYPOINTS[1:] * (LAB_LAPS - 1)
+    return follow(laps, 0.0, final_heading=0.0, room=bundled_lab())
 
 
 def bundled_walk() -> list[Pose]:
