@@ -80,13 +80,15 @@ class FileLink(Link):
     sweeps stale files until NSTAR is idle (QUIRKS M12, M14);
     :func:`start_file_link` does both for a program without a dialogue."""
 
-    def __init__(self, jh: JHData):
+    def __init__(self, jh: JHData, pipeline: bool | None = None):
         self.jh = jh
+        self.pipeline = jh.wake != "any" if pipeline is None else pipeline
 
     @classmethod
-    def open(cls, jhdata, *, timeout: float | None = 30.0) -> "FileLink":
-        """Check ``jhdata`` and hold ESTAR.LCK (LockedError if another ESTAR does)."""
-        jh = JHData(jhdata, me="ESTAR", peer="NSTAR", timeout=timeout)
+    def open(cls, jhdata, *, timeout: float | None = 30.0, wake: str | None = None) -> "FileLink":
+        """Check ``jhdata`` and hold ESTAR.LCK (LockedError if another ESTAR does);
+        ``wake``: how to wait (:func:`diskfmt.rdos.link_wait`; None: ``$RIG_LINK_WAIT``)."""
+        jh = JHData(jhdata, me="ESTAR", peer="NSTAR", timeout=timeout, wake=wake)
         try:
             jh.lock(ESTAR_LOCK)
         except BaseException:
@@ -123,6 +125,30 @@ class FileLink(Link):
         try:
             self.jh.publish("ECONT.DT", "NCONT.DT", encode_ncont(cmd))
         except LinkTimeout:
+            self.withdraw()
+            raise
+
+    def nblob_many(self, requests, iyloc: int, iblb1, iblb2) -> None:
+        """NBLOB for each request, in order, with the next NCONT.DT published as
+        soon as NSTAR has taken this one (as CFEAT sends its two slice
+        commands): NSTAR finds its next command waiting while ESTAR reads the
+        last map.  The same files, the same bytes, in the same order as one
+        NBLOB at a time; the maps still come one by one through WBMAP.DT (M9).
+        ``RIG_LINK_WAIT=any`` sends them one at a time."""
+        if not self.pipeline:
+            super().nblob_many(requests, iyloc, iblb1, iblb2)
+            return
+        rows = [(int(image), int(edge), int(x), int(ies)) for image, edge, x, ies in requests]
+        if not rows:
+            return
+        try:
+            self.cnova(Command(CODE_EDGE_MAP, rows[0][0], rows[0][2], iyloc, 0, rows[0][3]))
+            for k, (image, edge, _, _) in enumerate(rows):
+                if k + 1 < len(rows):      # waits until NSTAR has taken request k
+                    nxt = rows[k + 1]
+                    self.cnova(Command(CODE_EDGE_MAP, nxt[0], nxt[2], iyloc, 0, nxt[3]))
+                (iblb1 if image == 1 else iblb2)[edge - 1] = decode_wbmap(self.nwait("WBMAP.DT"))
+        except BaseException:              # a request NSTAR has not taken is not obeyed later
             self.withdraw()
             raise
 
@@ -180,10 +206,11 @@ class FileLink(Link):
         self.jh.close()
 
 
-def start_file_link(jhdata, *, timeout: float | None = 30.0, say=None) -> FileLink:
+def start_file_link(jhdata, *, timeout: float | None = 30.0, say=None,
+                    wake: str | None = None) -> FileLink:
     """A started file link: directory checked, ESTAR.LCK held, stale files set
     aside, NSTAR idle — ESTAR's whole start-up protocol (for rig, bench, tests)."""
-    link = FileLink.open(jhdata, timeout=timeout)
+    link = FileLink.open(jhdata, timeout=timeout, wake=wake)
     try:
         link.start(say)
     except BaseException:
