@@ -2,8 +2,12 @@
 
 * one slice pair over the file link — ``nstar`` as a separate process, ESTAR in
   this process speaking only through files in a fresh jhdata directory — the
-  time of one LCLN (both slices, every edge-map request, POSIT.DT), median over
-  the lines;
+  time of one LCLN (both slices, every edge-map request, POSIT.DT): median, p90,
+  quartiles, min and max over the lines, on the disk and on tmpfs, for each way
+  of waiting (``--waits``: today's, the earlier one, and one request at a time
+  with today's events), all interleaved line by line in one run; and where the
+  time of a request goes: each program's time on a core, waiting for a core
+  (a busy machine) and its sleeps, from /proc;
 * the same lines over the direct (in-process) link, as the reference in the
   same run, and the ratio;
 * whole-picture scans (lines 8..112) per second over the direct link — the first
@@ -12,7 +16,8 @@
   its lines), with OpenCV's StereoBM and StereoSGBM on the same 128x120 4-bit
   pair timed in the same run for comparison.
 
-Run:  python bench/bench_rig.py [--lines 8 112] [--repeat 3]
+Run:  python bench/bench_rig.py [--lines 8 112] [--repeat 3] [--rounds 3]
+      python bench/bench_rig.py --only file-link --waits named any
 """
 
 from __future__ import annotations
@@ -55,100 +60,132 @@ def time_lines(ecl, lines) -> list[float]:
     return out
 
 
-WAITS = {"named": "named events, next request sent while NSTAR answers (the default)",
-         "any": "any event wakes, one request at a time (RIG_LINK_WAIT=any, before)"}
+WAITS = {"named": "the default: named events; the next request sent as the reply appears",
+         "serial": "named events, one request at a time (this benchmark only)",
+         "any": "RIG_LINK_WAIT=any, the earlier wait: any event wakes; one request at a time"}
 
 
-def schedstat(pid="thread-self") -> tuple[float, float, int]:
-    """(seconds on a core, seconds runnable but waiting for a core, times run)
-    of a process (``pid``) or this thread, from /proc (zeros where there is none)."""
+def proc_sleeps(pid) -> int:
+    """The voluntary context switches (sleeps) of process ``pid`` so far."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for row in f:
+                if row.startswith("voluntary_ctxt_switches:"):
+                    return int(row.split()[1])
+    except OSError:
+        pass
+    return 0
+
+
+def schedstat(pid="thread-self") -> tuple[float, float]:
+    """(seconds on a core, seconds runnable but waiting for one) of process
+    ``pid`` or of this thread, from /proc (zeros where there is none)."""
     try:
         with open(f"/proc/{pid}/schedstat") as f:
-            on, queued, runs = (int(x) for x in f.read().split()[:3])
-        return on / 1e9, queued / 1e9, runs
+            on, queued = (int(x) for x in f.read().split()[:2])
+        return on / 1e9, queued / 1e9
     except (OSError, ValueError):
-        return 0.0, 0.0, 0
+        return 0.0, 0.0
+
+
+class Tally:
+    """What one way of waiting cost, pooled over its rigs: the time of each
+    slice pair, and per request ESTAR's and NSTAR's time on a core, waiting
+    for a core, and sleeps (from /proc: where the time of a round trip goes)."""
+
+    def __init__(self):
+        self.times: list[float] = []
+        self.requests = 0
+        self.estar = [0.0, 0.0, 0]        # on a core, waiting for a core, sleeps
+        self.nstar = [0.0, 0.0, 0]
+
+    def report(self) -> str:
+        n = max(self.requests, 1)
+        wall = 1e6 * sum(self.times) / n
+        e, m = self.estar, self.nstar
+        return (f"per request {wall:.0f} us: ESTAR on a core {1e6 * e[0] / n:.0f} us, waiting "
+                f"for a core {1e6 * e[1] / n:.0f} us, {e[2] / n:.2f} sleeps; NSTAR on a core "
+                f"{1e6 * m[0] / n:.0f} us, waiting for a core {1e6 * m[1] / n:.0f} us, "
+                f"{m[2] / n:.2f} sleeps")
 
 
 class FileRig:
     """One ESTAR (this process) and one ``nstar`` process on a fresh jhdata in
     ``parent``, both waiting the ``wait`` way (see diskfmt.rdos.link_wait)."""
 
-    def __init__(self, parent, wait: str):
+    def __init__(self, parent, wait: str, tally: Tally):
+        self.tally = tally
         self.tmp = tempfile.TemporaryDirectory(dir=parent)
         jh_dir = Path(self.tmp.name) / "jhdata"
         jh_dir.mkdir()
-        self.link = start_file_link(jh_dir, timeout=60, wake=wait)
+        wake = "named" if wait == "serial" else wait
+        self.link = start_file_link(jh_dir, timeout=60, wake=wake)
+        if wait == "serial":
+            self.link.pipeline = False
         env = child_env()
         env.pop("JHDATA", None)
-        env[LINK_WAIT_ENV] = wait
+        env[LINK_WAIT_ENV] = wake
         self.nstar = start_nstar(jh_dir, bundled_path("LAB-L.BI"), bundled_path("LAB-R.BI"),
                                  quiet=True, idle_timeout=300, env=env)
         self.ecl = file_link_estar(self.link, DS, DV)
-        self.times: list[float] = []
-        self.switches = 0                 # this process's sleeps (voluntary switches)
-        self.preempted = 0                # and the times it was put off a core
-        self.cpu = [0.0, 0.0]             # user and system CPU seconds
-        self.sched = [0.0, 0.0]           # ESTAR on a core, waiting for one
-        self.nstar_sched = None
-        self.nstar_usage = None
-        self.requests0 = 0
+        self.nstar0 = None
 
     def line(self, y: int) -> None:
-        r0, s0 = resource.getrusage(RUSAGE), schedstat()
+        e0, s0 = schedstat(), resource.getrusage(RUSAGE).ru_nvcsw
+        r0 = self.ecl.requests
         t = time.perf_counter()
         self.ecl.lcln(y)
-        self.times.append(time.perf_counter() - t)
-        r1, s1 = resource.getrusage(RUSAGE), schedstat()
-        self.sched[0] += s1[0] - s0[0]
-        self.sched[1] += s1[1] - s0[1]
-        self.switches += r1.ru_nvcsw - r0.ru_nvcsw
-        self.preempted += r1.ru_nivcsw - r0.ru_nivcsw
-        self.cpu[0] += r1.ru_utime - r0.ru_utime
-        self.cpu[1] += r1.ru_stime - r0.ru_stime
+        self.tally.times.append(time.perf_counter() - t)
+        e1, s1 = schedstat(), resource.getrusage(RUSAGE).ru_nvcsw
+        est = self.tally.estar
+        est[0] += e1[0] - e0[0]
+        est[1] += e1[1] - e0[1]
+        est[2] += s1 - s0
+        self.tally.requests += self.ecl.requests - r0
+
+    def mark(self) -> None:
+        """Start counting NSTAR's time (after the untimed first line)."""
+        self.nstar0 = (*schedstat(self.nstar.pid), proc_sleeps(self.nstar.pid))
 
     def close(self) -> None:
         try:
             if self.nstar.poll() is None:
-                end = schedstat(self.nstar.pid)
-                self.nstar_sched = [end[0] - self.nstar_sched[0], end[1] - self.nstar_sched[1]]
+                end = (*schedstat(self.nstar.pid), proc_sleeps(self.nstar.pid))
+                if self.nstar0 is not None:
+                    for k in range(3):
+                        self.tally.nstar[k] += end[k] - self.nstar0[k]
                 self.ecl.terminate()
-                _, status, self.nstar_usage = os.wait4(self.nstar.pid, 0)
-                self.nstar.returncode = os.waitstatus_to_exitcode(status)
+                self.nstar.wait(timeout=60)
         finally:
             self.link.close()
-            if self.nstar.returncode is None:
+            if self.nstar.poll() is None:
                 self.nstar.kill()
                 self.nstar.wait()
             self.tmp.cleanup()
 
 
 def file_link_times(lines, places: dict, waits, rounds: int = 1) -> dict:
-    """Every (place, wait) rig, the lines timed interleaved: line y on each rig
-    in turn (the order rotating), so each sees the same load."""
-    rigs = {}
-    try:
-        for place, parent in places.items():
-            for wait in waits:
-                rigs[place, wait] = FileRig(parent, wait)
-        for rig in rigs.values():          # the first command's start-up, untimed
-            rig.ecl.lcln(lines[0])
-            rig.times.clear()
-            rig.switches = rig.preempted = 0
-            rig.cpu = [0.0, 0.0]
-            rig.sched = [0.0, 0.0]
-            rig.nstar_sched = schedstat(rig.nstar.pid)
-            rig.requests0 = rig.ecl.requests
-        order = list(rigs.values())
-        for _ in range(rounds):
+    """A Tally per (place, wait).  Each round starts a fresh rig of every
+    (place, wait) (fresh processes: where the scheduler puts them varies) and
+    times the lines interleaved: line y on each rig in turn, the order
+    rotating, so each sees the same load."""
+    tallies = {(place, wait): Tally() for place in places for wait in waits}
+    for _ in range(rounds):
+        rigs = []
+        try:
+            for (place, wait), tally in tallies.items():
+                rigs.append(FileRig(places[place], wait, tally))
+            for rig in rigs:               # start-up and the first commands, untimed
+                rig.ecl.lcln(lines[0])
+                rig.mark()
             for y in lines:
-                for rig in order:
+                for rig in rigs:
                     rig.line(y)
-                order.append(order.pop(0))
-    finally:
-        for rig in rigs.values():
-            rig.close()
-    return rigs
+                rigs.append(rigs.pop(0))
+        finally:
+            for rig in rigs:
+                rig.close()
+    return tallies
 
 
 def spread(times) -> str:
@@ -169,11 +206,12 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lines", type=int, nargs=2, default=(8, 112), metavar=("FIRST", "LAST"))
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--rounds", type=int, default=1,
-                    help="passes over the lines on each file-link rig (default 1)")
+    ap.add_argument("--rounds", type=int, default=3,
+                    help="passes over the lines, each on fresh file-link processes "
+                         "(default 3)")
     ap.add_argument("--waits", nargs="+", choices=list(WAITS), default=list(WAITS),
                     help="the file link's ways of waiting to time, interleaved "
-                         "(default: both)")
+                         "(default: all; the ratios are to the last)")
     ap.add_argument("--only", choices=("file-link",),
                     help="time only the file link (no direct link, scans, OpenCV)")
     args = ap.parse_args(argv)
@@ -184,35 +222,26 @@ def main(argv=None) -> int:
     where = {"disk (system temp dir)": None}
     if Path("/dev/shm").is_dir():
         where["tmpfs (/dev/shm)"] = "/dev/shm"
-    rigs = file_link_times(lines, where, args.waits, args.rounds)
+    tallies = file_link_times(lines, where, args.waits, args.rounds)
     dm = statistics.median(d_times)
     print(f"edge-map requests per line: {d_req / len(lines):.1f}")
     print(f"one slice pair, direct link (reference): median {dm * 1000:.2f} ms")
     for place in where:
-        print(f"one slice pair, file link, two processes, jhdata on {place}, "
-              f"{args.rounds} x {len(lines)} lines interleaved:")
+        print(f"one slice pair (both slices, every edge-map request, POSIT.DT), file link, "
+              f"two processes, jhdata on {place}; {args.rounds} round(s) of fresh processes x "
+              f"{len(lines)} lines, interleaved:")
         for wait in args.waits:
-            rig = rigs[place, wait]
-            n = len(rig.times)
-            req = rig.ecl.requests - rig.requests0
-            usage = rig.nstar_usage
-            print(f"  {wait:5s} {spread(rig.times)} = "
-                  f"{statistics.median(rig.times) / dm:.1f}x direct")
-            print(f"        ({WAITS[wait]}; {n} slice pairs)")
-            wall = sum(rig.times)
-            print(f"        per request ({1e6 * wall / req:.0f} us): ESTAR on a core "
-                  f"{1e6 * rig.sched[0] / req:.0f} us, waiting for a core "
-                  f"{1e6 * rig.sched[1] / req:.0f} us, {rig.switches / req:.2f} sleeps, "
-                  f"{rig.preempted / req:.2f} preemptions; NSTAR on a core "
-                  f"{1e6 * rig.nstar_sched[0] / req:.0f} us, waiting for a core "
-                  f"{1e6 * rig.nstar_sched[1] / req:.0f} us")
+            tally = tallies[place, wait]
+            assert tally.requests == d_req * args.rounds     # the same work on every rig
+            print(f"  {wait:6s} {spread(tally.times)} ({WAITS[wait]})")
+            print(f"         {tally.report()}")
         if len(args.waits) > 1:
-            base = statistics.median(rigs[place, args.waits[-1]].times)
-            for wait in args.waits[:-1]:
-                m = statistics.median(rigs[place, wait].times)
-                print(f"  median {wait} / {args.waits[-1]} = {m / base:.2f}")
-    for rig in rigs.values():              # the same work on every rig
-        assert rig.ecl.requests - rig.requests0 == d_req * args.rounds
+            base = statistics.median(tallies[place, args.waits[-1]].times)
+            print("  medians: " + ", ".join(
+                f"{wait} / {args.waits[-1]} = "
+                f"{statistics.median(tallies[place, wait].times) / base:.2f}"
+                for wait in args.waits[:-1]))
+    print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     if args.only == "file-link":
         return 0
     scans = [sum(d_times)]              # the first pass in this process: cold
@@ -225,8 +254,8 @@ def main(argv=None) -> int:
     cold, best = scans[0], min(scans[1:])
     print(f"whole-picture scan, direct link: warm {best * 1000:.1f} ms = {1 / best:.1f} "
           f"frames/s (best of {args.repeat}); first scan in the process {cold * 1000:.1f} ms")
-    for (place, wait), rig in rigs.items():
-        total = sum(rig.times) / args.rounds
+    for (place, wait), tally in tallies.items():
+        total = sum(tally.times) / args.rounds
         print(f"whole-picture scan, file link on {place} ({wait}), the sum of its "
               f"lines: {total * 1000:.0f} ms = {1 / total:.2f} frames/s = "
               f"{total / best:.1f}x the direct link")

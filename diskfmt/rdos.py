@@ -638,10 +638,13 @@ class JHData:
 
     def wait_for(self, name: str, timeout: float | None = None) -> None:
         """NWAIT: wait until ``name`` exists."""
-        self._wait(lambda: self.exists(name),
-                   lambda t: (f"no {name} from {self.peer} after {t:g} s — is "
-                              f"{self.peer.lower()} running on this jhdata directory "
-                              f"({self.dir})?"), timeout, _InotifyWaiter.APPEAR)
+        self._wait(lambda: self.exists(name), lambda t: self.not_written(name, t), timeout,
+                   _InotifyWaiter.APPEAR)
+
+    def not_written(self, name: str, t: float) -> str:
+        """What a wait for ``name`` says when it gives up after ``t`` seconds."""
+        return (f"no {name} from {self.peer} after {t:g} s — is {self.peer.lower()} running "
+                f"on this jhdata directory ({self.dir})?")
 
     def wait_gone(self, name: str, timeout: float | None = None) -> None:
         """Wait until ``name`` has been taken by the other program."""
@@ -679,6 +682,11 @@ class JHData:
         (refusing an existing target).  Gives up after the timeout with
         :class:`LinkTimeout`, the temporary left in place."""
         self.write_temp(temp_name, data)
+        self.publish_written(temp_name, name, timeout)
+
+    def publish_written(self, temp_name: str, name: str, timeout: float | None = None) -> None:
+        """The second half of :meth:`publish`: rename ``temp_name``, written
+        earlier by :meth:`write_temp`, to ``name`` once ``name`` is free."""
         tmp, dst = self._p(temp_name), self._p(name)
         limit = self.timeout if timeout is None else timeout
         deadline = None if not limit else time.monotonic() + limit
