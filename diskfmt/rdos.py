@@ -150,14 +150,16 @@ LINK_WAITS = ("named", "any")
 
 def link_wait() -> str:
     """How the file link waits: ``named`` (the default) wakes a waiting program
-    only on the events that can end its wait and lets ESTAR send the next
-    edge-map request while NSTAR answers this one; ``any`` is the earlier way,
+    only on the events that can end its wait, and ESTAR sends a line's next
+    edge-map request the moment the reply to the last one appears (before
+    reading it; estar.link.FileLink.nblob_many); ``any`` is the earlier way,
     kept to measure against (``RIG_LINK_WAIT=any``): every event in the
     directory wakes every waiter, one request at a time.  The files and
     their bytes are the same either way."""
     value = os.environ.get(LINK_WAIT_ENV) or "named"
-    if value not in LINK_WAITS:
-        raise ValueError(f"{LINK_WAIT_ENV}={value!r}: expected one of {', '.join(LINK_WAITS)}")
+    if value not in LINK_WAITS:       # an OSError: every program says it in one line
+        raise BadLinkWait(errno.EINVAL, f"{LINK_WAIT_ENV}={value!r}: expected one of "
+                                        f"{', '.join(LINK_WAITS)}")
     return value
 
 
@@ -388,6 +390,10 @@ class _DirError(_Said, OSError):
     pass
 
 
+class BadLinkWait(_Said, OSError):
+    """``$RIG_LINK_WAIT`` names no way of waiting."""
+
+
 class MissingDirectory(_Said, FileNotFoundError):
     pass
 
@@ -513,10 +519,8 @@ class JHData:
         try:
             os.lstat(self._p(name))
             return True
-        except FileNotFoundError:
+        except OSError:                       # as os.path.lexists: absent, or unreachable
             return False
-        except OSError:
-            return os.path.lexists(self._p(name))
 
     # --- locks (QUIRKS M14, M17) -----------------------------------------------
     def lock(self, name: str) -> None:

@@ -8,6 +8,7 @@ against the in-process rig."""
 import os
 import select
 import struct
+import subprocess
 
 import numpy as np
 import pytest
@@ -119,5 +120,17 @@ def test_link_wait_is_named_unless_any_is_asked_for(monkeypatch, tmp_path):
     finally:
         jh.close()
     monkeypatch.setenv("RIG_LINK_WAIT", "sometimes")
-    with pytest.raises(ValueError, match="RIG_LINK_WAIT='sometimes': expected one of named, any"):
+    with pytest.raises(OSError) as err:
         link_wait()
+    assert str(err.value) == "RIG_LINK_WAIT='sometimes': expected one of named, any"
+
+
+@pytest.mark.processes
+def test_a_bad_link_wait_is_one_line_from_nstar(tmp_path):
+    env = child_env()
+    env["RIG_LINK_WAIT"] = "sometimes"
+    proc = start_nstar(tmp_path, None, None, quiet=True, stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, env=env)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 1
+    assert err == "nstar: RIG_LINK_WAIT='sometimes': expected one of named, any\n"
