@@ -95,6 +95,7 @@ class Tally:
 
     def __init__(self):
         self.times: list[float] = []
+        self.rounds: list[float] = []     # the median of each round (fresh processes)
         self.requests = 0
         self.estar = [0.0, 0.0, 0]        # on a core, waiting for a core, sleeps
         self.nstar = [0.0, 0.0, 0]
@@ -178,10 +179,13 @@ def file_link_times(lines, places: dict, waits, rounds: int = 1) -> dict:
             for rig in rigs:               # start-up and the first commands, untimed
                 rig.ecl.lcln(lines[0])
                 rig.mark()
+            starts = {id(rig.tally): len(rig.tally.times) for rig in rigs}
             for y in lines:
                 for rig in rigs:
                     rig.line(y)
                 rigs.append(rigs.pop(0))
+            for rig in rigs:
+                rig.tally.rounds.append(statistics.median(rig.tally.times[starts[id(rig.tally)]:]))
         finally:
             for rig in rigs:
                 rig.close()
@@ -235,6 +239,8 @@ def main(argv=None) -> int:
             assert tally.requests == d_req * args.rounds     # the same work on every rig
             print(f"  {wait:6s} {spread(tally.times)} ({WAITS[wait]})")
             print(f"         {tally.report()}")
+            print(f"         medians of the rounds: "
+                  f"{', '.join(f'{1000 * m:.1f}' for m in tally.rounds)} ms")
         if len(args.waits) > 1:
             base = statistics.median(tallies[place, args.waits[-1]].times)
             print("  medians: " + ", ".join(
