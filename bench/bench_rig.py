@@ -2,8 +2,12 @@
 
 * one slice pair over the file link — ``nstar`` as a separate process, ESTAR in
   this process speaking only through files in a fresh jhdata directory — the
-  time of one LCLN (both slices, every edge-map request, POSIT.DT), median over
-  the lines;
+  time of one LCLN (both slices, every edge-map request, POSIT.DT): median, p90,
+  quartiles, min and max over the lines, on the disk and on tmpfs, for each way
+  of waiting (``--waits``: today's, the earlier one, and one request at a time
+  with today's events), all interleaved line by line in one run; and where the
+  time of a request goes: each program's time on a core, waiting for a core
+  (a busy machine) and its sleeps, from /proc;
 * the same lines over the direct (in-process) link, as the reference in the
   same run, and the ratio;
 * whole-picture scans (lines 8..112) per second over the direct link — the first
@@ -12,12 +16,15 @@
   its lines), with OpenCV's StereoBM and StereoSGBM on the same 128x120 4-bit
   pair timed in the same run for comparison.
 
-Run:  python bench/bench_rig.py [--lines 8 112] [--repeat 3]
+Run:  python bench/bench_rig.py [--lines 8 112] [--repeat 3] [--rounds 3]
+      python bench/bench_rig.py --only file-link --waits named any
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import resource
 import statistics
 import sys
 import tempfile
@@ -31,10 +38,12 @@ from diskfmt.dgreal import Real                      # noqa: E402
 from diskfmt.layouts import decode_bi                # noqa: E402
 from estar.link import start_file_link              # noqa: E402
 from estar.program import file_link_estar, in_process_rig  # noqa: E402
-from rig.session import start_nstar                  # noqa: E402
+from diskfmt.rdos import LINK_WAIT_ENV               # noqa: E402
+from rig.session import child_env, start_nstar       # noqa: E402
 from rig.scene import bundled_path                   # noqa: E402
 
 DS, DV = Real.const("0.75"), Real.const("180")
+RUSAGE = getattr(resource, "RUSAGE_THREAD", resource.RUSAGE_SELF)
 
 
 def pair():
@@ -51,23 +60,145 @@ def time_lines(ecl, lines) -> list[float]:
     return out
 
 
-def file_link_times(lines, parent=None) -> tuple[list[float], int]:
-    with tempfile.TemporaryDirectory(dir=parent) as tmp:
-        jh_dir = Path(tmp) / "jhdata"
+WAITS = {"named": "the default: named events; the next request sent as the reply appears",
+         "serial": "named events, one request at a time (this benchmark only)",
+         "any": "RIG_LINK_WAIT=any, the earlier wait: any event wakes; one request at a time"}
+
+
+def proc_sleeps(pid) -> int:
+    """The voluntary context switches (sleeps) of process ``pid`` so far."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for row in f:
+                if row.startswith("voluntary_ctxt_switches:"):
+                    return int(row.split()[1])
+    except OSError:
+        pass
+    return 0
+
+
+def schedstat(pid="thread-self") -> tuple[float, float]:
+    """(seconds on a core, seconds runnable but waiting for one) of process
+    ``pid`` or of this thread, from /proc (zeros where there is none)."""
+    try:
+        with open(f"/proc/{pid}/schedstat") as f:
+            on, queued = (int(x) for x in f.read().split()[:2])
+        return on / 1e9, queued / 1e9
+    except (OSError, ValueError):
+        return 0.0, 0.0
+
+
+class Tally:
+    """What one way of waiting cost, pooled over its rigs: the time of each
+    slice pair, and per request ESTAR's and NSTAR's time on a core, waiting
+    for a core, and sleeps (from /proc: where the time of a round trip goes)."""
+
+    def __init__(self):
+        self.times: list[float] = []
+        self.rounds: list[float] = []     # the median of each round (fresh processes)
+        self.requests = 0
+        self.estar = [0.0, 0.0, 0]        # on a core, waiting for a core, sleeps
+        self.nstar = [0.0, 0.0, 0]
+
+    def report(self) -> str:
+        n = max(self.requests, 1)
+        wall = 1e6 * sum(self.times) / n
+        e, m = self.estar, self.nstar
+        return (f"per request {wall:.0f} us: ESTAR on a core {1e6 * e[0] / n:.0f} us, waiting "
+                f"for a core {1e6 * e[1] / n:.0f} us, {e[2] / n:.2f} sleeps; NSTAR on a core "
+                f"{1e6 * m[0] / n:.0f} us, waiting for a core {1e6 * m[1] / n:.0f} us, "
+                f"{m[2] / n:.2f} sleeps")
+
+
+class FileRig:
+    """One ESTAR (this process) and one ``nstar`` process on a fresh jhdata in
+    ``parent``, both waiting the ``wait`` way (see diskfmt.rdos.link_wait)."""
+
+    def __init__(self, parent, wait: str, tally: Tally):
+        self.tally = tally
+        self.tmp = tempfile.TemporaryDirectory(dir=parent)
+        jh_dir = Path(self.tmp.name) / "jhdata"
         jh_dir.mkdir()
-        link = start_file_link(jh_dir, timeout=60)
-        nstar = start_nstar(jh_dir, bundled_path("LAB-L.BI"), bundled_path("LAB-R.BI"),
-                            quiet=True, idle_timeout=120)
+        wake = "named" if wait == "serial" else wait
+        self.link = start_file_link(jh_dir, timeout=60, wake=wake)
+        if wait == "serial":
+            self.link.pipeline = False
+        env = child_env()
+        env.pop("JHDATA", None)
+        env[LINK_WAIT_ENV] = wake
+        self.nstar = start_nstar(jh_dir, bundled_path("LAB-L.BI"), bundled_path("LAB-R.BI"),
+                                 quiet=True, idle_timeout=300, env=env)
+        self.ecl = file_link_estar(self.link, DS, DV)
+        self.nstar0 = None
+
+    def line(self, y: int) -> None:
+        e0, s0 = schedstat(), resource.getrusage(RUSAGE).ru_nvcsw
+        r0 = self.ecl.requests
+        t = time.perf_counter()
+        self.ecl.lcln(y)
+        self.tally.times.append(time.perf_counter() - t)
+        e1, s1 = schedstat(), resource.getrusage(RUSAGE).ru_nvcsw
+        est = self.tally.estar
+        est[0] += e1[0] - e0[0]
+        est[1] += e1[1] - e0[1]
+        est[2] += s1 - s0
+        self.tally.requests += self.ecl.requests - r0
+
+    def mark(self) -> None:
+        """Start counting NSTAR's time (after the untimed first line)."""
+        self.nstar0 = (*schedstat(self.nstar.pid), proc_sleeps(self.nstar.pid))
+
+    def close(self) -> None:
         try:
-            ecl = file_link_estar(link, DS, DV)
-            times = time_lines(ecl, lines)
-            ecl.terminate()
-            nstar.wait(timeout=60)
-            return times, ecl.requests
+            if self.nstar.poll() is None:
+                end = (*schedstat(self.nstar.pid), proc_sleeps(self.nstar.pid))
+                if self.nstar0 is not None:
+                    for k in range(3):
+                        self.tally.nstar[k] += end[k] - self.nstar0[k]
+                self.ecl.terminate()
+                self.nstar.wait(timeout=60)
         finally:
-            link.close()
-            if nstar.poll() is None:
-                nstar.kill()
+            self.link.close()
+            if self.nstar.poll() is None:
+                self.nstar.kill()
+                self.nstar.wait()
+            self.tmp.cleanup()
+
+
+def file_link_times(lines, places: dict, waits, rounds: int = 1) -> dict:
+    """A Tally per (place, wait).  Each round starts a fresh rig of every
+    (place, wait) (fresh processes: where the scheduler puts them varies) and
+    times the lines interleaved: line y on each rig in turn, the order
+    rotating, so each sees the same load."""
+    tallies = {(place, wait): Tally() for place in places for wait in waits}
+    for _ in range(rounds):
+        rigs = []
+        try:
+            for (place, wait), tally in tallies.items():
+                rigs.append(FileRig(places[place], wait, tally))
+            for rig in rigs:               # start-up and the first commands, untimed
+                rig.ecl.lcln(lines[0])
+                rig.mark()
+            starts = {id(rig.tally): len(rig.tally.times) for rig in rigs}
+            for y in lines:
+                for rig in rigs:
+                    rig.line(y)
+                rigs.append(rigs.pop(0))
+            for rig in rigs:
+                rig.tally.rounds.append(statistics.median(rig.tally.times[starts[id(rig.tally)]:]))
+        finally:
+            for rig in rigs:
+                rig.close()
+    return tallies
+
+
+def spread(times) -> str:
+    """Median, p90, quartiles, min and max of ``times`` (seconds) in ms."""
+    t = sorted(times)
+    q = statistics.quantiles(t, n=20, method="inclusive")    # 5 % steps
+    return (f"median {statistics.median(t) * 1000:.1f} ms, p90 {q[17] * 1000:.1f}, "
+            f"quartiles {q[4] * 1000:.1f}-{q[14] * 1000:.1f}, min {t[0] * 1000:.1f}, "
+            f"max {t[-1] * 1000:.1f}")
 
 
 def direct_times(lines) -> tuple[list[float], int]:
@@ -79,13 +210,46 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lines", type=int, nargs=2, default=(8, 112), metavar=("FIRST", "LAST"))
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--rounds", type=int, default=3,
+                    help="passes over the lines, each on fresh file-link processes "
+                         "(default 3)")
+    ap.add_argument("--waits", nargs="+", choices=list(WAITS), default=list(WAITS),
+                    help="the file link's ways of waiting to time, interleaved "
+                         "(default: all; the ratios are to the last)")
+    ap.add_argument("--only", choices=("file-link",),
+                    help="time only the file link (no direct link, scans, OpenCV)")
     args = ap.parse_args(argv)
     lines = list(range(args.lines[0], args.lines[1] + 1))
+    print(f"lines {lines[0]}..{lines[-1]} of the bundled pair ({len(lines)} lines); "
+          f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     d_times, d_req = direct_times(lines)
-    where = {"disk (ext4, system temp dir)": None}
+    where = {"disk (system temp dir)": None}
     if Path("/dev/shm").is_dir():
         where["tmpfs (/dev/shm)"] = "/dev/shm"
-    f_results = {name: file_link_times(lines, parent) for name, parent in where.items()}
+    tallies = file_link_times(lines, where, args.waits, args.rounds)
+    dm = statistics.median(d_times)
+    print(f"edge-map requests per line: {d_req / len(lines):.1f}")
+    print(f"one slice pair, direct link (reference): median {dm * 1000:.2f} ms")
+    for place in where:
+        print(f"one slice pair (both slices, every edge-map request, POSIT.DT), file link, "
+              f"two processes, jhdata on {place}; {args.rounds} round(s) of fresh processes x "
+              f"{len(lines)} lines, interleaved:")
+        for wait in args.waits:
+            tally = tallies[place, wait]
+            assert tally.requests == d_req * args.rounds     # the same work on every rig
+            print(f"  {wait:6s} {spread(tally.times)} ({WAITS[wait]})")
+            print(f"         {tally.report()}")
+            print(f"         medians of the rounds: "
+                  f"{', '.join(f'{1000 * m:.1f}' for m in tally.rounds)} ms")
+        if len(args.waits) > 1:
+            base = statistics.median(tallies[place, args.waits[-1]].times)
+            print("  medians: " + ", ".join(
+                f"{wait} / {args.waits[-1]} = "
+                f"{statistics.median(tallies[place, wait].times) / base:.2f}"
+                for wait in args.waits[:-1]))
+    print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    if args.only == "file-link":
+        return 0
     scans = [sum(d_times)]              # the first pass in this process: cold
     for _ in range(args.repeat):
         ecl = in_process_rig(*pair(), DS, DV)
@@ -93,23 +257,14 @@ def main(argv=None) -> int:
         for y in lines:
             ecl.lcln(y)
         scans.append(time.perf_counter() - t)
-    dm = statistics.median(d_times)
-    print(f"lines {lines[0]}..{lines[-1]} of the bundled pair ({len(lines)} lines)")
-    print(f"edge-map requests per line: {d_req / len(lines):.1f}")
-    print(f"one slice pair, direct link (reference): median {dm * 1000:.2f} ms")
-    for name, (f_times, f_req) in f_results.items():
-        assert f_req == d_req
-        fm = statistics.median(f_times)
-        print(f"one slice pair, file link, two processes, jhdata on {name}: median "
-              f"{fm * 1000:.2f} ms (p90 {sorted(f_times)[int(0.9 * len(f_times))] * 1000:.2f} ms)"
-              f" = {fm / dm:.2f}x direct")
     cold, best = scans[0], min(scans[1:])
     print(f"whole-picture scan, direct link: warm {best * 1000:.1f} ms = {1 / best:.1f} "
           f"frames/s (best of {args.repeat}); first scan in the process {cold * 1000:.1f} ms")
-    for name, (f_times, _) in f_results.items():
-        total = sum(f_times)
-        print(f"whole-picture scan, file link on {name}: {total * 1000:.0f} ms = "
-              f"{1 / total:.2f} frames/s = {total / best:.1f}x the direct link")
+    for (place, wait), tally in tallies.items():
+        total = sum(tally.times) / args.rounds
+        print(f"whole-picture scan, file link on {place} ({wait}), the sum of its "
+              f"lines: {total * 1000:.0f} ms = {1 / total:.2f} frames/s = "
+              f"{total / best:.1f}x the direct link")
     for name, t in opencv_times(*pair()).items():
         print(f"OpenCV {name} on the same 128x120 pair: {t * 1000:.2f} ms per frame "
               f"(rig direct scan / this = {best / t:.2f})")

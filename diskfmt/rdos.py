@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import errno
 import fcntl
+import math
 import os
 from pathlib import Path
 import secrets
@@ -141,6 +142,25 @@ def describe_os_error(exc: OSError) -> str:
         return str(exc)
     names = [str(n) for n in (exc.filename, exc.filename2) if n is not None]
     return f"{' -> '.join(names)}: {exc.strerror}" if names else exc.strerror
+
+
+LINK_WAIT_ENV = "RIG_LINK_WAIT"
+LINK_WAITS = ("named", "any")
+
+
+def link_wait() -> str:
+    """How the file link waits: ``named`` (the default) wakes a waiting program
+    only on the events that can end its wait, and ESTAR sends a line's next
+    edge-map request the moment the reply to the last one appears (before
+    reading it; estar.link.FileLink.nblob_many); ``any`` is the earlier way,
+    kept to measure against (``RIG_LINK_WAIT=any``): every event in the
+    directory wakes every waiter, one request at a time.  The files and
+    their bytes are the same either way."""
+    value = os.environ.get(LINK_WAIT_ENV) or "named"
+    if value not in LINK_WAITS:       # an OSError: every program says it in one line
+        raise BadLinkWait(errno.EINVAL, f"{LINK_WAIT_ENV}={value!r}: expected one of "
+                                        f"{', '.join(LINK_WAITS)}")
+    return value
 
 
 def default_jhdata() -> Path:
@@ -273,27 +293,78 @@ class _InotifyWaiter:
     """File-system events for one directory, read in the waiting thread itself
     through watchdog's inotify bindings: no observer threads, so a round trip
     between the two programs costs no thread hand-offs (measured in
-    bench/bench_rig.py: the observer-thread version took about twice as long)."""
+    bench/bench_rig.py: the observer-thread version took about twice as long).
 
-    MASK_NAMES = ("IN_CREATE", "IN_MOVED_TO", "IN_DELETE", "IN_MOVED_FROM")
+    Each wait arms only the events that can end it (:meth:`arm`): a name
+    appears by a rename (IN_MOVED_TO; IN_CREATE too where the no-overwrite
+    rename is link + unlink), a name goes by a delete or a rename away.  The
+    other program's temporaries (ECONT.DT, NDAT.DT) and its takes then do not
+    wake a process that waits for something else; each such wake was a
+    context switch, on a busy machine often a wait for a core.  A name made
+    in any other way is still seen, by the poll backstop."""
 
-    def __init__(self, directory: Path):
+    ANY = ("IN_CREATE", "IN_MOVED_TO", "IN_DELETE", "IN_MOVED_FROM")
+    APPEAR = ("IN_MOVED_TO",)
+    GONE = ("IN_DELETE", "IN_MOVED_FROM")
+
+    def __init__(self, directory: Path, named: bool = True):
         self.fd = inotify_init()
         if self.fd < 0:
             raise OSError("inotify_init failed")
-        mask = 0
-        for name in self.MASK_NAMES:
-            mask |= getattr(InotifyConstants, name)
-        if inotify_add_watch(self.fd, os.fsencode(directory), mask) < 0:
+        self.path = os.fsencode(directory)
+        self.named = named
+        self.mask = 0
+        try:
+            os.set_blocking(self.fd, False)   # drained without blocking (see arm)
+            self.arm(self.ANY)
+        except OSError:
             os.close(self.fd)
-            raise OSError(f"cannot watch {directory}")
+            raise
         self.poller = select.poll()
         self.poller.register(self.fd, select.POLLIN)
 
+    _masks: dict = {}
+
+    @classmethod
+    def _mask(cls, names) -> int:
+        mask = cls._masks.get(names)
+        if mask is None:
+            mask = 0
+            for name in names:
+                mask |= getattr(InotifyConstants, name)
+            cls._masks[names] = mask
+        return mask
+
+    def arm(self, events=ANY) -> None:
+        """Watch for ``events`` (names of inotify flags) from now on; call it
+        before the first check of a wait.  Events queued under an earlier
+        mask (most often this program's own renames and deletes) are dropped:
+        whatever they told, the check that follows sees."""
+        if not self.named:
+            events = self.ANY
+        elif events == self.APPEAR and _RENAMEAT2 is None:
+            events = ("IN_CREATE", "IN_MOVED_TO")     # the link(2) of the fallback
+        mask = self._mask(events)
+        if mask == self.mask:
+            return
+        if inotify_add_watch(self.fd, self.path, mask) < 0:
+            if self.mask:                         # keep the old watch: the poll backs it up
+                return
+            raise OSError(f"cannot watch {os.fsdecode(self.path)}")
+        self.mask = mask
+        self._drain()
+
+    def _drain(self) -> None:
+        try:
+            while os.read(self.fd, 65536):
+                pass
+        except BlockingIOError:
+            pass
+
     def wait(self, seconds: float) -> None:
         """Return when an event arrives or after ``seconds``; drain the events."""
-        if self.poller.poll(max(0, int(seconds * 1000))):
-            os.read(self.fd, 65536)
+        if self.poller.poll(max(0, math.ceil(seconds * 1000))):
+            self._drain()
 
     def close(self) -> None:
         os.close(self.fd)
@@ -317,6 +388,10 @@ class _Said:
 
 class _DirError(_Said, OSError):
     pass
+
+
+class BadLinkWait(_Said, OSError):
+    """``$RIG_LINK_WAIT`` names no way of waiting."""
 
 
 class MissingDirectory(_Said, FileNotFoundError):
@@ -371,8 +446,9 @@ class JHData:
     after 30 s — is nstar running on this jhdata directory?")."""
 
     def __init__(self, directory, *, me: str, peer: str, timeout: float | None = 30.0,
-                 use_events: bool = True, poll: float = 0.002):
+                 use_events: bool = True, poll: float = 0.002, wake: str | None = None):
         self.dir = Path(directory)
+        self.wake = wake or link_wait()
         self.me, self.peer = me, peer
         self.timeout = timeout
         self.poll = poll
@@ -381,11 +457,12 @@ class JHData:
         self._observer = None
         self._inotify = None
         self._locks: dict[str, int] = {}
+        self._paths: dict[str, str] = {}      # name -> path text (see _p)
         self._busy_fd = None
         check_directory(self.dir)
         if use_events and inotify_init is not None:
             try:
-                self._inotify = _InotifyWaiter(self.dir)
+                self._inotify = _InotifyWaiter(self.dir, named=self.wake != "any")
                 self.poll = max(poll, 0.05)
             except OSError:
                 self._inotify = None
@@ -429,9 +506,21 @@ class JHData:
     def path(self, name: str) -> Path:
         return self.dir / name
 
+    def _p(self, name: str) -> str:
+        """The path of ``name`` as text, made once: a round trip uses a dozen,
+        and building each as a Path cost more than the system calls."""
+        p = self._paths.get(name)
+        if p is None:
+            p = self._paths[name] = os.path.join(self.dir, name)
+        return p
+
     def exists(self, name: str) -> bool:
         """Is there anything under ``name`` (a dangling link counts: it holds the name)."""
-        return os.path.lexists(self.dir / name)
+        try:
+            os.lstat(self._p(name))
+            return True
+        except OSError:                       # as os.path.lexists: absent, or unreachable
+            return False
 
     # --- locks (QUIRKS M14, M17) -----------------------------------------------
     def lock(self, name: str) -> None:
@@ -524,10 +613,11 @@ class JHData:
                               f"stopped or waiting at its console ({self.dir})?"), timeout)
 
     # --- waiting ------------------------------------------------------------
-    def _wait(self, done, describe, timeout) -> None:
+    def _wait(self, done, describe, timeout, events=_InotifyWaiter.ANY) -> None:
         limit = self.timeout if timeout is None else timeout
         deadline = None if not limit else time.monotonic() + limit
         if self._inotify is not None:
+            self._inotify.arm(events)
             while not done():
                 left = self.poll
                 if deadline is not None:
@@ -552,14 +642,18 @@ class JHData:
 
     def wait_for(self, name: str, timeout: float | None = None) -> None:
         """NWAIT: wait until ``name`` exists."""
-        self._wait(lambda: self.exists(name),
-                   lambda t: (f"no {name} from {self.peer} after {t:g} s — is "
-                              f"{self.peer.lower()} running on this jhdata directory "
-                              f"({self.dir})?"), timeout)
+        self._wait(lambda: self.exists(name), lambda t: self.not_written(name, t), timeout,
+                   _InotifyWaiter.APPEAR)
+
+    def not_written(self, name: str, t: float) -> str:
+        """What a wait for ``name`` says when it gives up after ``t`` seconds."""
+        return (f"no {name} from {self.peer} after {t:g} s — is {self.peer.lower()} running "
+                f"on this jhdata directory ({self.dir})?")
 
     def wait_gone(self, name: str, timeout: float | None = None) -> None:
         """Wait until ``name`` has been taken by the other program."""
-        self._wait(lambda: not self.exists(name), lambda t: self._not_taken(name, t), timeout)
+        self._wait(lambda: not self.exists(name), lambda t: self._not_taken(name, t), timeout,
+                   _InotifyWaiter.GONE)
 
     def _not_taken(self, name: str, t: float) -> str:
         return (f"{name} not taken by {self.peer} after {t:g} s — is {self.peer.lower()} "
@@ -578,7 +672,7 @@ class JHData:
         aside, never opened."""
         for _ in range(100):
             try:
-                _write_new(self.dir / temp_name, data)
+                _write_new(self._p(temp_name), data)
                 return
             except FileExistsError:
                 self.set_aside(temp_name, "in the way")
@@ -592,9 +686,20 @@ class JHData:
         (refusing an existing target).  Gives up after the timeout with
         :class:`LinkTimeout`, the temporary left in place."""
         self.write_temp(temp_name, data)
+        self.publish_written(temp_name, name, timeout)
+
+    def publish_written(self, temp_name: str, name: str, timeout: float | None = None) -> None:
+        """The second half of :meth:`publish`: rename ``temp_name``, written
+        earlier by :meth:`write_temp`, to ``name`` once ``name`` is free."""
+        tmp, dst = self._p(temp_name), self._p(name)
         limit = self.timeout if timeout is None else timeout
         deadline = None if not limit else time.monotonic() + limit
         while True:
+            try:                              # the rename itself refuses an unread name
+                _rename_noreplace(tmp, dst)
+                return
+            except FileExistsError:           # unread: wait until it is taken
+                pass
             left = None if deadline is None else deadline - time.monotonic()
             if left is not None and left <= 0:
                 raise LinkTimeout(self._not_taken(name, limit))
@@ -602,18 +707,13 @@ class JHData:
                 self.wait_gone(name, left if left is not None else 0)
             except LinkTimeout:
                 raise LinkTimeout(self._not_taken(name, limit)) from None
-            try:
-                _rename_noreplace(self.dir / temp_name, self.dir / name)
-                return
-            except FileExistsError:           # the name reappeared: wait again
-                continue
 
     def publish_replace(self, temp_name: str, name: str, data: bytes) -> None:
         """Write ``data`` as ``temp_name`` and rename it over ``name`` (PNPL's
         DELETE + RENAM of POSIT.DT, done atomically)."""
         self.write_temp(temp_name, data)
         try:
-            os.replace(self.dir / temp_name, self.dir / name)
+            os.replace(self._p(temp_name), self._p(name))
         except BaseException:                 # a Ctrl-C too: leave no temporary
             self.delete(temp_name)
             raise
@@ -622,24 +722,24 @@ class JHData:
         """The bytes of the protocol file ``name``: a regular file of at most the
         size its format allows (:class:`NotAProtocolFile` otherwise)."""
         limit, expect = PROTOCOL_SIZES.get(name, (1 << 20, None))
-        return read_regular(self.dir / name, limit, expect)
+        return read_regular(self._p(name), limit, expect)
 
     def take(self, name: str) -> bytes:
         """Read ``name`` and delete it (OPEN, READ, CLOSE, DELETE)."""
         data = self.read(name)
-        os.unlink(self.dir / name)
+        os.unlink(self._p(name))
         return data
 
     def delete(self, name: str) -> bool:
         """RDOS DELETE: no error when the file is absent."""
         try:
-            os.unlink(self.dir / name)
+            os.unlink(self._p(name))
             return True
         except FileNotFoundError:
             return False
 
     def rename(self, old: str, new: str) -> None:
-        os.replace(self.dir / old, self.dir / new)
+        os.replace(self._p(old), self._p(new))
 
     # --- STALE/ ----------------------------------------------------------------
     def _stale_fd(self) -> int:

@@ -80,13 +80,15 @@ class FileLink(Link):
     sweeps stale files until NSTAR is idle (QUIRKS M12, M14);
     :func:`start_file_link` does both for a program without a dialogue."""
 
-    def __init__(self, jh: JHData):
+    def __init__(self, jh: JHData, pipeline: bool | None = None):
         self.jh = jh
+        self.pipeline = jh.wake != "any" if pipeline is None else pipeline
 
     @classmethod
-    def open(cls, jhdata, *, timeout: float | None = 30.0) -> "FileLink":
-        """Check ``jhdata`` and hold ESTAR.LCK (LockedError if another ESTAR does)."""
-        jh = JHData(jhdata, me="ESTAR", peer="NSTAR", timeout=timeout)
+    def open(cls, jhdata, *, timeout: float | None = 30.0, wake: str | None = None) -> "FileLink":
+        """Check ``jhdata`` and hold ESTAR.LCK (LockedError if another ESTAR does);
+        ``wake``: how to wait (:func:`diskfmt.rdos.link_wait`; None: ``$RIG_LINK_WAIT``)."""
+        jh = JHData(jhdata, me="ESTAR", peer="NSTAR", timeout=timeout, wake=wake)
         try:
             jh.lock(ESTAR_LOCK)
         except BaseException:
@@ -126,6 +128,62 @@ class FileLink(Link):
             self.withdraw()
             raise
 
+    def nblob_many(self, requests, iyloc: int, iblb1, iblb2) -> None:
+        """NBLOB for each request, in order — with request k+1 written as
+        ECONT.DT while NSTAR answers request k and renamed to NCONT.DT the
+        moment WBMAP.DT k appears, before ESTAR reads that map: NSTAR finds its
+        next command waiting when it has published a reply, instead of
+        sleeping until ESTAR has read the map and written the next one.
+
+        The same files with the same bytes, in the same order, as one NBLOB
+        at a time, and no more in flight: a command is sent only when the
+        reply to the one before exists, so a reply is always the one to the
+        oldest command without one (WBMAP.DT carries no request tag: an NSTAR
+        restarted between taking a command and answering it must not answer a
+        later one in its place, QUIRKS M14).  The waits, their timeouts and
+        their messages are NBLOB's.  ``RIG_LINK_WAIT=any``: one at a time."""
+        if not self.pipeline:
+            super().nblob_many(requests, iyloc, iblb1, iblb2)
+            return
+        rows = [(int(image), int(edge), int(x), int(ies)) for image, edge, x, ies in requests]
+        if not rows:
+            return
+
+        def command(row) -> Command:
+            return Command(CODE_EDGE_MAP, row[0], row[2], iyloc, 0, row[3])
+
+        self.cnova(command(rows[0]))
+        ahead = None                   # request k+1: "ECONT.DT" written, then "NCONT.DT" sent
+        try:
+            for k, (image, edge, _, _) in enumerate(rows):
+                last = k + 1 == len(rows)
+                if not last:
+                    self.jh.write_temp("ECONT.DT", encode_ncont(command(rows[k + 1])))
+                    ahead = "ECONT.DT"
+                self.jh.wait_for("WBMAP.DT")
+                if not last:           # NCONT.DT k is gone: NSTAR deletes it before replying
+                    try:
+                        self.jh.publish_written("ECONT.DT", "NCONT.DT")
+                    except LinkTimeout:
+                        self.withdraw()
+                        ahead = None
+                        raise
+                    ahead = "NCONT.DT"
+                data = self._take_reply("WBMAP.DT")
+                (iblb1 if image == 1 else iblb2)[edge - 1] = decode_wbmap(data)
+                ahead = None
+        except BaseException:
+            # Leave what one NBLOB at a time would leave: request k+1 is taken
+            # back (NSTAR must not obey it later); request k, if NSTAR never
+            # took it, stays for the next start's sweep (M12), as it did.
+            for name in {None: (), "ECONT.DT": ("ECONT.DT",),
+                         "NCONT.DT": ("ECONT.DT", "NCONT.DT")}[ahead]:
+                try:
+                    self.jh.delete(name)
+                except OSError:               # not a file of ours (a directory planted)
+                    pass
+            raise
+
     def wait_taken(self) -> None:
         """Wait until NSTAR has taken the last command (withdrawn on timeout)."""
         try:
@@ -147,6 +205,10 @@ class FileLink(Link):
 
     def nwait(self, name: str) -> bytes:
         self.jh.wait_for(name)
+        return self._take_reply(name)
+
+    def _take_reply(self, name: str) -> bytes:
+        """Take the reply ``name`` that exists now, checked (M16, M19)."""
         src = name
         if name == "SLICE.DT":
             # CFEAT renames SLICE.DT to SL.DT before reading, freeing the name so
@@ -180,10 +242,11 @@ class FileLink(Link):
         self.jh.close()
 
 
-def start_file_link(jhdata, *, timeout: float | None = 30.0, say=None) -> FileLink:
+def start_file_link(jhdata, *, timeout: float | None = 30.0, say=None,
+                    wake: str | None = None) -> FileLink:
     """A started file link: directory checked, ESTAR.LCK held, stale files set
     aside, NSTAR idle — ESTAR's whole start-up protocol (for rig, bench, tests)."""
-    link = FileLink.open(jhdata, timeout=timeout)
+    link = FileLink.open(jhdata, timeout=timeout, wake=wake)
     try:
         link.start(say)
     except BaseException:

@@ -1,6 +1,7 @@
 """RDOS semantics of the shared directory: publish by rename, never over an
 unread file; waits that end in a message naming the file and the program."""
 
+import os
 import threading
 import time
 
@@ -78,3 +79,75 @@ def test_lock_refuses_a_second_holder_and_is_released_on_close(tmp_path):
 def test_missing_directory_is_one_clear_error(tmp_path):
     with pytest.raises(FileNotFoundError, match="does not exist"):
         JHData(tmp_path / "nope", me="ESTAR", peer="NSTAR")
+
+
+needs_inotify = pytest.mark.skipif(rdos.inotify_init is None, reason="inotify (Linux) only")
+
+
+@needs_inotify
+@pytest.mark.skipif(rdos._RENAMEAT2 is None, reason="publishes by link(2) here: IN_CREATE armed")
+def test_a_wait_for_a_name_is_woken_by_its_rename_not_by_temporaries(tmp_path):
+    w = rdos._InotifyWaiter(tmp_path)
+    try:
+        w.arm(w.APPEAR)
+        (tmp_path / "NDAT.DT").write_bytes(b"reply")     # the peer's temporary
+        (tmp_path / "SL.DT").write_bytes(b"x")
+        (tmp_path / "SL.DT").unlink()                     # a take
+        assert not w.poller.poll(0)                       # none of it wakes
+        os.rename(tmp_path / "NDAT.DT", tmp_path / "WBMAP.DT")
+        assert w.poller.poll(5000)
+        w.arm(w.GONE)                                     # queued events dropped
+        assert not w.poller.poll(0)
+        (tmp_path / "ECONT.DT").write_bytes(b"cmd")
+        assert not w.poller.poll(0)                       # a gone-wait: no new file wakes
+        (tmp_path / "WBMAP.DT").unlink()
+        assert w.poller.poll(5000)
+    finally:
+        w.close()
+
+
+@needs_inotify
+def test_the_earlier_wait_wakes_on_any_event(tmp_path):
+    w = rdos._InotifyWaiter(tmp_path, named=False)
+    try:
+        w.arm(w.APPEAR)
+        (tmp_path / "NDAT.DT").write_bytes(b"reply")
+        assert w.poller.poll(5000)
+    finally:
+        w.close()
+
+
+def test_a_name_made_without_a_rename_is_still_seen_by_the_poll(tmp_path):
+    # A hand-made NCONT.DT (written in place, or linked) wakes no named wait;
+    # the poll backstop finds it.
+    jh = JHData(tmp_path, me="NSTAR", peer="ESTAR", timeout=10)
+    t = threading.Timer(0.1, lambda: (tmp_path / "NCONT.DT").write_bytes(b"x" * 12))
+    t.start()
+    try:
+        jh.wait_for("NCONT.DT")
+        assert (tmp_path / "NCONT.DT").exists()
+    finally:
+        t.join()
+        jh.close()
+
+
+def test_publish_written_renames_what_write_temp_wrote_once_the_name_is_free(tmp_path):
+    jh = JHData(tmp_path, me="ESTAR", peer="NSTAR", timeout=10)
+    (tmp_path / "NCONT.DT").write_bytes(b"old command")
+    jh.write_temp("ECONT.DT", b"new command")
+    t = threading.Timer(0.2, (tmp_path / "NCONT.DT").unlink)
+    t.start()
+    try:
+        jh.publish_written("ECONT.DT", "NCONT.DT")
+    finally:
+        t.join()
+        jh.close()
+    assert (tmp_path / "NCONT.DT").read_bytes() == b"new command"
+    assert not (tmp_path / "ECONT.DT").exists()
+    with pytest.raises(LinkTimeout, match="NCONT.DT not taken by NSTAR after 0.2 s"):
+        jh2 = JHData(tmp_path, me="ESTAR", peer="NSTAR", timeout=10)
+        try:
+            jh2.publish("ECONT.DT", "NCONT.DT", b"third", timeout=0.2)
+        finally:
+            jh2.close()
+    assert (tmp_path / "NCONT.DT").read_bytes() == b"new command"   # never replaced
