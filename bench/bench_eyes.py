@@ -188,8 +188,8 @@ def stages(rounds: int) -> list[str]:
     stage (slices; + MASL with its edge maps and MARF; + the match rows and
     LCSL), the cuts timed interleaved, differences of medians."""
     from eyes.exqvfl import exqvfl_fast, new_work
-    from eyes.kernels import (LEFT_X, RIGHT_X, build_frame, cfeat, lcsl_line, level_windows,
-                              masl_line, match_list_rows)
+    from eyes.kernels import (LEFT_X, RIGHT_X, WINDOWS_SHAPE, build_frame, cfeat, lcsl_line,
+                              level_windows, masl_line, match_list_rows)
     from nstar.exqvfl import exqvfl_kernel
     from eyes import Eyes
     from diskfmt.jit import jit
@@ -201,7 +201,7 @@ def stages(rounds: int) -> list[str]:
         ifeat2 = np.zeros((4, 50), dtype=np.int32)
         pix = np.zeros(128, dtype=np.int64)
         work = np.zeros((3, 130), dtype=np.int64)
-        windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+        windows = np.zeros(WINDOWS_SHAPE, dtype=np.uint64)
         level_windows(frame, windows)
         maps = np.zeros((2, 100, 4), dtype=np.uint64)
         bits = np.zeros((2, 100), dtype=np.int64)

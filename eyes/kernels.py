@@ -72,29 +72,42 @@ def popcount64(x):
     return np.int64((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
 
 
+WINDOW_PAD = 8                     # zero columns either side: a map never leaves the array
+WINDOWS_SHAPE = (2, 4, 17, 128 + 2 * WINDOW_PAD)
+
+
+def new_windows() -> np.ndarray:
+    """Work space for :func:`level_windows`."""
+    return np.zeros(WINDOWS_SHAPE, dtype=np.uint64)
+
+
 @jit
 def level_windows(frame, windows):
-    """For each picture (0 left, 1 right), column and grey level g, the rows
+    """For each picture (0 left, 1 right), grey level g and column x, the rows
     0..119 whose pixel is at most g, as four overlapping 64-row windows:
-    bit b of ``windows[i, x, g+1, q]`` is row 32q+b (``windows[i, x, 0]`` is
-    empty).  NSTAR label 500 sets a bit when the pixel lies in IGMN..IGMX:
-    ``windows[.., IGMX+1, q] & ~windows[.., IGMN, q]``; any 16 rows from row
+    bit b of ``windows[i, q, g+1, WINDOW_PAD + x]`` is row 32q+b
+    (``windows[i, q, 0]`` is empty; columns outside 0..127 stay empty).  NSTAR
+    label 500 sets a bit when the pixel lies in IGMN..IGMX:
+    ``windows[.., IGMX+1, x] & ~windows[.., IGMN, x]``; any 16 rows from row
     ``top`` >= 0 lie in window ``top >> 5``, so an edge map's column is one
-    load and one shift per level."""
+    load and one shift per level, and its 16 columns are side by side."""
     windows[:] = 0
     one = np.uint64(1)
     for i in range(2):
         x0 = 26 + 140 * i
-        for x in range(128):
-            for r in range(120):
+        for r in range(120):
+            q = r >> 5
+            bit = one << np.uint64(r - 32 * q)
+            bit_below = one << np.uint64(r - 32 * q + 32)     # the same row in window q-1
+            for x in range(128):
                 g1 = frame[r, x0 + x] + 1
-                q = r >> 5
-                windows[i, x, g1, q] |= one << np.uint64(r - 32 * q)
+                windows[i, q, g1, WINDOW_PAD + x] |= bit
                 if q >= 1:
-                    windows[i, x, g1, q - 1] |= one << np.uint64(r - 32 * q + 32)
+                    windows[i, q - 1, g1, WINDOW_PAD + x] |= bit_below
+        for q in range(4):
             for g in range(1, 17):
-                for q in range(4):
-                    windows[i, x, g, q] |= windows[i, x, g - 1, q]
+                for x in range(WINDOW_PAD, WINDOW_PAD + 128):
+                    windows[i, q, g, x] |= windows[i, q, g - 1, x]
 
 
 @jit
@@ -108,12 +121,12 @@ def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
     ``bits[image-1, edge-1]`` its number of set bits (MARF's totals).
     (Written out in one loop: a helper taking arrays would cost a reference
     count per call.)"""
+    columns = maps.view(np.uint16)                 # [image, edge, column]: little-endian limbs
     iyc = min(max(iyloc, 0), 119)                  # command_geometry's clamps
     top = iyc - 7                                  # map rows top..top+15
     q = max(top, 0) >> 5
     down = np.uint64(max(top, 0) - 32 * q)
     up = np.uint64(max(-top, 0))                   # rows above row 0 stay 0
-    lo16 = np.uint64(0xFFFF)
     for k in range(count):
         image = requests[k, 0]
         row = requests[k, 1] - 1
@@ -129,17 +142,12 @@ def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
                 igmn = min(igmn, v)
                 igmx = max(igmx, v)
         img = image - 1
-        nbits = 0
-        for limb in range(4):
-            acc = np.uint64(0)
-            for c4 in range(4):
-                pc = ixctr - 7 + 4 * limb + c4      # picture column; outside stays 0
-                if 0 <= pc <= 127:
-                    w = windows[img, pc, igmx + 1, q] & ~windows[img, pc, igmn, q]
-                    acc |= (((w >> down) << up) & lo16) << np.uint64(16 * c4)
-            maps[img, row, limb] = acc
-            nbits += popcount64(acc)
-        bits[img, row] = nbits
+        x0 = ixctr - 7 + WINDOW_PAD                # picture column ixctr-7 (outside: empty)
+        for c in range(16):
+            columns[img, row, c] = np.uint16(((windows[img, q, igmx + 1, x0 + c]
+                                               & ~windows[img, q, igmn, x0 + c]) >> down) << up)
+        bits[img, row] = (popcount64(maps[img, row, 0]) + popcount64(maps[img, row, 1])
+                          + popcount64(maps[img, row, 2]) + popcount64(maps[img, row, 3]))
 
 
 @jit
@@ -593,7 +601,7 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     ifeat2 = np.zeros((4, 50), dtype=np.int32)
     pix = np.zeros(128, dtype=np.int64)
     work = np.zeros((3, 130), dtype=np.int64)      # eyes.exqvfl.new_work()
-    windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+    windows = np.zeros(WINDOWS_SHAPE, dtype=np.uint64)
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     bits = np.zeros((2, 100), dtype=np.int64)

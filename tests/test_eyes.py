@@ -18,7 +18,7 @@ except ImportError:                    # before MARF had its own module
 from eyes import Eyes, scan_pair as eyes_scan_pair
 from eyes.kernels import (OFFSET0, build_frame, level_windows, lcsl_offset, lcsl_range,
                           _quality, marf_best_shift, marf_best_shift_stepwise, nblob_many,
-                          new_tables)
+                          new_tables, new_windows)
 from nstar.bitmaps import command_geometry, edge_map_kernel
 from nstar.program import Nova
 from rig import scan as scanmod
@@ -165,7 +165,7 @@ def test_edge_maps_equal_nstar_label_500_everywhere():
     bit count."""
     left, right = synthetic_pair(11)
     frame = build_frame(left, right)
-    windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+    windows = new_windows()
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     bits = np.zeros((2, 100), dtype=np.int64)
