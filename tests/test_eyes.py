@@ -156,6 +156,14 @@ def test_frame_store_is_novas_after_label_800():
     nova = Nova()
     nova.load_pair(left, right)
     assert np.array_equal(build_frame(left, right), nova.octek.frame)
+    # refilled in place after another pair, and from other integer and float types
+    reused = build_frame(*synthetic_pair(8))
+    assert build_frame(left, right, reused) is reused
+    assert np.array_equal(reused, nova.octek.frame)
+    for dtype in (np.int64, np.int16, np.float64):
+        assert np.array_equal(build_frame(left.astype(dtype) + 32, right.astype(dtype) - 16,
+                                          reused), nova.octek.frame), dtype
+    assert np.array_equal(build_frame(left + 0.75, right + 0.25), nova.octek.frame)
 
 
 def test_edge_maps_equal_nstar_label_500_everywhere():
