@@ -246,6 +246,19 @@ def _quality(nd, ntot):
 
 
 @jit
+def marf_no_shift(a0, a1, a2, a3, ta, b0, b1, b2, b3, tb):
+    """MARF's MNVAL when IWST = 0 (its only shift is 0, so MLOC = 0), given
+    each map's bit count: the stepped MARF's first comparison alone, without
+    setting up its registers."""
+    ntot = ta + tb
+    nd = (popcount64(a0 ^ b0) + popcount64(a1 ^ b1) + popcount64(a2 ^ b2)
+          + popcount64(a3 ^ b3))
+    if ntot != 0 and nd < 128:
+        return _quality(nd, ntot)
+    return 256
+
+
+@jit
 def marf_best_shift_stepwise(a0, a1, a2, a3, b0, b1, b2, b3, iwst):
     """:func:`marf_best_shift`, the same (MLOC, MNVAL), with the shifts stepped
     one column at a time instead of computed afresh: shift k and -k from
@@ -473,9 +486,16 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
                     # MARF moves LOC2 by at most IWST either way: no shift can
                     # put it left of LOC1, so the pair is dropped below anyway
                     continue
-                mloc, mnval = marf_stepwise_counted(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
-                                                    maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
-                                                    maps[1, e2 - 1, 3], bits[1, e2 - 1], iwst)
+                if iwst == 0:                  # most pairs (86% on the motorcycle)
+                    mloc = 0
+                    mnval = marf_no_shift(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
+                                          maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                          maps[1, e2 - 1, 3], bits[1, e2 - 1])
+                else:
+                    mloc, mnval = marf_stepwise_counted(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
+                                                        maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                                        maps[1, e2 - 1, 3], bits[1, e2 - 1],
+                                                        iwst)
                 loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
                 if x1 <= loc2:
                     continue                           # LOC1 must lie right of LOC2

@@ -17,8 +17,8 @@ except ImportError:                    # before MARF had its own module
     from estar.masl import marf_kernel
 from eyes import Eyes, scan_pair as eyes_scan_pair
 from eyes.kernels import (OFFSET0, build_frame, level_windows, lcsl_offset, lcsl_range,
-                          _quality, marf_best_shift, marf_best_shift_stepwise, nblob_many,
-                          new_tables, new_windows)
+                          _quality, marf_best_shift, marf_best_shift_stepwise, marf_no_shift,
+                          nblob_many, new_tables, new_windows)
 from nstar.bitmaps import command_geometry, edge_map_kernel
 from nstar.program import Nova
 from rig import scan as scanmod
@@ -242,6 +242,24 @@ def test_marf_stepwise_equals_marf_best_shift():
         for iwst in range(0, 21):
             assert marf_best_shift_stepwise(*a, *b, iwst) == marf_best_shift(*a, *b, iwst), \
                 (trial, iwst)
+
+
+def test_marf_no_shift_equals_marf_kernel_at_iwst_0():
+    """The one-shift MARF the frame scan uses when IWST = 0 against MARF
+    itself: empty, sparse, dense and full maps, equal maps, near-equal ones."""
+    rng = np.random.default_rng(12)
+    values = np.zeros(257, dtype=np.int64)
+    for trial in range(3000):
+        density = (0.0, 0.03, rng.random(), 1.0, 0.5)[trial % 5]
+        words = ((rng.random((2, 16, 16)) < density) * (1 << np.arange(16))).sum(axis=2)
+        if trial % 3 == 0:
+            words[1] = words[0]
+            words[1, rng.integers(0, 16)] ^= int(rng.integers(0, 65536))
+        m17 = [np.concatenate(([1], w - 65536 * (w > 32767))).astype(np.int64) for w in words]
+        want = marf_kernel(m17[0], m17[1], 0, values)
+        a, b = limbs_of(words[0]), limbs_of(words[1])
+        ta, tb = (int(sum(bin(int(w)).count("1") for w in ws)) for ws in words)
+        assert want[0] == 0 and marf_no_shift(*a, ta, *b, tb) == want[1], trial
 
 
 @pytest.mark.parametrize("ds, dv", [("0.75", "180"), ("1.3", "97.5"), ("0.1", "1000")])
