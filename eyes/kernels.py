@@ -414,17 +414,19 @@ def cfeat(frame, iyloc, pix, ifeat1, ifeat2, work):
 
 @jit
 def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
-              maps, bits, requests, partners, bounds2):
+              maps, bits, requests, partners, bounds, kept):
     """MASL for one line (IBLB1/IBLB2 empty at its start).  MASL tries every
     slice-2 feature JNDX for every slice-1 feature INDX, both sides, and
     compares the pairs whose grey levels differ by at most 1; a side's match
     list only depends on the order of JNDX within that side, so here each
     side visits just its partners, in increasing JNDX, from a bit set per
-    grey level.  NBLOB fetches the map of every edge that has a partner (the
-    requests MASL makes, :func:`estar.masl.masl_requests`, in another order:
-    the maps depend only on the pictures), then each pair goes through MARF
-    (:func:`marf_best_shift`) into COMMON /MATCH/.  Returns the number of
-    NBLOB round trips."""
+    grey level.  NBLOB's round trips are counted as MASL makes them (every
+    edge with a partner, :func:`estar.masl.masl_requests`), but a map is only
+    made when a pair will compare it (the maps depend only on the pictures),
+    then each pair goes through MARF (:func:`marf_best_shift`) into COMMON
+    /MATCH/.  Work space: ``partners`` (2, 18), ``bounds`` (2, 50, 2) (IRGD
+    of slice 1, then slice 2), ``kept`` (2, 50).  Returns the number of NBLOB
+    round trips."""
     # partners[side, g + 1]: bit JNDX-1 set when slice-2 feature JNDX's grey on
     # that side is within 1 of g
     partners[:] = 0
@@ -433,37 +435,59 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
             g = ifeat2[2 + side, jndx - 1]
             for d in range(3):
                 partners[side, g + d] |= 1 << (jndx - 1)
-    nreq = 0
-    wanted_left = 0                            # slice-2 partners on each side
-    wanted_right = 0
-    for side in range(2):
-        for indx in range(1, nfeat1 + 1):
-            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
-            if m:
-                requests[nreq, 0] = 1
-                requests[nreq, 1] = indx + 50 * side
-                requests[nreq, 2] = ifeat1[side, indx - 1]
-                requests[nreq, 3] = -1 if side == 0 else 1
-                nreq += 1
-                if side == 0:
-                    wanted_left |= m
-                else:
-                    wanted_right |= m
-    for side in range(2):
-        for jndx in range(1, nfeat2 + 1):
-            if (wanted_left if side == 0 else wanted_right) & (1 << (jndx - 1)):
-                requests[nreq, 0] = 2
-                requests[nreq, 1] = jndx + 50 * side
-                requests[nreq, 2] = ifeat2[side, jndx - 1]
-                requests[nreq, 3] = -1 if side == 0 else 1
-                nreq += 1
-    nblob_many(frame, windows, iyloc, requests, nreq, maps, bits)
     for j in range(1, nfeat2 + 1):
         b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
-        bounds2[j - 1, 0] = b[0]
-        bounds2[j - 1, 1] = b[1]
+        bounds[1, j - 1, 0] = b[0]
+        bounds[1, j - 1, 1] = b[1]
+    # A pair MARF can keep has X2 - IWST < X1, so X2 < X1 + IRGD (IWST <= IRGD):
+    # with slice 2's edges in increasing X (EXQVFL finds them left to right;
+    # checked, else no pair is passed over) those are the JNDX below a limit,
+    # found by a pointer walked along slice 2 (``below``).
+    ordered = True
+    for j in range(1, nfeat2):
+        if ifeat2[0, j] <= ifeat2[0, j - 1] or ifeat2[1, j] <= ifeat2[1, j - 1]:
+            ordered = False
+    nreq = 0
+    nfetch = 0
+    for side in range(2):
+        wanted = 0                             # slice-2 partners: NBLOB's requests
+        needed = 0                             # those some pair will compare
+        below = 0
+        for indx in range(1, nfeat1 + 1):
+            if side == 0:
+                b = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
+                bounds[0, indx - 1, 0] = b[0]
+                bounds[0, indx - 1, 1] = b[1]
+            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            x1 = ifeat1[side, indx - 1]
+            if m:
+                nreq += 1
+                wanted |= m
+                if ordered:
+                    limit = x1 + bounds[0, indx - 1, side]
+                    while below < nfeat2 and ifeat2[side, below] < limit:
+                        below += 1
+                    while below > 0 and ifeat2[side, below - 1] >= limit:
+                        below -= 1
+                    m &= (1 << below) - 1
+            kept[side, indx - 1] = m
+            if m:
+                requests[nfetch, 0] = 1
+                requests[nfetch, 1] = indx + 50 * side
+                requests[nfetch, 2] = x1
+                requests[nfetch, 3] = -1 if side == 0 else 1
+                nfetch += 1
+                needed |= m
+        nreq += popcount64(np.uint64(wanted))
+        for jndx in range(1, nfeat2 + 1):
+            if needed & (1 << (jndx - 1)):
+                requests[nfetch, 0] = 2
+                requests[nfetch, 1] = jndx + 50 * side
+                requests[nfetch, 2] = ifeat2[side, jndx - 1]
+                requests[nfetch, 3] = -1 if side == 0 else 1
+                nfetch += 1
+    nblob_many(frame, windows, iyloc, requests, nfetch, maps, bits)
     for indx in range(1, nfeat1 + 1):
-        irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
         for side in range(2):
             e1 = indx + 50 * side
             row = e1 - 1
@@ -473,15 +497,16 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
             a2 = maps[0, row, 2]
             a3 = maps[0, row, 3]
             ta = bits[0, row]
+            irgd = bounds[0, indx - 1, side]
             count = 0
-            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            m = kept[side, indx - 1]
             while m:
                 low = m & -m
                 m ^= low
                 jndx = 1 + popcount64(np.uint64(low - 1))
                 e2 = jndx + 50 * side
                 x2 = ifeat2[side, jndx - 1]
-                iwst = min(irgd[side], bounds2[jndx - 1, side])
+                iwst = min(irgd, bounds[1, jndx - 1, side])
                 if x1 <= x2 - iwst:
                     # MARF moves LOC2 by at most IWST either way: no shift can
                     # put it left of LOC1, so the pair is dropped below anyway
@@ -634,7 +659,8 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     bits = np.zeros((2, 100), dtype=np.int64)
     requests = np.zeros((200, 4), dtype=np.int64)
     partners = np.zeros((2, 18), dtype=np.int64)
-    bounds2 = np.zeros((50, 2), dtype=np.int64)
+    bounds = np.zeros((2, 50, 2), dtype=np.int64)
+    kept = np.zeros((2, 50), dtype=np.int64)
     nrow = 0
     npt = 0
     record_posit = posit_out.shape[0] == lines.shape[0]
@@ -647,7 +673,7 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
         ifeat_out[k, 1] = ifeat2
         requests_out[k] = masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
                                     sign_fix, nmatch, imatch, maps, bits, requests, partners,
-                                    bounds2)
+                                    bounds, kept)
         match_start[k] = nrow
         point_start[k] = npt
         nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
