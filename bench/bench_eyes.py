@@ -188,20 +188,19 @@ def stages(rounds: int) -> list[str]:
     stage (slices; + MASL with its edge maps and MARF; + the match rows and
     LCSL), the cuts timed interleaved, differences of medians."""
     from eyes.exqvfl import exqvfl_fast, new_work
-    from eyes.kernels import (LEFT_X, RIGHT_X, WINDOWS_SHAPE, build_frame, cfeat, lcsl_line,
-                              level_windows, masl_line, match_list_rows)
+    from eyes.kernels import (LEFT_X, RIGHT_X, build_frame, cfeat, lcsl_line, level_windows,
+                              masl_line, match_list_rows, new_windows)
     from nstar.exqvfl import exqvfl_kernel
     from eyes import Eyes
     from diskfmt.jit import jit
 
     @jit
-    def cut(frame, lines, stop, consts, range_done, range_mq, offset_done, offset_mq,
+    def cut(frame, windows, lines, stop, consts, range_done, range_mq, offset_done, offset_mq,
             match_rows, point_rows, point_words):
         ifeat1 = np.zeros((4, 50), dtype=np.int32)
         ifeat2 = np.zeros((4, 50), dtype=np.int32)
         pix = np.zeros(128, dtype=np.int64)
         work = np.zeros((3, 130), dtype=np.int64)
-        windows = np.zeros(WINDOWS_SHAPE, dtype=np.uint64)
         level_windows(frame, windows)
         maps = np.zeros((2, 100, 4), dtype=np.uint64)
         bits = np.zeros((2, 100), dtype=np.int64)
@@ -251,7 +250,8 @@ def stages(rounds: int) -> list[str]:
         lines = np.arange(8, 113)
         work = (np.empty((105000, 5), np.int64), np.empty((10500, 6), np.int64),
                 np.empty((10500, 6), np.int64))
-        runs = [lambda s=s: cut(frame, lines, s, eyes.consts, t["range_done"], t["range_mq"],
+        windows = new_windows()
+        runs = [lambda s=s: cut(frame, windows, lines, s, eyes.consts, t["range_done"], t["range_mq"],
                                 t["offset_done"], t["offset_mq"], *work) for s in range(4)]
         runs.append(lambda: eyes.scan(left, right))
         times = [[] for _ in runs]

@@ -20,7 +20,7 @@ from estar.lcsl import EDISP, EDMAX, ELMAX, ONE
 from estar.masl import Options as MaslOptions
 from estar.program import LineResult
 from .dgint import mq
-from .kernels import build_frame, new_tables, scan_frame_kernel
+from .kernels import build_frame, new_tables, new_windows, scan_frame_kernel
 
 DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
 # The entry LCSL took, where LineResult records it ("used")
@@ -173,6 +173,7 @@ class Eyes:
         self.tables = new_tables()
         self._rows = None
         self._frame = None
+        self._windows = new_windows()
 
     def scan(self, left, right, lines=DEFAULT_LINES, keep_posit: bool = False) -> FrameScan:
         """Scan the 120x128 pair over ``lines`` (0..119, any order) as one fresh
@@ -204,7 +205,7 @@ class Eyes:
         posit_words = np.zeros((n if keep_posit else 0, 640), dtype=np.int64)
         t = self.tables
         status = scan_frame_kernel(
-            frame, lines, bool(self.options.marf_sign_fix), self.consts,
+            frame, self._windows, lines, bool(self.options.marf_sign_fix), self.consts,
             t["range_done"], t["range_mq"], t["offset_done"], t["offset_mq"],
             nmatch, imatch, pos, nfeat, ifeat, requests, match_start, match_rows,
             point_start, point_rows, point_words, posit_words)

@@ -93,28 +93,34 @@ def level_windows(frame, windows):
     """For each picture (0 left, 1 right), grey level g and column x, the rows
     0..119 whose pixel is at most g, as four overlapping 64-row windows:
     bit b of ``windows[i, q, g+1, WINDOW_PAD + x]`` is row 32q+b
-    (``windows[i, q, 0]`` is empty; columns outside 0..127 stay empty).  NSTAR
-    label 500 sets a bit when the pixel lies in IGMN..IGMX:
-    ``windows[.., IGMX+1, x] & ~windows[.., IGMN, x]``; any 16 rows from row
-    ``top`` >= 0 lie in window ``top >> 5``, so an edge map's column is one
-    load and one shift per level, and its 16 columns are side by side."""
-    windows[:] = 0
+    (``windows[i, q, 0]`` is empty).  NSTAR label 500 sets a bit when the
+    pixel lies in IGMN..IGMX: ``windows[.., IGMX+1, x] & ~windows[.., IGMN, x]``;
+    any 16 rows from row ``top`` >= 0 lie in window ``top >> 5``, so an edge
+    map's column is one load and one shift per level, and its 16 columns are
+    side by side.  A column's rows are gathered by level in two words (rows
+    0..63, 64..127), then each window word is written once; only the
+    pictures' columns are written, so the pad columns stay empty as
+    :func:`new_windows` made them."""
     one = np.uint64(1)
+    m32 = np.uint64(32)
+    by_level = np.zeros((17, 2), dtype=np.uint64)   # one column: rows whose pixel is g-1
     for i in range(2):
         x0 = 26 + 140 * i
-        for r in range(120):
-            q = r >> 5
-            bit = one << np.uint64(r - 32 * q)
-            bit_below = one << np.uint64(r - 32 * q + 32)     # the same row in window q-1
-            for x in range(128):
-                g1 = frame[r, x0 + x] + 1
-                windows[i, q, g1, WINDOW_PAD + x] |= bit
-                if q >= 1:
-                    windows[i, q - 1, g1, WINDOW_PAD + x] |= bit_below
-        for q in range(4):
-            for g in range(1, 17):
-                for x in range(WINDOW_PAD, WINDOW_PAD + 128):
-                    windows[i, q, g, x] |= windows[i, q, g - 1, x]
+        for x in range(128):
+            by_level[:] = 0
+            for r in range(64):
+                by_level[frame[r, x0 + x] + 1, 0] |= one << np.uint64(r)
+            for r in range(64, 120):
+                by_level[frame[r, x0 + x] + 1, 1] |= one << np.uint64(r - 64)
+            lo = np.uint64(0)                       # rows 0..63 at most level g-1
+            hi = np.uint64(0)                       # rows 64..127
+            for g in range(17):
+                lo |= by_level[g, 0]
+                hi |= by_level[g, 1]
+                windows[i, 0, g, WINDOW_PAD + x] = lo
+                windows[i, 1, g, WINDOW_PAD + x] = (lo >> m32) | (hi << m32)
+                windows[i, 2, g, WINDOW_PAD + x] = hi
+                windows[i, 3, g, WINDOW_PAD + x] = hi >> m32
 
 
 @jit
@@ -632,12 +638,14 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
 
 
 @jit
-def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offset_done,
-                      offset_mq, nmatch, imatch, pos, nfeat_out, ifeat_out, requests_out,
+def scan_frame_kernel(frame, windows, lines, sign_fix, consts, range_done, range_mq,
+                      offset_done, offset_mq, nmatch, imatch, pos, nfeat_out, ifeat_out,
+                      requests_out,
                       match_start, match_rows, point_start, point_rows, point_words,
                       posit_out):
     """LCLN for each line of ``lines`` on the frame store ``frame``: CFEAT,
-    MASL, LCSL, PNPL.
+    MASL, LCSL, PNPL.  ``windows``: :func:`new_windows`, work space kept by
+    the caller (its pad columns are never written, so it needs no clearing).
 
     State carried from line to line, as in ESTAR's COMMON: ``nmatch``,
     ``imatch`` (/MATCH/) and ``pos`` (/POSIT/ as 640 storage words).
@@ -653,7 +661,6 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     ifeat2 = np.zeros((4, 50), dtype=np.int32)
     pix = np.zeros(128, dtype=np.int64)
     work = np.zeros((3, 130), dtype=np.int64)      # eyes.exqvfl.new_work()
-    windows = np.zeros(WINDOWS_SHAPE, dtype=np.uint64)
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     bits = np.zeros((2, 100), dtype=np.int64)

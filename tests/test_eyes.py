@@ -166,6 +166,27 @@ def test_frame_store_is_novas_after_label_800():
     assert np.array_equal(build_frame(left + 0.75, right + 0.25), nova.octek.frame)
 
 
+def test_level_windows_are_the_rows_at_most_each_grey_level():
+    """Every word of the level windows against their definition, computed
+    plainly; written over a window store that held another pair's."""
+    windows = new_windows()
+    level_windows(build_frame(*synthetic_pair(3)), windows)
+    for left, right in (synthetic_pair(13), bundled_pair()):
+        frame = build_frame(left, right)
+        level_windows(frame, windows)
+        for i, pic in enumerate((frame[0:120, 26:154], frame[0:120, 166:294])):
+            for q in range(4):
+                rows = np.arange(32 * q, 32 * q + 64)
+                inside = rows < 120
+                for g in range(17):
+                    below = np.zeros((64, 128), dtype=bool)
+                    below[inside] = pic[rows[inside]] <= g - 1
+                    want = (below.astype(np.uint64) << np.arange(64, dtype=np.uint64)[:, None]
+                            ).sum(axis=0, dtype=np.uint64)
+                    assert np.array_equal(windows[i, q, g, 8:136], want), (i, q, g)
+                    assert not windows[i, q, g, :8].any() and not windows[i, q, g, 136:].any()
+
+
 def test_edge_maps_equal_nstar_label_500_everywhere():
     """Every edge map ESTAR can ask for (X 1..128 and the clamped 0, 129; every
     third line and the lines near the windows' seams and the picture's edges;
