@@ -190,11 +190,12 @@ class Eyes:
         nmatch = np.zeros(100, dtype=np.int64)
         imatch = np.zeros((100, 10, 4), dtype=np.int64)
         pos = np.zeros(640, dtype=np.int64)
-        nfeat = np.zeros((n, 2), dtype=np.int64)
-        ifeat = np.zeros((n, 2, 4, 50), dtype=np.int32)
-        requests = np.zeros(n, dtype=np.int64)
-        match_start = np.zeros(n + 1, dtype=np.int64)
-        point_start = np.zeros(n + 1, dtype=np.int64)
+        # written whole by the kernel, line by line: no clearing
+        nfeat = np.empty((n, 2), dtype=np.int64)
+        ifeat = np.empty((n, 2, 4, 50), dtype=np.int32)
+        requests = np.empty(n, dtype=np.int64)
+        match_start = np.empty(n + 1, dtype=np.int64)
+        point_start = np.empty(n + 1, dtype=np.int64)
         if self._rows is None or len(self._rows[1]) < n * 100:
             # work space for the rows, kept between scans (its pages stay mapped);
             # 32-bit, as every value fits: half the bytes to write and copy out
@@ -202,7 +203,7 @@ class Eyes:
                           np.empty((n * 100, 6), dtype=np.int32),
                           np.empty((n * 100, 6), dtype=np.uint32))
         match_rows, point_rows, point_words = self._rows
-        posit_words = np.zeros((n if keep_posit else 0, 640), dtype=np.int64)
+        posit_words = np.empty((n if keep_posit else 0, 640), dtype=np.int64)
         t = self.tables
         status = scan_frame_kernel(
             frame, self._windows, lines, bool(self.options.marf_sign_fix), self.consts,
