@@ -43,7 +43,7 @@ class FrameScan:
     :func:`eyes.kernels.scan_frame_kernel` for the layout)."""
     lines: np.ndarray            # (n,) IY of each line, in scan order
     nfeat: np.ndarray            # (n, 2) NFEAT of slice 1 and slice 2
-    ifeat: np.ndarray            # (n, 2, 4, 50) IFEAT of both slices
+    ifeat: np.ndarray            # (n, 2, 4, 50) int16: IFEAT of both slices
     requests: np.ndarray         # (n,) NBLOB round trips
     match_start: np.ndarray      # (n+1,)
     match_rows: np.ndarray       # (M, 5) int32: edge, INDX, QUAL, LOC1, LOC2
@@ -192,7 +192,7 @@ class Eyes:
         pos = np.zeros(640, dtype=np.int64)
         # written whole by the kernel, line by line: no clearing
         nfeat = np.empty((n, 2), dtype=np.int64)
-        ifeat = np.empty((n, 2, 4, 50), dtype=np.int32)
+        ifeat = np.empty((n, 2, 4, 50), dtype=np.int16)     # the Nova's 16-bit words
         requests = np.empty(n, dtype=np.int64)
         match_start = np.empty(n + 1, dtype=np.int64)
         point_start = np.empty(n + 1, dtype=np.int64)
