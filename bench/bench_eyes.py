@@ -195,7 +195,7 @@ def stages(rounds: int) -> list[str]:
     from diskfmt.jit import jit
 
     @jit
-    def cut(frame, windows, lines, stop, consts, range_done, range_mq, offset_done, offset_mq,
+    def cut(frame, windows, lines, stop, consts, range_done, range_mq, offset_done, offset_words,
             match_rows, point_rows, point_words):
         ifeat1 = np.zeros((4, 50), dtype=np.int32)
         ifeat2 = np.zeros((4, 50), dtype=np.int32)
@@ -222,7 +222,7 @@ def stages(rounds: int) -> list[str]:
             if stop >= 3:
                 nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
                 npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
-                                offset_done, offset_mq, pos, point_rows, point_words, npt)
+                                offset_done, offset_words, pos, point_rows, point_words, npt)
         return npt
 
     @jit
@@ -252,7 +252,7 @@ def stages(rounds: int) -> list[str]:
                 np.empty((10500, 6), np.int64))
         windows = new_windows()
         runs = [lambda s=s: cut(frame, windows, lines, s, eyes.consts, t["range_done"], t["range_mq"],
-                                t["offset_done"], t["offset_mq"], *work) for s in range(4)]
+                                t["offset_done"], t["offset_words"], *work) for s in range(4)]
         runs.append(lambda: eyes.scan(left, right))
         times = [[] for _ in runs]
         for fn in runs:

@@ -207,7 +207,7 @@ class Eyes:
         t = self.tables
         status = scan_frame_kernel(
             frame, self._windows, lines, bool(self.options.marf_sign_fix), self.consts,
-            t["range_done"], t["range_mq"], t["offset_done"], t["offset_mq"],
+            t["range_done"], t["range_mq"], t["offset_done"], t["offset_words"],
             nmatch, imatch, pos, nfeat, ifeat, requests, match_start, match_rows,
             point_start, point_rows, point_words, posit_words)
         if status != 0:

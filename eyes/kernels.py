@@ -47,9 +47,10 @@ def new_tables() -> dict[str, np.ndarray]:
     return {"range_done": np.zeros(MAX_DISP, dtype=np.bool_),
             # dp m,q; ep m,q; their storage words
             "range_mq": np.zeros((MAX_DISP, 6), dtype=np.int64),
-            "offset_done": np.zeros((NOFFSETS, MAX_DISP), dtype=np.bool_),
-            # value m,q; error m,q; their storage words
-            "offset_mq": np.zeros((NOFFSETS, MAX_DISP, 6), dtype=np.int64)}
+            # [disparity, offset]: the storage words of the value and the error
+            # (16 bytes an entry, a line's neighbouring edges close together)
+            "offset_done": np.zeros((MAX_DISP, NOFFSETS), dtype=np.bool_),
+            "offset_words": np.zeros((MAX_DISP, NOFFSETS, 2), dtype=np.int64)}
 
 
 def build_frame(left, right, out: np.ndarray | None = None) -> np.ndarray:
@@ -380,10 +381,10 @@ def lcsl_range(disp, consts, tables_done, tables):
 @jit
 def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
     """DX=DL*DP*DVI; EXMAX=(ABS(DL)*EPMAX+DP*ELMAX+EPMAX*ELMAX)*DVI, left to
-    right (the same for DY, EYMAX with DD and EDMAX = ELMAX), into the memo
-    table (once)."""
+    right (the same for DY, EYMAX with DD and EDMAX = ELMAX), their storage
+    words into the memo table (once)."""
     k = offset + OFFSET0
-    if not done[k, disp]:
+    if not done[disp, k]:
         _, _, dvm, dvq, _, _, emm, emq = consts
         om, oq = dg_from_int(offset)
         am, aq = dg_mul(om, oq, dpm, dpq)
@@ -395,13 +396,9 @@ def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
         tm, tq = dg_mul(epm, epq, emm, emq)
         sm, sq = dg_add(sm, sq, tm, tq)
         em, eq = dg_mul(sm, sq, dvm, dvq)
-        tables[k, disp, 0] = vm
-        tables[k, disp, 1] = vq
-        tables[k, disp, 2] = em
-        tables[k, disp, 3] = eq
-        tables[k, disp, 4] = dg_word(vm, vq)
-        tables[k, disp, 5] = dg_word(em, eq)
-        done[k, disp] = True
+        tables[disp, k, 0] = dg_word(vm, vq)
+        tables[disp, k, 1] = dg_word(em, eq)
+        done[disp, k] = True
 
 
 @jit
@@ -578,7 +575,7 @@ def match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow):
 
 @jit
 def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offset_done,
-              offset_mq, pos, point_rows, point_words, npt):
+              offset_words, pos, point_rows, point_words, npt):
     """LCSL: for each edge the match entries with a disparity above EDISP in
     order, until one puts the range past 1.0, their six POS values from the
     memo tables as storage words in ``pos``; each located edge appended as a
@@ -607,18 +604,18 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
                 epq = range_mq[disp, 3]
                 kx = loc1 - 60 + OFFSET0
                 ky = iyloc - 60 + OFFSET0
-                if not offset_done[kx, disp]:
+                if not offset_done[disp, kx]:
                     lcsl_offset(loc1 - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
-                                offset_mq)
-                if not offset_done[ky, disp]:
+                                offset_words)
+                if not offset_done[disp, ky]:
                     lcsl_offset(iyloc - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
-                                offset_mq)
+                                offset_words)
                 pos[base] = range_mq[disp, 4]
-                pos[base + 1] = offset_mq[kx, disp, 4]
-                pos[base + 2] = offset_mq[ky, disp, 4]
+                pos[base + 1] = offset_words[disp, kx, 0]
+                pos[base + 2] = offset_words[disp, ky, 0]
                 pos[base + 3] = range_mq[disp, 5]
-                pos[base + 4] = offset_mq[kx, disp, 5]
-                pos[base + 5] = offset_mq[ky, disp, 5]
+                pos[base + 4] = offset_words[disp, kx, 1]
+                pos[base + 5] = offset_words[disp, ky, 1]
                 for j in range(6):
                     if pos[base + j] < 0:
                         return -1
@@ -639,7 +636,7 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
 
 @jit
 def scan_frame_kernel(frame, windows, lines, sign_fix, consts, range_done, range_mq,
-                      offset_done, offset_mq, nmatch, imatch, pos, nfeat_out, ifeat_out,
+                      offset_done, offset_words, nmatch, imatch, pos, nfeat_out, ifeat_out,
                       requests_out,
                       match_start, match_rows, point_start, point_rows, point_words,
                       posit_out):
@@ -685,7 +682,7 @@ def scan_frame_kernel(frame, windows, lines, sign_fix, consts, range_done, range
         point_start[k] = npt
         nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
         npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
-                        offset_done, offset_mq, pos, point_rows, point_words, npt)
+                        offset_done, offset_words, pos, point_rows, point_words, npt)
         if npt < 0:
             return -1
         if record_posit:                        # PNPL: the image of /POSIT/ after the line

@@ -295,13 +295,13 @@ def test_lcsl_terms_equal_dg_real_locate(ds, dv):
         dpm, dpq, epm, epq, dpw, epw = t["range_mq"][disp]
         for offset in range(-60, 69):
             lcsl_offset(offset, disp, dpm, dpq, epm, epq, eyes.consts, t["offset_done"],
-                        t["offset_mq"])
+                        t["offset_words"])
         for loc1 in range(1, 129, 5 if disp % 7 else 1):
             iy = (loc1 * 7 + disp) % 120
             want = locate(loc1, loc1 - disp, iy, dsep, dvirt)
-            row_x = t["offset_mq"][loc1 - 60 + OFFSET0, disp]
-            row_y = t["offset_mq"][iy - 60 + OFFSET0, disp]
-            got = [dpw, row_x[4], row_y[4], epw, row_x[5], row_y[5]]
+            row_x = t["offset_words"][disp, loc1 - 60 + OFFSET0]
+            row_y = t["offset_words"][disp, iy - 60 + OFFSET0]
+            got = [dpw, row_x[0], row_y[0], epw, row_x[1], row_y[1]]
             assert [int.from_bytes(r.to_bytes(), "big") for r in want] == got, (disp, loc1, iy)
 
 
