@@ -310,3 +310,31 @@ def test_a_flat_pair_locates_nothing_and_writes_just_the_header():
     fast = Eyes().scan(flat, flat)
     assert len(fast.point_rows) == 0
     assert fast.csv_text() == scanmod.csv_text([]) == ",".join(scanmod.CSV_COLUMNS) + "\n"
+
+
+def test_the_eyes_as_plain_python_equal_the_compiled_scan():
+    """``RIG_NO_JIT=1``: the same kernels run as plain Python (no numba) give
+    every array the compiled scan gives, on three lines of the bundled pair."""
+    import json
+    import subprocess
+    import sys
+    from rig.session import child_env
+    lines = [20, 60, 100]
+    code = ("import json\n"
+            "from diskfmt.jit import ENABLED\n"
+            "assert not ENABLED\n"
+            "from tests.test_eyes import bundled_pair\n"
+            "from eyes import Eyes\n"
+            f"f = Eyes().scan(*bundled_pair(), {lines!r}, keep_posit=True)\n"
+            "print(json.dumps({k: getattr(f, k).tolist() for k in "
+            "('nfeat', 'ifeat', 'requests', 'match_start', 'match_rows', 'point_start', "
+            "'point_rows', 'point_words', 'posit_words')}))\n")
+    env = dict(child_env(), RIG_NO_JIT="1")
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    plain = json.loads(run.stdout)
+    compiled = Eyes().scan(*bundled_pair(), lines, keep_posit=True)
+    assert len(compiled.point_rows) > 30
+    for name, value in plain.items():
+        assert value == getattr(compiled, name).tolist(), name
