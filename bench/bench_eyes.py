@@ -208,6 +208,7 @@ def stages(rounds: int) -> list[str]:
         partners = np.zeros((2, 18), dtype=np.int64)
         bounds = np.zeros((2, 50, 2), dtype=np.int64)
         kept = np.zeros((2, 50), dtype=np.int64)
+        grey = np.zeros((2, 320), dtype=np.uint8)
         nmatch = np.zeros(100, dtype=np.int64)
         imatch = np.zeros((100, 10, 4), dtype=np.int64)
         pos = np.zeros(640, dtype=np.int64)
@@ -218,7 +219,7 @@ def stages(rounds: int) -> list[str]:
             nfeat1, nfeat2 = cfeat(frame, iyloc, pix, ifeat1, ifeat2, work)
             if stop >= 2:
                 masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, False, nmatch,
-                          imatch, maps, bits, requests, partners, bounds, kept)
+                          imatch, maps, bits, requests, partners, bounds, kept, grey)
             if stop >= 3:
                 nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
                 npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,

@@ -125,7 +125,7 @@ def level_windows(frame, windows):
 
 
 @jit
-def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
+def nblob_many(frame, windows, iyloc, requests, count, maps, bits, grey):
     """NBLOB(IMAGE, X, IYLOC, IES) for the first ``count`` rows (image, edge,
     X, IES) of ``requests`` (:func:`estar.masl.masl_requests`' rows): NSTAR
     label 100's geometry and label 500's edge bit map
@@ -133,14 +133,27 @@ def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
     (:func:`level_windows`).  Map ``maps[image-1, edge-1]`` gets the 16
     column words, four to a 64-bit word, column 1 lowest, and
     ``bits[image-1, edge-1]`` its number of set bits (MARF's totals).
-    (Written out in one loop: a helper taking arrays would cost a reference
-    count per call.)"""
+    RVBLK's grey range (3 rows from IYC, 2 columns from IXM) is read from
+    ``grey`` (work space, (2, 320) uint8), filled once a line for every
+    frame-store column: ``grey[0, x]`` the least and ``grey[1, x]`` the
+    greatest pixel of rows IYC..IYC+2, columns x and x+1.  (Written out in
+    one loop: a helper taking arrays would cost a reference count per
+    call.)"""
     columns = maps.view(np.uint16)                 # [image, edge, column]: little-endian limbs
     iyc = min(max(iyloc, 0), 119)                  # command_geometry's clamps
     top = iyc - 7                                  # map rows top..top+15
     q = max(top, 0) >> 5
     down = np.uint64(max(top, 0) - 32 * q)
     up = np.uint64(max(-top, 0))                   # rows above row 0 stay 0
+    if count == 0:
+        return
+    for x in range(319):                           # RVBLK(ICT,IDAT,IXM,2,IYC,3) for every IXM
+        a = min(min(frame[iyc, x], frame[iyc + 1, x]), frame[iyc + 2, x])
+        b = min(min(frame[iyc, x + 1], frame[iyc + 1, x + 1]), frame[iyc + 2, x + 1])
+        grey[0, x] = min(a, b)
+        a = max(max(frame[iyc, x], frame[iyc + 1, x]), frame[iyc + 2, x])
+        b = max(max(frame[iyc, x + 1], frame[iyc + 1, x + 1]), frame[iyc + 2, x + 1])
+        grey[1, x] = max(a, b)
     for k in range(count):
         image = requests[k, 0]
         row = requests[k, 1] - 1
@@ -148,13 +161,8 @@ def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
         ixctr = min(max(requests[k, 2], 0), 127)
         ixc = ixctr + (26 if image == 1 else 166)
         ixm = min(ixc, ixc + ies + ies)
-        igmn = 15
-        igmx = 0
-        for r in range(iyc, iyc + 3):              # RVBLK(ICT,IDAT,IXM,2,IYC,3)
-            for c in range(ixm, ixm + 2):
-                v = frame[r, c]
-                igmn = min(igmn, v)
-                igmx = max(igmx, v)
+        igmn = np.int64(grey[0, ixm])
+        igmx = np.int64(grey[1, ixm])
         img = image - 1
         x0 = ixctr - 7 + WINDOW_PAD                # picture column ixctr-7 (outside: empty)
         for c in range(16):
@@ -417,7 +425,7 @@ def cfeat(frame, iyloc, pix, ifeat1, ifeat2, work):
 
 @jit
 def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
-              maps, bits, requests, partners, bounds, kept):
+              maps, bits, requests, partners, bounds, kept, grey):
     """MASL for one line (IBLB1/IBLB2 empty at its start).  MASL tries every
     slice-2 feature JNDX for every slice-1 feature INDX, both sides, and
     compares the pairs whose grey levels differ by at most 1; a side's match
@@ -428,8 +436,8 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
     made when a pair will compare it (the maps depend only on the pictures),
     then each pair goes through MARF (:func:`marf_best_shift`) into COMMON
     /MATCH/.  Work space: ``partners`` (2, 18), ``bounds`` (2, 50, 2) (IRGD
-    of slice 1, then slice 2), ``kept`` (2, 50).  Returns the number of NBLOB
-    round trips."""
+    of slice 1, then slice 2), ``kept`` (2, 50), ``grey`` (2, 320) uint8
+    (:func:`nblob_many`'s).  Returns the number of NBLOB round trips."""
     # partners[side, g + 1]: bit JNDX-1 set when slice-2 feature JNDX's grey on
     # that side is within 1 of g
     partners[:] = 0
@@ -489,7 +497,7 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
                 requests[nfetch, 2] = ifeat2[side, jndx - 1]
                 requests[nfetch, 3] = -1 if side == 0 else 1
                 nfetch += 1
-    nblob_many(frame, windows, iyloc, requests, nfetch, maps, bits)
+    nblob_many(frame, windows, iyloc, requests, nfetch, maps, bits, grey)
     for indx in range(1, nfeat1 + 1):
         for side in range(2):
             e1 = indx + 50 * side
@@ -665,6 +673,7 @@ def scan_frame_kernel(frame, windows, lines, sign_fix, consts, range_done, range
     partners = np.zeros((2, 18), dtype=np.int64)
     bounds = np.zeros((2, 50, 2), dtype=np.int64)
     kept = np.zeros((2, 50), dtype=np.int64)
+    grey = np.zeros((2, 320), dtype=np.uint8)
     nrow = 0
     npt = 0
     record_posit = posit_out.shape[0] == lines.shape[0]
@@ -677,7 +686,7 @@ def scan_frame_kernel(frame, windows, lines, sign_fix, consts, range_done, range
         ifeat_out[k, 1] = ifeat2
         requests_out[k] = masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
                                     sign_fix, nmatch, imatch, maps, bits, requests, partners,
-                                    bounds, kept)
+                                    bounds, kept, grey)
         match_start[k] = nrow
         point_start[k] = npt
         nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)

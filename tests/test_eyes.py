@@ -198,6 +198,7 @@ def test_edge_maps_equal_nstar_label_500_everywhere():
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     bits = np.zeros((2, 100), dtype=np.int64)
+    grey = np.full((2, 320), 99, dtype=np.uint8)           # stale work space
     ref = np.zeros(16, dtype=np.int64)
     seams = [y for t in (0, 32, 64, 96, 120) for y in range(t - 1 + 7 - 16, t + 8)]
     for y in sorted(set(range(0, 120, 3)) | {y for y in seams if 0 <= y < 120}):
@@ -205,7 +206,7 @@ def test_edge_maps_equal_nstar_label_500_everywhere():
                              for image in (1, 2) for ies in (-1, 1) for x in range(130)])
         for start in range(0, len(requests), 100):
             chunk = requests[start:start + 100]
-            nblob_many(frame, windows, y, chunk, len(chunk), maps, bits)
+            nblob_many(frame, windows, y, chunk, len(chunk), maps, bits, grey)
             for image, edge, x, ies in chunk:
                 _, x0, x1, y0, y1, _, _, ixc, iyc = command_geometry(image, x, y)
                 edge_map_kernel(frame, ixc, iyc, ies, x0, x1, y0, y1, ref)
