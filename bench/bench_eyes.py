@@ -4,7 +4,9 @@
   StereoSGBM (docs/accuracy.md's settings: 16 disparities, BM block 9, SGBM
   block 5 with P1/P2 = 8/32 * 5^2, MODE_HH), one thread each
   (``cv2.setNumThreads(1)``), timed interleaved round after round on the same
-  pictures, ratios of medians; the bundled pair and (with scikit-image) the
+  pictures, ratios of medians of the wall-clock time and of the thread's CPU
+  time (which leaves out the time a busy machine's other work takes the core
+  away); the bundled pair and (with scikit-image) the
   Middlebury motorcycle pair; the reference path (ESTAR's Eclipse + NSTAR's
   Nova in process) a few times for its ratio;
 * where a warm scan's time goes (``--only stages``): the compiled line loop
@@ -72,13 +74,16 @@ def warm(rounds: int) -> list[str]:
         runs = {"eyes": lambda: eyes.scan(left, right), "StereoBM": lambda: bm.compute(l8, r8),
                 "StereoSGBM": lambda: sgbm.compute(l8, r8)}
         times = {k: [] for k in runs}
-        for fn in runs.values():
+        cpu = {k: [] for k in runs}                   # this thread's CPU time: what the
+        for fn in runs.values():                      # load's preemptions leave out
             fn()
         for _ in range(rounds):                       # interleaved
             for k, fn in runs.items():
+                c = time.thread_time()
                 t = time.perf_counter()
                 fn()
                 times[k].append(time.perf_counter() - t)
+                cpu[k].append(time.thread_time() - c)
         ref = []
         for _ in range(3):
             t = time.perf_counter()
@@ -92,6 +97,11 @@ def warm(rounds: int) -> list[str]:
         lines.append(f"  eyes / StereoSGBM = {med['eyes'] / med['StereoSGBM']:.2f}, "
                      f"eyes / StereoBM = {med['eyes'] / med['StereoBM']:.2f} (medians, "
                      f"{rounds} interleaved rounds); eyes = {1 / med['eyes']:.0f} frames/s")
+        cmed = {k: statistics.median(v) for k, v in cpu.items()}
+        lines.append("  thread CPU time, medians: " + ", ".join(
+            f"{k} {v * 1e3:.3f} ms" for k, v in cmed.items())
+            + f"; eyes / StereoSGBM = {cmed['eyes'] / cmed['StereoSGBM']:.2f}, "
+            f"eyes / StereoBM = {cmed['eyes'] / cmed['StereoBM']:.2f}")
         lines.append(f"  reference path (Eclipse + Nova in process) median "
                      f"{statistics.median(ref) * 1e3:.1f} ms = "
                      f"{statistics.median(ref) / med['eyes']:.0f}x the eyes")
@@ -241,7 +251,7 @@ def stages(rounds: int) -> list[str]:
         return total
 
     names = ("level windows", "EXQVFL slices", "MASL (edge maps, MARF, insertions)",
-             "match rows + LCSL", "Eyes.scan's Python side")
+             "match rows + LCSL", "outputs + Eyes.scan's Python side")
     out = []
     for name, (left, right) in pictures().items():
         eyes = Eyes()
@@ -249,8 +259,8 @@ def stages(rounds: int) -> list[str]:
         frame = build_frame(left, right)
         t = eyes.tables
         lines = np.arange(8, 113)
-        work = (np.empty((105000, 5), np.int64), np.empty((10500, 6), np.int64),
-                np.empty((10500, 6), np.int64))
+        work = (np.empty((105000, 5), np.int32), np.empty((10500, 6), np.int32),
+                np.empty((10500, 6), np.uint32))
         windows = new_windows()
         runs = [lambda s=s: cut(frame, windows, lines, s, eyes.consts, t["range_done"], t["range_mq"],
                                 t["offset_done"], t["offset_words"], *work) for s in range(4)]
