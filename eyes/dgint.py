@@ -91,8 +91,8 @@ def dg_add(m1, q1, m2, q2):
 @jit
 def dg_gt(m1, q1, m2, q2):
     """``a > b`` for normalised values (a larger exponent is a larger magnitude)."""
-    s1 = (m1 > 0) - (m1 < 0)
-    s2 = (m2 > 0) - (m2 < 0)
+    s1 = int(m1 > 0) - int(m1 < 0)            # int(): plain Python (RIG_NO_JIT) too
+    s2 = int(m2 > 0) - int(m2 < 0)
     if s1 != s2:
         return s1 > s2
     if s1 == 0:

@@ -68,7 +68,7 @@ def line_transitions(ipix, ilast, work):
     for i in range(ilast - 1, 0, -1):
         d = ipix[i] - ipix[i - 1]
         step[i] = d
-        sign = (d > 0) - (d < 0)
+        sign = int(d > 0) - int(d < 0)          # int(): plain Python (RIG_NO_JIT) too
         moving = sign != 0
         change_after = i if moving else change_after
         run_after = (run_after + 1 if sign == sign_after else 1) if moving else 0

@@ -20,7 +20,7 @@ from estar.lcsl import EDISP, EDMAX, ELMAX, ONE
 from estar.masl import Options as MaslOptions
 from estar.program import LineResult
 from .dgint import mq
-from .kernels import build_frame, new_tables, scan_frame_kernel
+from .kernels import build_frame, new_tables, new_windows, scan_frame_kernel
 
 DEFAULT_LINES = range(8, 113)          # Appendix C: "in the range 8 to 112"
 # The entry LCSL took, where LineResult records it ("used")
@@ -43,13 +43,13 @@ class FrameScan:
     :func:`eyes.kernels.scan_frame_kernel` for the layout)."""
     lines: np.ndarray            # (n,) IY of each line, in scan order
     nfeat: np.ndarray            # (n, 2) NFEAT of slice 1 and slice 2
-    ifeat: np.ndarray            # (n, 2, 4, 50) IFEAT of both slices
+    ifeat: np.ndarray            # (n, 2, 4, 50) int16: IFEAT of both slices
     requests: np.ndarray         # (n,) NBLOB round trips
     match_start: np.ndarray      # (n+1,)
-    match_rows: np.ndarray       # (M, 5) edge, INDX, QUAL, LOC1, LOC2
+    match_rows: np.ndarray       # (M, 5) int32: edge, INDX, QUAL, LOC1, LOC2
     point_start: np.ndarray      # (n+1,)
-    point_rows: np.ndarray       # (P, 6) line, edge, LOC1, LOC2, INDX, QUAL of the entry taken
-    point_words: np.ndarray      # (P, 6) POS(1..6) storage words
+    point_rows: np.ndarray       # (P, 6) int32: line, edge, LOC1, LOC2, INDX, QUAL of the entry taken
+    point_words: np.ndarray      # (P, 6) uint32: POS(1..6) storage words
     posit_words: np.ndarray      # (n, 640) /POSIT/ after each line, or (1, 640) after the last
 
     @property
@@ -141,6 +141,19 @@ def _word_texts(words: np.ndarray, squared_half: bool = False) -> np.ndarray:
     return texts[inverse.reshape(words.shape)] if len(unique) else np.empty(words.shape, object)
 
 
+_DEFAULT_LINE_ARRAY = np.arange(DEFAULT_LINES.start, DEFAULT_LINES.stop, dtype=np.int64)
+_DEFAULT_LINE_ARRAY.flags.writeable = False
+
+
+def _line_array(lines) -> np.ndarray:
+    """``lines`` as a 1-D int64 array (the default range without building it)."""
+    if isinstance(lines, range):
+        if lines == DEFAULT_LINES:
+            return _DEFAULT_LINE_ARRAY
+        return np.arange(lines.start, lines.stop, lines.step, dtype=np.int64)
+    return np.asarray(list(lines), dtype=np.int64).reshape(-1)
+
+
 class Eyes:
     """The compiled frame scan for one calibration: ``Eyes(ds, dv).scan(left,
     right)`` gives what ``rig.scan.scan_pair(left, right, lines, ds, dv)``
@@ -159,6 +172,8 @@ class Eyes:
         self.consts = np.array([*mq(dcons), *mq(dvi), *mq(EDISP), *mq(ELMAX)], dtype=np.int64)
         self.tables = new_tables()
         self._rows = None
+        self._frame = None
+        self._windows = new_windows()
 
     def scan(self, left, right, lines=DEFAULT_LINES, keep_posit: bool = False) -> FrameScan:
         """Scan the 120x128 pair over ``lines`` (0..119, any order) as one fresh
@@ -167,30 +182,32 @@ class Eyes:
         for name, pic in (("left", left), ("right", right)):
             if pic.shape != (120, 128):
                 raise ValueError(f"{name} picture is {pic.shape}, expected (120, 128)")
-        lines = np.asarray(list(lines), dtype=np.int64).reshape(-1)
+        lines = _line_array(lines)
         if len(lines) and (lines.min() < 0 or lines.max() > 119):
             raise ValueError("lines must lie within 0..119")
         n = len(lines)
-        frame = build_frame(left, right)
+        self._frame = frame = build_frame(left, right, self._frame)
         nmatch = np.zeros(100, dtype=np.int64)
         imatch = np.zeros((100, 10, 4), dtype=np.int64)
         pos = np.zeros(640, dtype=np.int64)
-        nfeat = np.zeros((n, 2), dtype=np.int64)
-        ifeat = np.zeros((n, 2, 4, 50), dtype=np.int32)
-        requests = np.zeros(n, dtype=np.int64)
-        match_start = np.zeros(n + 1, dtype=np.int64)
-        point_start = np.zeros(n + 1, dtype=np.int64)
+        # written whole by the kernel, line by line: no clearing
+        nfeat = np.empty((n, 2), dtype=np.int64)
+        ifeat = np.empty((n, 2, 4, 50), dtype=np.int16)     # the Nova's 16-bit words
+        requests = np.empty(n, dtype=np.int64)
+        match_start = np.empty(n + 1, dtype=np.int64)
+        point_start = np.empty(n + 1, dtype=np.int64)
         if self._rows is None or len(self._rows[1]) < n * 100:
-            # work space for the rows, kept between scans (its pages stay mapped)
-            self._rows = (np.empty((n * 1000, 5), dtype=np.int64),
-                          np.empty((n * 100, 6), dtype=np.int64),
-                          np.empty((n * 100, 6), dtype=np.int64))
+            # work space for the rows, kept between scans (its pages stay mapped);
+            # 32-bit, as every value fits: half the bytes to write and copy out
+            self._rows = (np.empty((n * 1000, 5), dtype=np.int32),
+                          np.empty((n * 100, 6), dtype=np.int32),
+                          np.empty((n * 100, 6), dtype=np.uint32))
         match_rows, point_rows, point_words = self._rows
-        posit_words = np.zeros((n if keep_posit else 0, 640), dtype=np.int64)
+        posit_words = np.empty((n if keep_posit else 0, 640), dtype=np.int64)
         t = self.tables
         status = scan_frame_kernel(
-            frame, lines, bool(self.options.marf_sign_fix), self.consts,
-            t["range_done"], t["range_mq"], t["offset_done"], t["offset_mq"],
+            frame, self._windows, lines, bool(self.options.marf_sign_fix), self.consts,
+            t["range_done"], t["range_mq"], t["offset_done"], t["offset_words"],
             nmatch, imatch, pos, nfeat, ifeat, requests, match_start, match_rows,
             point_start, point_rows, point_words, posit_words)
         if status != 0:

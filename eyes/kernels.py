@@ -47,17 +47,25 @@ def new_tables() -> dict[str, np.ndarray]:
     return {"range_done": np.zeros(MAX_DISP, dtype=np.bool_),
             # dp m,q; ep m,q; their storage words
             "range_mq": np.zeros((MAX_DISP, 6), dtype=np.int64),
-            "offset_done": np.zeros((NOFFSETS, MAX_DISP), dtype=np.bool_),
-            # value m,q; error m,q; their storage words
-            "offset_mq": np.zeros((NOFFSETS, MAX_DISP, 6), dtype=np.int64)}
+            # [disparity, offset]: the storage words of the value and the error
+            # (16 bytes an entry, a line's neighbouring edges close together)
+            "offset_done": np.zeros((MAX_DISP, NOFFSETS), dtype=np.bool_),
+            "offset_words": np.zeros((MAX_DISP, NOFFSETS, 2), dtype=np.int64)}
 
 
-def build_frame(left, right) -> np.ndarray:
+def build_frame(left, right, out: np.ndarray | None = None) -> np.ndarray:
     """The OCTEK frame store after NSTAR label 800: white (15) everywhere, the
-    left picture at x 26 and the right at x 166, rows 0..119, low 4 bits."""
-    frame = np.full((240, 320), 15, dtype=np.uint8)
-    frame[0:120, LEFT_X:LEFT_X + 128] = np.asarray(left).astype(np.int64) & 15
-    frame[0:120, RIGHT_X:RIGHT_X + 128] = np.asarray(right).astype(np.int64) & 15
+    left picture at x 26 and the right at x 166, rows 0..119, low 4 bits.
+    ``out``: a frame store this function made before, refilled in place (only
+    the two pictures' places change)."""
+    frame = np.full((240, 320), 15, dtype=np.uint8) if out is None else out
+    for x0, pic in ((LEFT_X, left), (RIGHT_X, right)):
+        pic = np.asarray(pic)
+        place = frame[0:120, x0:x0 + 128]
+        if pic.dtype.kind in "iub":            # integers: the low 4 bits, no copy
+            np.bitwise_and(pic, 15, out=place, casting="unsafe")
+        else:                                  # as int(): truncated toward zero
+            place[:] = pic.astype(np.int64) & 15
     return frame
 
 
@@ -72,33 +80,52 @@ def popcount64(x):
     return np.int64((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
 
 
+WINDOW_PAD = 8                     # zero columns either side: a map never leaves the array
+WINDOWS_SHAPE = (2, 4, 17, 128 + 2 * WINDOW_PAD)
+
+
+def new_windows() -> np.ndarray:
+    """Work space for :func:`level_windows`."""
+    return np.zeros(WINDOWS_SHAPE, dtype=np.uint64)
+
+
 @jit
 def level_windows(frame, windows):
-    """For each picture (0 left, 1 right), column and grey level g, the rows
+    """For each picture (0 left, 1 right), grey level g and column x, the rows
     0..119 whose pixel is at most g, as four overlapping 64-row windows:
-    bit b of ``windows[i, x, g+1, q]`` is row 32q+b (``windows[i, x, 0]`` is
-    empty).  NSTAR label 500 sets a bit when the pixel lies in IGMN..IGMX:
-    ``windows[.., IGMX+1, q] & ~windows[.., IGMN, q]``; any 16 rows from row
-    ``top`` >= 0 lie in window ``top >> 5``, so an edge map's column is one
-    load and one shift per level."""
-    windows[:] = 0
+    bit b of ``windows[i, q, g+1, WINDOW_PAD + x]`` is row 32q+b
+    (``windows[i, q, 0]`` is empty).  NSTAR label 500 sets a bit when the
+    pixel lies in IGMN..IGMX: ``windows[.., IGMX+1, x] & ~windows[.., IGMN, x]``;
+    any 16 rows from row ``top`` >= 0 lie in window ``top >> 5``, so an edge
+    map's column is one load and one shift per level, and its 16 columns are
+    side by side.  A column's rows are gathered by level in two words (rows
+    0..63, 64..127), then each window word is written once; only the
+    pictures' columns are written, so the pad columns stay empty as
+    :func:`new_windows` made them."""
     one = np.uint64(1)
+    m32 = np.uint64(32)
+    by_level = np.zeros((17, 2), dtype=np.uint64)   # one column: rows whose pixel is g-1
     for i in range(2):
         x0 = 26 + 140 * i
         for x in range(128):
-            for r in range(120):
-                g1 = frame[r, x0 + x] + 1
-                q = r >> 5
-                windows[i, x, g1, q] |= one << np.uint64(r - 32 * q)
-                if q >= 1:
-                    windows[i, x, g1, q - 1] |= one << np.uint64(r - 32 * q + 32)
-            for g in range(1, 17):
-                for q in range(4):
-                    windows[i, x, g, q] |= windows[i, x, g - 1, q]
+            by_level[:] = 0
+            for r in range(64):
+                by_level[frame[r, x0 + x] + 1, 0] |= one << np.uint64(r)
+            for r in range(64, 120):
+                by_level[frame[r, x0 + x] + 1, 1] |= one << np.uint64(r - 64)
+            lo = np.uint64(0)                       # rows 0..63 at most level g-1
+            hi = np.uint64(0)                       # rows 64..127
+            for g in range(17):
+                lo |= by_level[g, 0]
+                hi |= by_level[g, 1]
+                windows[i, 0, g, WINDOW_PAD + x] = lo
+                windows[i, 1, g, WINDOW_PAD + x] = (lo >> m32) | (hi << m32)
+                windows[i, 2, g, WINDOW_PAD + x] = hi
+                windows[i, 3, g, WINDOW_PAD + x] = hi >> m32
 
 
 @jit
-def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
+def nblob_many(frame, windows, iyloc, requests, count, maps, bits, grey):
     """NBLOB(IMAGE, X, IYLOC, IES) for the first ``count`` rows (image, edge,
     X, IES) of ``requests`` (:func:`estar.masl.masl_requests`' rows): NSTAR
     label 100's geometry and label 500's edge bit map
@@ -106,14 +133,27 @@ def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
     (:func:`level_windows`).  Map ``maps[image-1, edge-1]`` gets the 16
     column words, four to a 64-bit word, column 1 lowest, and
     ``bits[image-1, edge-1]`` its number of set bits (MARF's totals).
-    (Written out in one loop: a helper taking arrays would cost a reference
-    count per call.)"""
+    RVBLK's grey range (3 rows from IYC, 2 columns from IXM) is read from
+    ``grey`` (work space, (2, 320) uint8), filled once a line for every
+    frame-store column: ``grey[0, x]`` the least and ``grey[1, x]`` the
+    greatest pixel of rows IYC..IYC+2, columns x and x+1.  (Written out in
+    one loop: a helper taking arrays would cost a reference count per
+    call.)"""
+    columns = maps.view(np.uint16)                 # [image, edge, column]: little-endian limbs
     iyc = min(max(iyloc, 0), 119)                  # command_geometry's clamps
     top = iyc - 7                                  # map rows top..top+15
     q = max(top, 0) >> 5
     down = np.uint64(max(top, 0) - 32 * q)
     up = np.uint64(max(-top, 0))                   # rows above row 0 stay 0
-    lo16 = np.uint64(0xFFFF)
+    if count == 0:
+        return
+    for x in range(319):                           # RVBLK(ICT,IDAT,IXM,2,IYC,3) for every IXM
+        a = min(min(frame[iyc, x], frame[iyc + 1, x]), frame[iyc + 2, x])
+        b = min(min(frame[iyc, x + 1], frame[iyc + 1, x + 1]), frame[iyc + 2, x + 1])
+        grey[0, x] = min(a, b)
+        a = max(max(frame[iyc, x], frame[iyc + 1, x]), frame[iyc + 2, x])
+        b = max(max(frame[iyc, x + 1], frame[iyc + 1, x + 1]), frame[iyc + 2, x + 1])
+        grey[1, x] = max(a, b)
     for k in range(count):
         image = requests[k, 0]
         row = requests[k, 1] - 1
@@ -121,25 +161,15 @@ def nblob_many(frame, windows, iyloc, requests, count, maps, bits):
         ixctr = min(max(requests[k, 2], 0), 127)
         ixc = ixctr + (26 if image == 1 else 166)
         ixm = min(ixc, ixc + ies + ies)
-        igmn = 15
-        igmx = 0
-        for r in range(iyc, iyc + 3):              # RVBLK(ICT,IDAT,IXM,2,IYC,3)
-            for c in range(ixm, ixm + 2):
-                v = frame[r, c]
-                igmn = min(igmn, v)
-                igmx = max(igmx, v)
+        igmn = np.int64(grey[0, ixm])
+        igmx = np.int64(grey[1, ixm])
         img = image - 1
-        nbits = 0
-        for limb in range(4):
-            acc = np.uint64(0)
-            for c4 in range(4):
-                pc = ixctr - 7 + 4 * limb + c4      # picture column; outside stays 0
-                if 0 <= pc <= 127:
-                    w = windows[img, pc, igmx + 1, q] & ~windows[img, pc, igmn, q]
-                    acc |= (((w >> down) << up) & lo16) << np.uint64(16 * c4)
-            maps[img, row, limb] = acc
-            nbits += popcount64(acc)
-        bits[img, row] = nbits
+        x0 = ixctr - 7 + WINDOW_PAD                # picture column ixctr-7 (outside: empty)
+        for c in range(16):
+            columns[img, row, c] = np.uint16(((windows[img, q, igmx + 1, x0 + c]
+                                               & ~windows[img, q, igmn, x0 + c]) >> down) << up)
+        bits[img, row] = (popcount64(maps[img, row, 0]) + popcount64(maps[img, row, 1])
+                          + popcount64(maps[img, row, 2]) + popcount64(maps[img, row, 3]))
 
 
 @jit
@@ -228,6 +258,19 @@ def _quality(nd, ntot):
     the double's rounding, so its floor is the integer quotient (and a float
     division is several times quicker than a 64-bit integer one)."""
     return np.int64(np.float64(nd * 256) / np.float64(ntot))
+
+
+@jit
+def marf_no_shift(a0, a1, a2, a3, ta, b0, b1, b2, b3, tb):
+    """MARF's MNVAL when IWST = 0 (its only shift is 0, so MLOC = 0), given
+    each map's bit count: the stepped MARF's first comparison alone, without
+    setting up its registers."""
+    ntot = ta + tb
+    nd = (popcount64(a0 ^ b0) + popcount64(a1 ^ b1) + popcount64(a2 ^ b2)
+          + popcount64(a3 ^ b3))
+    if ntot != 0 and nd < 128:
+        return _quality(nd, ntot)
+    return 256
 
 
 @jit
@@ -346,10 +389,10 @@ def lcsl_range(disp, consts, tables_done, tables):
 @jit
 def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
     """DX=DL*DP*DVI; EXMAX=(ABS(DL)*EPMAX+DP*ELMAX+EPMAX*ELMAX)*DVI, left to
-    right (the same for DY, EYMAX with DD and EDMAX = ELMAX), into the memo
-    table (once)."""
+    right (the same for DY, EYMAX with DD and EDMAX = ELMAX), their storage
+    words into the memo table (once)."""
     k = offset + OFFSET0
-    if not done[k, disp]:
+    if not done[disp, k]:
         _, _, dvm, dvq, _, _, emm, emq = consts
         om, oq = dg_from_int(offset)
         am, aq = dg_mul(om, oq, dpm, dpq)
@@ -361,13 +404,9 @@ def lcsl_offset(offset, disp, dpm, dpq, epm, epq, consts, done, tables):
         tm, tq = dg_mul(epm, epq, emm, emq)
         sm, sq = dg_add(sm, sq, tm, tq)
         em, eq = dg_mul(sm, sq, dvm, dvq)
-        tables[k, disp, 0] = vm
-        tables[k, disp, 1] = vq
-        tables[k, disp, 2] = em
-        tables[k, disp, 3] = eq
-        tables[k, disp, 4] = dg_word(vm, vq)
-        tables[k, disp, 5] = dg_word(em, eq)
-        done[k, disp] = True
+        tables[disp, k, 0] = dg_word(vm, vq)
+        tables[disp, k, 1] = dg_word(em, eq)
+        done[disp, k] = True
 
 
 @jit
@@ -386,17 +425,19 @@ def cfeat(frame, iyloc, pix, ifeat1, ifeat2, work):
 
 @jit
 def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, nmatch, imatch,
-              maps, bits, requests, partners, bounds2):
+              maps, bits, requests, partners, bounds, kept, grey):
     """MASL for one line (IBLB1/IBLB2 empty at its start).  MASL tries every
     slice-2 feature JNDX for every slice-1 feature INDX, both sides, and
     compares the pairs whose grey levels differ by at most 1; a side's match
     list only depends on the order of JNDX within that side, so here each
     side visits just its partners, in increasing JNDX, from a bit set per
-    grey level.  NBLOB fetches the map of every edge that has a partner (the
-    requests MASL makes, :func:`estar.masl.masl_requests`, in another order:
-    the maps depend only on the pictures), then each pair goes through MARF
-    (:func:`marf_best_shift`) into COMMON /MATCH/.  Returns the number of
-    NBLOB round trips."""
+    grey level.  NBLOB's round trips are counted as MASL makes them (every
+    edge with a partner, :func:`estar.masl.masl_requests`), but a map is only
+    made when a pair will compare it (the maps depend only on the pictures),
+    then each pair goes through MARF (:func:`marf_best_shift`) into COMMON
+    /MATCH/.  Work space: ``partners`` (2, 18), ``bounds`` (2, 50, 2) (IRGD
+    of slice 1, then slice 2), ``kept`` (2, 50), ``grey`` (2, 320) uint8
+    (:func:`nblob_many`'s).  Returns the number of NBLOB round trips."""
     # partners[side, g + 1]: bit JNDX-1 set when slice-2 feature JNDX's grey on
     # that side is within 1 of g
     partners[:] = 0
@@ -405,37 +446,59 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
             g = ifeat2[2 + side, jndx - 1]
             for d in range(3):
                 partners[side, g + d] |= 1 << (jndx - 1)
-    nreq = 0
-    wanted_left = 0                            # slice-2 partners on each side
-    wanted_right = 0
-    for side in range(2):
-        for indx in range(1, nfeat1 + 1):
-            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
-            if m:
-                requests[nreq, 0] = 1
-                requests[nreq, 1] = indx + 50 * side
-                requests[nreq, 2] = ifeat1[side, indx - 1]
-                requests[nreq, 3] = -1 if side == 0 else 1
-                nreq += 1
-                if side == 0:
-                    wanted_left |= m
-                else:
-                    wanted_right |= m
-    for side in range(2):
-        for jndx in range(1, nfeat2 + 1):
-            if (wanted_left if side == 0 else wanted_right) & (1 << (jndx - 1)):
-                requests[nreq, 0] = 2
-                requests[nreq, 1] = jndx + 50 * side
-                requests[nreq, 2] = ifeat2[side, jndx - 1]
-                requests[nreq, 3] = -1 if side == 0 else 1
-                nreq += 1
-    nblob_many(frame, windows, iyloc, requests, nreq, maps, bits)
     for j in range(1, nfeat2 + 1):
         b = _search_bounds_kernel(ifeat2, nfeat2, j, NPIX2)
-        bounds2[j - 1, 0] = b[0]
-        bounds2[j - 1, 1] = b[1]
+        bounds[1, j - 1, 0] = b[0]
+        bounds[1, j - 1, 1] = b[1]
+    # A pair MARF can keep has X2 - IWST < X1, so X2 < X1 + IRGD (IWST <= IRGD):
+    # with slice 2's edges in increasing X (EXQVFL finds them left to right;
+    # checked, else no pair is passed over) those are the JNDX below a limit,
+    # found by a pointer walked along slice 2 (``below``).
+    ordered = True
+    for j in range(1, nfeat2):
+        if ifeat2[0, j] <= ifeat2[0, j - 1] or ifeat2[1, j] <= ifeat2[1, j - 1]:
+            ordered = False
+    nreq = 0
+    nfetch = 0
+    for side in range(2):
+        wanted = 0                             # slice-2 partners: NBLOB's requests
+        needed = 0                             # those some pair will compare
+        below = 0
+        for indx in range(1, nfeat1 + 1):
+            if side == 0:
+                b = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
+                bounds[0, indx - 1, 0] = b[0]
+                bounds[0, indx - 1, 1] = b[1]
+            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            x1 = ifeat1[side, indx - 1]
+            if m:
+                nreq += 1
+                wanted |= m
+                if ordered:
+                    limit = x1 + bounds[0, indx - 1, side]
+                    while below < nfeat2 and ifeat2[side, below] < limit:
+                        below += 1
+                    while below > 0 and ifeat2[side, below - 1] >= limit:
+                        below -= 1
+                    m &= (1 << below) - 1
+            kept[side, indx - 1] = m
+            if m:
+                requests[nfetch, 0] = 1
+                requests[nfetch, 1] = indx + 50 * side
+                requests[nfetch, 2] = x1
+                requests[nfetch, 3] = -1 if side == 0 else 1
+                nfetch += 1
+                needed |= m
+        nreq += popcount64(np.uint64(wanted))
+        for jndx in range(1, nfeat2 + 1):
+            if needed & (1 << (jndx - 1)):
+                requests[nfetch, 0] = 2
+                requests[nfetch, 1] = jndx + 50 * side
+                requests[nfetch, 2] = ifeat2[side, jndx - 1]
+                requests[nfetch, 3] = -1 if side == 0 else 1
+                nfetch += 1
+    nblob_many(frame, windows, iyloc, requests, nfetch, maps, bits, grey)
     for indx in range(1, nfeat1 + 1):
-        irgd = _search_bounds_kernel(ifeat1, nfeat1, indx, NPIX1)   # QUIRKS E4
         for side in range(2):
             e1 = indx + 50 * side
             row = e1 - 1
@@ -445,22 +508,30 @@ def masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2, sign_fix, n
             a2 = maps[0, row, 2]
             a3 = maps[0, row, 3]
             ta = bits[0, row]
+            irgd = bounds[0, indx - 1, side]
             count = 0
-            m = partners[side, ifeat1[2 + side, indx - 1] + 1]
+            m = kept[side, indx - 1]
             while m:
                 low = m & -m
                 m ^= low
                 jndx = 1 + popcount64(np.uint64(low - 1))
                 e2 = jndx + 50 * side
                 x2 = ifeat2[side, jndx - 1]
-                iwst = min(irgd[side], bounds2[jndx - 1, side])
+                iwst = min(irgd, bounds[1, jndx - 1, side])
                 if x1 <= x2 - iwst:
                     # MARF moves LOC2 by at most IWST either way: no shift can
                     # put it left of LOC1, so the pair is dropped below anyway
                     continue
-                mloc, mnval = marf_stepwise_counted(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
-                                                    maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
-                                                    maps[1, e2 - 1, 3], bits[1, e2 - 1], iwst)
+                if iwst == 0:                  # most pairs (86% on the motorcycle)
+                    mloc = 0
+                    mnval = marf_no_shift(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
+                                          maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                          maps[1, e2 - 1, 3], bits[1, e2 - 1])
+                else:
+                    mloc, mnval = marf_stepwise_counted(a0, a1, a2, a3, ta, maps[1, e2 - 1, 0],
+                                                        maps[1, e2 - 1, 1], maps[1, e2 - 1, 2],
+                                                        maps[1, e2 - 1, 3], bits[1, e2 - 1],
+                                                        iwst)
                 loc2 = x2 - mloc if sign_fix else x2 + mloc          # QUIRKS E7
                 if x1 <= loc2:
                     continue                           # LOC1 must lie right of LOC2
@@ -512,7 +583,7 @@ def match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow):
 
 @jit
 def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offset_done,
-              offset_mq, pos, point_rows, point_words, npt):
+              offset_words, pos, point_rows, point_words, npt):
     """LCSL: for each edge the match entries with a disparity above EDISP in
     order, until one puts the range past 1.0, their six POS values from the
     memo tables as storage words in ``pos``; each located edge appended as a
@@ -541,18 +612,18 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
                 epq = range_mq[disp, 3]
                 kx = loc1 - 60 + OFFSET0
                 ky = iyloc - 60 + OFFSET0
-                if not offset_done[kx, disp]:
+                if not offset_done[disp, kx]:
                     lcsl_offset(loc1 - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
-                                offset_mq)
-                if not offset_done[ky, disp]:
+                                offset_words)
+                if not offset_done[disp, ky]:
                     lcsl_offset(iyloc - 60, disp, dpm, dpq, epm, epq, consts, offset_done,
-                                offset_mq)
+                                offset_words)
                 pos[base] = range_mq[disp, 4]
-                pos[base + 1] = offset_mq[kx, disp, 4]
-                pos[base + 2] = offset_mq[ky, disp, 4]
+                pos[base + 1] = offset_words[disp, kx, 0]
+                pos[base + 2] = offset_words[disp, ky, 0]
                 pos[base + 3] = range_mq[disp, 5]
-                pos[base + 4] = offset_mq[kx, disp, 5]
-                pos[base + 5] = offset_mq[ky, disp, 5]
+                pos[base + 4] = offset_words[disp, kx, 1]
+                pos[base + 5] = offset_words[disp, ky, 1]
                 for j in range(6):
                     if pos[base + j] < 0:
                         return -1
@@ -572,12 +643,14 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
 
 
 @jit
-def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offset_done,
-                      offset_mq, nmatch, imatch, pos, nfeat_out, ifeat_out, requests_out,
+def scan_frame_kernel(frame, windows, lines, sign_fix, consts, range_done, range_mq,
+                      offset_done, offset_words, nmatch, imatch, pos, nfeat_out, ifeat_out,
+                      requests_out,
                       match_start, match_rows, point_start, point_rows, point_words,
                       posit_out):
     """LCLN for each line of ``lines`` on the frame store ``frame``: CFEAT,
-    MASL, LCSL, PNPL.
+    MASL, LCSL, PNPL.  ``windows``: :func:`new_windows`, work space kept by
+    the caller (its pad columns are never written, so it needs no clearing).
 
     State carried from line to line, as in ESTAR's COMMON: ``nmatch``,
     ``imatch`` (/MATCH/) and ``pos`` (/POSIT/ as 640 storage words).
@@ -593,13 +666,14 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
     ifeat2 = np.zeros((4, 50), dtype=np.int32)
     pix = np.zeros(128, dtype=np.int64)
     work = np.zeros((3, 130), dtype=np.int64)      # eyes.exqvfl.new_work()
-    windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     bits = np.zeros((2, 100), dtype=np.int64)
     requests = np.zeros((200, 4), dtype=np.int64)
     partners = np.zeros((2, 18), dtype=np.int64)
-    bounds2 = np.zeros((50, 2), dtype=np.int64)
+    bounds = np.zeros((2, 50, 2), dtype=np.int64)
+    kept = np.zeros((2, 50), dtype=np.int64)
+    grey = np.zeros((2, 320), dtype=np.uint8)
     nrow = 0
     npt = 0
     record_posit = posit_out.shape[0] == lines.shape[0]
@@ -612,12 +686,12 @@ def scan_frame_kernel(frame, lines, sign_fix, consts, range_done, range_mq, offs
         ifeat_out[k, 1] = ifeat2
         requests_out[k] = masl_line(frame, windows, iyloc, nfeat1, ifeat1, nfeat2, ifeat2,
                                     sign_fix, nmatch, imatch, maps, bits, requests, partners,
-                                    bounds2)
+                                    bounds, kept, grey)
         match_start[k] = nrow
         point_start[k] = npt
         nrow = match_list_rows(nfeat1, nmatch, imatch, match_rows, nrow)
         npt = lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq,
-                        offset_done, offset_mq, pos, point_rows, point_words, npt)
+                        offset_done, offset_words, pos, point_rows, point_words, npt)
         if npt < 0:
             return -1
         if record_posit:                        # PNPL: the image of /POSIT/ after the line

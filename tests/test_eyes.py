@@ -17,8 +17,8 @@ except ImportError:                    # before MARF had its own module
     from estar.masl import marf_kernel
 from eyes import Eyes, scan_pair as eyes_scan_pair
 from eyes.kernels import (OFFSET0, build_frame, level_windows, lcsl_offset, lcsl_range,
-                          _quality, marf_best_shift, marf_best_shift_stepwise, nblob_many,
-                          new_tables)
+                          _quality, marf_best_shift, marf_best_shift_stepwise, marf_no_shift,
+                          nblob_many, new_tables, new_windows)
 from nstar.bitmaps import command_geometry, edge_map_kernel
 from nstar.program import Nova
 from rig import scan as scanmod
@@ -156,6 +156,35 @@ def test_frame_store_is_novas_after_label_800():
     nova = Nova()
     nova.load_pair(left, right)
     assert np.array_equal(build_frame(left, right), nova.octek.frame)
+    # refilled in place after another pair, and from other integer and float types
+    reused = build_frame(*synthetic_pair(8))
+    assert build_frame(left, right, reused) is reused
+    assert np.array_equal(reused, nova.octek.frame)
+    for dtype in (np.int64, np.int16, np.float64):
+        assert np.array_equal(build_frame(left.astype(dtype) + 32, right.astype(dtype) - 16,
+                                          reused), nova.octek.frame), dtype
+    assert np.array_equal(build_frame(left + 0.75, right + 0.25), nova.octek.frame)
+
+
+def test_level_windows_are_the_rows_at_most_each_grey_level():
+    """Every word of the level windows against their definition, computed
+    plainly; written over a window store that held another pair's."""
+    windows = new_windows()
+    level_windows(build_frame(*synthetic_pair(3)), windows)
+    for left, right in (synthetic_pair(13), bundled_pair()):
+        frame = build_frame(left, right)
+        level_windows(frame, windows)
+        for i, pic in enumerate((frame[0:120, 26:154], frame[0:120, 166:294])):
+            for q in range(4):
+                rows = np.arange(32 * q, 32 * q + 64)
+                inside = rows < 120
+                for g in range(17):
+                    below = np.zeros((64, 128), dtype=bool)
+                    below[inside] = pic[rows[inside]] <= g - 1
+                    want = (below.astype(np.uint64) << np.arange(64, dtype=np.uint64)[:, None]
+                            ).sum(axis=0, dtype=np.uint64)
+                    assert np.array_equal(windows[i, q, g, 8:136], want), (i, q, g)
+                    assert not windows[i, q, g, :8].any() and not windows[i, q, g, 136:].any()
 
 
 def test_edge_maps_equal_nstar_label_500_everywhere():
@@ -165,10 +194,11 @@ def test_edge_maps_equal_nstar_label_500_everywhere():
     bit count."""
     left, right = synthetic_pair(11)
     frame = build_frame(left, right)
-    windows = np.zeros((2, 128, 17, 4), dtype=np.uint64)
+    windows = new_windows()
     level_windows(frame, windows)
     maps = np.zeros((2, 100, 4), dtype=np.uint64)
     bits = np.zeros((2, 100), dtype=np.int64)
+    grey = np.full((2, 320), 99, dtype=np.uint8)           # stale work space
     ref = np.zeros(16, dtype=np.int64)
     seams = [y for t in (0, 32, 64, 96, 120) for y in range(t - 1 + 7 - 16, t + 8)]
     for y in sorted(set(range(0, 120, 3)) | {y for y in seams if 0 <= y < 120}):
@@ -176,7 +206,7 @@ def test_edge_maps_equal_nstar_label_500_everywhere():
                              for image in (1, 2) for ies in (-1, 1) for x in range(130)])
         for start in range(0, len(requests), 100):
             chunk = requests[start:start + 100]
-            nblob_many(frame, windows, y, chunk, len(chunk), maps, bits)
+            nblob_many(frame, windows, y, chunk, len(chunk), maps, bits, grey)
             for image, edge, x, ies in chunk:
                 _, x0, x1, y0, y1, _, _, ixc, iyc = command_geometry(image, x, y)
                 edge_map_kernel(frame, ixc, iyc, ies, x0, x1, y0, y1, ref)
@@ -236,6 +266,24 @@ def test_marf_stepwise_equals_marf_best_shift():
                 (trial, iwst)
 
 
+def test_marf_no_shift_equals_marf_kernel_at_iwst_0():
+    """The one-shift MARF the frame scan uses when IWST = 0 against MARF
+    itself: empty, sparse, dense and full maps, equal maps, near-equal ones."""
+    rng = np.random.default_rng(12)
+    values = np.zeros(257, dtype=np.int64)
+    for trial in range(3000):
+        density = (0.0, 0.03, rng.random(), 1.0, 0.5)[trial % 5]
+        words = ((rng.random((2, 16, 16)) < density) * (1 << np.arange(16))).sum(axis=2)
+        if trial % 3 == 0:
+            words[1] = words[0]
+            words[1, rng.integers(0, 16)] ^= int(rng.integers(0, 65536))
+        m17 = [np.concatenate(([1], w - 65536 * (w > 32767))).astype(np.int64) for w in words]
+        want = marf_kernel(m17[0], m17[1], 0, values)
+        a, b = limbs_of(words[0]), limbs_of(words[1])
+        ta, tb = (int(sum(bin(int(w)).count("1") for w in ws)) for ws in words)
+        assert want[0] == 0 and marf_no_shift(*a, ta, *b, tb) == want[1], trial
+
+
 @pytest.mark.parametrize("ds, dv", [("0.75", "180"), ("1.3", "97.5"), ("0.1", "1000")])
 def test_lcsl_terms_equal_dg_real_locate(ds, dv):
     """Every (disparity, offset) term table against estar.lcsl.locate in
@@ -248,13 +296,13 @@ def test_lcsl_terms_equal_dg_real_locate(ds, dv):
         dpm, dpq, epm, epq, dpw, epw = t["range_mq"][disp]
         for offset in range(-60, 69):
             lcsl_offset(offset, disp, dpm, dpq, epm, epq, eyes.consts, t["offset_done"],
-                        t["offset_mq"])
+                        t["offset_words"])
         for loc1 in range(1, 129, 5 if disp % 7 else 1):
             iy = (loc1 * 7 + disp) % 120
             want = locate(loc1, loc1 - disp, iy, dsep, dvirt)
-            row_x = t["offset_mq"][loc1 - 60 + OFFSET0, disp]
-            row_y = t["offset_mq"][iy - 60 + OFFSET0, disp]
-            got = [dpw, row_x[4], row_y[4], epw, row_x[5], row_y[5]]
+            row_x = t["offset_words"][disp, loc1 - 60 + OFFSET0]
+            row_y = t["offset_words"][disp, iy - 60 + OFFSET0]
+            got = [dpw, row_x[0], row_y[0], epw, row_x[1], row_y[1]]
             assert [int.from_bytes(r.to_bytes(), "big") for r in want] == got, (disp, loc1, iy)
 
 
@@ -263,3 +311,31 @@ def test_a_flat_pair_locates_nothing_and_writes_just_the_header():
     fast = Eyes().scan(flat, flat)
     assert len(fast.point_rows) == 0
     assert fast.csv_text() == scanmod.csv_text([]) == ",".join(scanmod.CSV_COLUMNS) + "\n"
+
+
+def test_the_eyes_as_plain_python_equal_the_compiled_scan():
+    """``RIG_NO_JIT=1``: the same kernels run as plain Python (no numba) give
+    every array the compiled scan gives, on three lines of the bundled pair."""
+    import json
+    import subprocess
+    import sys
+    from rig.session import child_env
+    lines = [20, 60, 100]
+    code = ("import json\n"
+            "from diskfmt.jit import ENABLED\n"
+            "assert not ENABLED\n"
+            "from tests.test_eyes import bundled_pair\n"
+            "from eyes import Eyes\n"
+            f"f = Eyes().scan(*bundled_pair(), {lines!r}, keep_posit=True)\n"
+            "print(json.dumps({k: getattr(f, k).tolist() for k in "
+            "('nfeat', 'ifeat', 'requests', 'match_start', 'match_rows', 'point_start', "
+            "'point_rows', 'point_words', 'posit_words')}))\n")
+    env = dict(child_env(), RIG_NO_JIT="1")
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    plain = json.loads(run.stdout)
+    compiled = Eyes().scan(*bundled_pair(), lines, keep_posit=True)
+    assert len(compiled.point_rows) > 30
+    for name, value in plain.items():
+        assert value == getattr(compiled, name).tolist(), name
