@@ -109,10 +109,11 @@ class DriveConfig:
                                           # that separates the planner from the matcher)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
     blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
-    blank_carve: str = "unknown"          # how the assumption carves: "unknown": only cells
-                                          # no look has seen, never past a cell any look hit
-                                          # (Perception.update); "always": as a proven
-                                          # sight line (before; collided on seeds 21-40)
+    blank_carve: str = "always"           # how the blank-column assumption carves: "always":
+                                          # as a proven sight line (collides on seeds 21-40);
+                                          # "unknown" (a named option): only cells no look
+                                          # has seen, never past a cell any look hit, only
+                                          # past a near zone seen free (Perception.update)
     carve: str = "range"                  # perception.floor_scan's carve: "range" or
                                           # "error" (to the near end of an edge's bound)
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
@@ -271,7 +272,7 @@ class Perception:
                  free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
         self.tree = new_octree(voi, confirm_looks)
         self.growth = "covariance"        # or "across" (DriveConfig.growth)
-        self.blank_carve = "unknown"      # or "always" (DriveConfig.blank_carve)
+        self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.hit_keys = np.zeros(0, np.int64)   # cells of the floor slab any look has hit
         self.free_looks = free_looks
@@ -301,7 +302,7 @@ class Perception:
         per look.
 
         Columns free only by the blank-column assumption (``blank_ft``) carve
-        less under ``blank_carve="unknown"``: only cells no look has seen, never
+        less under ``blank_carve="unknown"`` (a named option): only cells no look has seen, never
         past a cell any look has hit (:func:`~planner.octree.mark_assumed_free`),
         and, given the ``known`` floor map (the last one, the vehicle's track
         free), only along a line whose part nearer than ``near_ft`` (where the

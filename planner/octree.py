@@ -392,7 +392,7 @@ def cell_keys(points, res: float) -> np.ndarray:
 
 
 def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: float = 0.0,
-                      stop_short: float | None = None) -> int:
+                      stop_short: float | None = None, only_unknown: bool = True) -> int:
     """Sight lines free by ASSUMPTION (a column that shows nothing, see
     :func:`planner.perception.floor_scan`'s ``blank_ft``): weaker evidence
     than a hit, so each line stops short of the first cell whose packed key
@@ -428,7 +428,8 @@ def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: 
     keys = np.unique(keys[keep])
     if not len(keys):
         return 0
-    keys = keys[np.isnan(logodds_at(tree, keys))]
+    if only_unknown:
+        keys = keys[np.isnan(logodds_at(tree, keys))]
     if not len(keys):
         return 0
     tree.updateNodes(np.ascontiguousarray((_unpack(keys) + 0.5) * res), False)
