@@ -13,6 +13,7 @@ taut, and time).
 
     python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
     python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
+    python bench/drive.py --rooms 20 --first 21 --blank-carve unknown --carve error
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
@@ -163,6 +164,13 @@ def main(argv=None) -> int:
     ap.add_argument("--track-free", choices=("poses", "swept"), default="poses",
                     help="free where the vehicle stood: its footprint at each pose (default), or "
                          "the footprint swept by every move and pivot, shrunk by the margin")
+    ap.add_argument("--blank-carve", choices=("always", "unknown"), default="always",
+                    help="how columns showing nothing carve: 'always' (default) as a seen sight "
+                         "line; 'unknown': only unseen cells, never past a cell a look hit, only "
+                         "past a near zone seen free (DriveConfig.blank_carve)")
+    ap.add_argument("--carve", choices=("range", "error"), default="range",
+                    help="columns between edges free up to the edge's range (default) or to the "
+                         "near end of its error bound (DriveConfig.carve)")
     ap.add_argument("--cell-ft", type=float, default=None, metavar="FT",
                     help="the octree's finest cell: the fewest levels over the 32 ft volume "
                          "of interest whose cell is no larger (default: depth 7, 0.25 ft; "
@@ -202,6 +210,7 @@ def main(argv=None) -> int:
                           progress=args.progress, track_free=args.track_free,
                           max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
                           pose_method=args.pose_method, voi=voi,
+                          blank_carve=args.blank_carve, carve=args.carve,
                           profile=dataclasses.replace(
                               DEFAULT, reverse=args.reverse == "on",
                               margin_ft=DEFAULT.margin_ft if args.margin is None
@@ -252,7 +261,7 @@ def main(argv=None) -> int:
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
-        "track_free": args.track_free,
+        "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "clearance_at": args.clearance_at, "growth": args.growth,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),

@@ -65,9 +65,10 @@ import numpy as np
 from vehicle.commands import Back, Forward, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle
-from .floormap import FLOOR_Y, FloorMap, project_octree, true_floor_map
-from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_centres, features_cells, \
-    mark_free_rays, mark_occupied, memory_bytes, new_octree, spans_cells
+from .floormap import FLOOR_Y, FloorMap, empty_map, project_octree, true_floor_map
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_centres, \
+    cell_keys, features_cells, mark_assumed_free, mark_free_rays, mark_occupied, memory_bytes, \
+    new_octree, spans_cells
 from .perception import MAX_RANGE_FT, floor_scan
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
     line_of_sight, path_length, segment_samples
@@ -108,6 +109,13 @@ class DriveConfig:
                                           # that separates the planner from the matcher)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
     blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
+    blank_carve: str = "always"           # how the blank-column assumption carves: "always":
+                                          # as a proven sight line (collides on seeds 21-40);
+                                          # "unknown" (a named option): only cells no look
+                                          # has seen, never past a cell any look hit, only
+                                          # past a near zone seen free (Perception.update)
+    carve: str = "range"                  # perception.floor_scan's carve: "range" or
+                                          # "error" (to the near end of an edge's bound)
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
@@ -264,6 +272,9 @@ class Perception:
                  free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
         self.tree = new_octree(voi, confirm_looks)
         self.growth = "covariance"        # or "across" (DriveConfig.growth)
+        self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
+        self.carve = "range"              # or "error" (DriveConfig.carve)
+        self.hit_keys = np.zeros(0, np.int64)   # cells of the floor slab any look has hit
         self.free_looks = free_looks
         self.free_band = None
         self.near_ft = near_ft
@@ -279,7 +290,8 @@ class Perception:
     def estimate(self, look, dead: State) -> State:
         return dead
 
-    def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0) -> int:
+    def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
+               known: FloorMap | None = None) -> int:
         """One look into the model as a floor range scan
         (:func:`~planner.perception.floor_scan`): each column's nearest
         supported point hit (grown by its covariance; surface spans between
@@ -287,24 +299,40 @@ class Perception:
         ``near_ft`` on — nearer than that the lowest obstacle would be below
         the picture, so the look proves nothing there — as are the columns
         between two neighbours, up to the nearer of them.  One update per cell
-        per look."""
+        per look.
+
+        Columns free only by the blank-column assumption (``blank_ft``) carve
+        less under ``blank_carve="unknown"`` (a named option): only cells no look has seen, never
+        past a cell any look has hit (:func:`~planner.octree.mark_assumed_free`),
+        and, given the ``known`` floor map (the last one, the vehicle's track
+        free), only along a line whose part nearer than ``near_ft`` (where the
+        look proves nothing) is free on it: a blank view may be a blank face
+        right in front."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
-                        blank_ft=self.blank_ft)
+                        blank_ft=self.blank_ft, carve=self.carve)
         res = self.tree.getResolution()
         if len(fs.hits) or len(fs.free_ends):
-            mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends]),
-                           start_ft=self.near_ft)
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
             grown = np.vstack([cell_centres(fs.hits, res),
                                features_cells(fs.hits, cov, res),
                                spans_cells(fs.hits, fs.spans, res)])
-            grown = grown[np.abs(grown[:, 1] - left[1]) < res]        # the floor slab
+            grown = cell_centres(grown[np.abs(grown[:, 1] - left[1]) < res], res)  # floor slab
+            self.hit_keys = np.union1d(self.hit_keys, cell_keys(grown, res))
+            assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
+                else np.zeros(len(fs.free_ends), bool)
+            mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends[~assumed]]),
+                           start_ft=self.near_ft)
+            # by assumption only into unknown cells, never past a cell hit (this look too)
+            ends = fs.free_ends[assumed]
+            if known is not None and len(ends):
+                ends = ends[_near_free(known, left, ends, self.near_ft)]
+            mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
             if len(grown):
-                mark_occupied(self.tree, cell_centres(grown, res))
+                mark_occupied(self.tree, grown)
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
@@ -325,6 +353,24 @@ class Perception:
         return project_octree(self.tree, (lo[0] - margin, hi[0] + margin, lo[1] - margin,
                                           hi[1] + margin), self.band, margin=0.0,
                               free_looks=self.free_looks, free_band=self.free_band)
+
+
+def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
+    """Mask of the sight lines ``origin -> end`` whose part nearer than
+    ``near_ft`` lies on cells FREE on ``fm`` (outside it: unknown)."""
+    origin = np.asarray(origin, float)
+    d = np.asarray(ends, float)[:, [0, 2]] - origin[[0, 2]]
+    unit = d / np.maximum(np.linalg.norm(d, axis=1), 1e-12)[:, None]
+    t = np.arange(0.0, near_ft + 1e-9, fm.cell / 2)
+    x = origin[0] + unit[:, None, 0] * t[None]
+    z = origin[2] + unit[:, None, 1] * t[None]
+    i = np.floor((z - fm.z0) / fm.cell).astype(int)
+    j = np.floor((x - fm.x0) / fm.cell).astype(int)
+    nz, nx = fm.cells.shape
+    inside = (i >= 0) & (i < nz) & (j >= 0) & (j < nx)
+    free = np.zeros(i.shape, bool)
+    free[inside] = fm.cells[i[inside], j[inside]] == FREE
+    return free.all(1)
 
 
 def swept_poses(track, step_ft: float = 0.25, step_deg: float = 10.0) -> list:
@@ -793,6 +839,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                        near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     model.growth = cfg.growth
+    if cfg.blank_carve not in ("unknown", "always"):
+        raise ValueError(f"blank_carve must be 'unknown' or 'always', not {cfg.blank_carve!r}")
+    model.blank_carve = cfg.blank_carve
+    model.carve = cfg.carve
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
     tried: dict = {}                      # blocker cell -> places it was looked at from
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
@@ -805,6 +855,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     last_reason = ""
     sweep = 0
     prev_path = None
+    known = None                          # the last floor map, its track free
     try:
         for look_no in range(1, cfg.max_looks + 1):
             est = current()
@@ -825,12 +876,17 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 rec = walker.step(look, look.pose, veh.dead, look_dead, scan=scan)
                 est = State(*rec.estimates["fused"])
             look_est, look_dead = est, veh.dead
-            model.update(points, est, Pose, prof.camera_pitch_deg)
+            if known is None:             # before the first look: the clear spot set down in
+                known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
+                                  cfg.start_clear_ft + 1.0)
+                _mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
+            model.update(points, est, Pose, prof.camera_pitch_deg, known)
             fm = model.floor_map([(est.x, est.z), goal])
             _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                              prof.margin_ft if cfg.track_free == "swept" else None)
             if cfg.known_walls:
                 _mark_walls(fm, room.bounds)
+            known = fm
             safe = clearance_map(fm, prof.planning_radius_ft,
                                  "blocked" if cfg.safety == "strict" else "free",
                                  uncertain="blocked", at=cfg.clearance_at)

@@ -383,3 +383,54 @@ def mark_free_rays(tree: pyoctomap.OcTree, origin, ends, stop_short: float | Non
     cells = cell_centres(samples, res)
     tree.updateNodes(np.ascontiguousarray(cells), False)
     return len(cells)
+
+
+def cell_keys(points, res: float) -> np.ndarray:
+    """The packed keys (:func:`_pack`) of the cells holding ``points``, one per point."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    return _pack(np.floor(pts / res)) if len(pts) else np.zeros(0, np.int64)
+
+
+def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: float = 0.0,
+                      stop_short: float | None = None, only_unknown: bool = True) -> int:
+    """Sight lines free by ASSUMPTION (a column that shows nothing, see
+    :func:`planner.perception.floor_scan`'s ``blank_ft``): weaker evidence
+    than a hit, so each line stops short of the first cell whose packed key
+    is in ``hit_keys`` (cells some look has hit, however carved since), and
+    only cells not yet in the tree (unknown) get their miss; a seen cell keeps
+    what the looks that saw it say.  Samples as :func:`mark_free_rays`, from
+    ``start_ft`` on, ``stop_short`` (default one cell) before each end; a hit
+    cell nearer than ``start_ft`` stops its line too.  Returns the number of
+    cells marked."""
+    ends = np.asarray(ends, float).reshape(-1, 3)
+    if not len(ends):
+        return 0
+    res = tree.getResolution()
+    stop = res if stop_short is None else stop_short
+    origin = np.asarray(origin, float)
+    d = ends - origin
+    length = np.linalg.norm(d, axis=1)
+    reach = np.maximum(length - stop, 0.0)
+    n = np.where(length - stop > start_ft, np.floor(reach / (res / 2)).astype(int) + 1, 0)
+    if n.sum() == 0:
+        return 0
+    seg = np.repeat(np.arange(len(ends)), n)
+    dist = np.concatenate([np.arange(m) for m in n]) * (res / 2)
+    unit = d / np.maximum(length, 1e-12)[:, None]
+    keys = cell_keys(origin + dist[:, None] * unit[seg], res)
+    hit = np.isin(keys, np.asarray(hit_keys, np.int64))
+    # a sample is kept while no sample at or before it on its line is a hit cell
+    m = n[n > 0]
+    first = np.concatenate(([0], np.cumsum(m)[:-1]))
+    run = np.cumsum(hit)
+    base = np.repeat(run[first] - hit[first], m)
+    keep = (run - base == 0) & (dist >= start_ft)
+    keys = np.unique(keys[keep])
+    if not len(keys):
+        return 0
+    if only_unknown:
+        keys = keys[np.isnan(logodds_at(tree, keys))]
+    if not len(keys):
+        return 0
+    tree.updateNodes(np.ascontiguousarray((_unpack(keys) + 0.5) * res), False)
+    return len(keys)

@@ -132,6 +132,8 @@ class FloorScan:
     hit_cov: np.ndarray      # (H, 3, 3)
     free_ends: np.ndarray    # (F, 3) ends of the free sight lines of the columns between
     spans: list              # index pairs into hits: one surface between two boundary lines
+    assumed: np.ndarray | None = None   # (F,) bool: free end carved by the blank-column
+                                        # assumption (``blank_ft``), not bounded by hits
 
 
 CARVE = ("range", "error")
@@ -173,7 +175,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]
     empty = np.zeros((0, 3))
     if not len(xyz_c) and not blank_ft:
-        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
+        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [], np.zeros(0, bool))
     cols_all = np.unique(loc1)
     cols, near = [], []
     for c in cols_all:
@@ -187,7 +189,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         cols.append(c)
         near.append(idx[supported[np.argmin(z[supported])]])
     if not cols and (not blank_ft or not blank_alone):
-        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [])
+        return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [], np.zeros(0, bool))
     cols, near = np.array(cols, int), np.array(near, int)
     rng = xyz_c[near, 2]
     # how far a column bounded by this one is free
@@ -201,7 +203,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
 
     hits = to_room(cols.astype(float), rng)
     hit_cov = R @ cov_c[near] @ R.T
-    free_cols, free_rng, spans = [], [], []
+    free_cols, free_rng, spans, assumed = [], [], [], []
     gap_px = 128 if blank_ft else max_gap_px
     for k in range(len(cols) - 1):
         a, b = cols[k], cols[k + 1]
@@ -209,6 +211,8 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
             between = np.arange(a + 1, b)
             free_cols.append(between)
             free_rng.append(np.full(len(between), min(reach[k], reach[k + 1])))
+            # a gap wider than max_gap_px is free only by the blank-column assumption
+            assumed.append(np.full(len(between), b - a > max_gap_px))
         if b - a <= max_gap_px:
             tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
             if abs(rng[k] - rng[k + 1]) <= tol:
@@ -229,8 +233,10 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                 free_cols.append(side)
                 free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))
                                         if len(cols) else float(blank_ft)))
+                assumed.append(np.ones(len(side), bool))
     if free_cols:
         free_ends = to_room(np.concatenate(free_cols).astype(float), np.concatenate(free_rng))
+        assumed = np.concatenate(assumed)
     else:
-        free_ends = empty
-    return FloorScan(origin, hits, hit_cov, free_ends, spans)
+        free_ends, assumed = empty, np.zeros(0, bool)
+    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed)

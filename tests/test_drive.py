@@ -221,3 +221,41 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
         ("sweep", "moved", "blocked", "poses", False)
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--growth", "sideways"])
+
+
+def test_a_blank_look_carves_by_assumption_only_past_a_near_zone_seen_free():
+    # a look that located nothing: under blank_carve="unknown" (a named option) its whole view
+    # is free to blank_ft only along lines whose part nearer than near_ft is
+    # free on the known map; a blank face right in front shows nothing either
+    from planner.floormap import empty_map
+    from planner.loop import Perception, _mark_track_free
+    from planner.octree import FREE, UNKNOWN, VolumeOfInterest, query
+    from world.pose import Pose
+    est = State(0.0, 0.0, 0.0)
+
+    def blank_look(known, blank_carve="unknown"):
+        model = Perception(VolumeOfInterest(32.0, 7), DriveConfig.band, 12.0, 2, 1,
+                           near_ft=2.3, blank_ft=8.0)
+        model.blank_carve = blank_carve
+        model.update([], est, Pose, DEFAULT.camera_pitch_deg, known)
+        y = Pose(0.0, 0.0, 0.0, DEFAULT.camera_pitch_deg).camera_centre("left")[1]
+        return model, y
+
+    unseen = empty_map((0.0, 0.0, 0.0, 0.0), 0.25, 3.0)             # nothing known
+    model, y = blank_look(unseen)
+    assert query(model.tree, [0.0, y, 5.0]) == UNKNOWN
+    model, y = blank_look(unseen, "always")                        # the default: as before
+    assert query(model.tree, [0.0, y, 5.0]) == FREE
+    clear = empty_map((0.0, 0.0, 0.0, 0.0), 0.25, 3.0)
+    _mark_track_free(clear, [est], DEFAULT.footprint, 2.5)           # the clear spot set down in
+    model, y = blank_look(clear)
+    assert query(model.tree, [0.0, y, 5.0]) == FREE
+    assert query(model.tree, [0.0, y, 8.5]) == UNKNOWN
+    # without a known map the near zone is not checked (as before)
+    model, y = blank_look(None)
+    assert query(model.tree, [0.0, y, 5.0]) == FREE
+
+
+def test_blank_carve_rejects_an_unknown_way():
+    with pytest.raises(ValueError, match="blank_carve"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, blank_carve="never"))

@@ -49,3 +49,60 @@ def test_a_look_that_located_nothing_carves_nothing_when_asked():
     pts = [_pt(50, 40, 5.0), _pt(52, 40, 5.02)]
     some = floor_scan(pts, R, origin, band=(-1.0, 2.75), blank_ft=8.0, blank_alone=False)
     assert len(some.free_ends) == 127
+
+
+def test_floor_scan_says_which_free_ends_are_assumed():
+    R = np.eye(3)
+    origin = np.zeros(3)
+    # edges at columns 40 and 60 (20 px apart: the columns between are bounded
+    # by hits) and at 110 (50 px from 60: wider than max_gap_px, free only by
+    # the blank-column assumption), the sides outside by the assumption too
+    pts = [_pt(50, c, 5.0) for c in (40, 60, 110)] + [_pt(52, c, 5.02) for c in (40, 60, 110)]
+    fs = floor_scan(pts, R, origin, band=(-1.0, 2.75), blank_ft=8.0)
+    cols = np.round(fs.free_ends[:, 0] * 180 / fs.free_ends[:, 2] + 64.5).astype(int)
+    assert len(fs.assumed) == len(fs.free_ends) == 19 + 49 + 39 + 18
+    assert not fs.assumed[(cols > 40) & (cols < 60)].any()
+    assert fs.assumed[(cols > 60) & (cols < 110)].all()
+    assert fs.assumed[(cols < 40) | (cols > 110)].all()
+    # a look that located nothing: all of it assumed; without blank_ft nothing is
+    assert floor_scan([], R, origin, band=(-1.0, 2.75), blank_ft=8.0).assumed.all()
+    assert not floor_scan(pts, R, origin, band=(-1.0, 2.75)).assumed.any()
+
+
+def test_assumed_free_stops_at_a_cell_hit_before_and_leaves_seen_cells_alone():
+    from planner.octree import (FREE, UNCERTAIN, UNKNOWN, VolumeOfInterest,
+                                cell_centres, cell_keys, mark_assumed_free, mark_free_rays,
+                                mark_occupied, new_octree, query)
+    tree = new_octree(VolumeOfInterest(32.0, 7), confirm_looks=2)      # 0.25 ft cells
+    res = tree.getResolution()
+    y = 0.1
+    o = np.array([0.1, y, 0.1])
+    # a face hit at z = 5.1 on the line x = 0.1, then carved free by a later
+    # proven sight line (it is free now, but was hit)
+    face = cell_centres(np.array([[0.1, y, 5.1]]), res)
+    mark_occupied(tree, face)
+    # a cell at x = 2.1, z = 4.1 hit once: uncertain
+    other = cell_centres(np.array([[2.1, y, 4.1]]), res)
+    mark_occupied(tree, other)
+    for _ in range(3):                      # a hit is +0.85, a miss -0.41
+        mark_free_rays(tree, o, np.array([[0.1, y, 6.1]]), start_ft=0.0)
+    assert query(tree, face[0]) == FREE
+    hit = cell_keys(np.vstack([face, other]), res)
+    ends = np.array([[0.1, y, 8.1], [4.1, y, 8.1], [6.1, y, 0.1]])
+    n = mark_assumed_free(tree, o, ends, hit, start_ft=2.3)
+    # the first line: its cells before the face were already free (seen), so
+    # none is marked; nothing past the face (once hit) is carved
+    for z in (5.35, 6.6, 7.6):
+        assert query(tree, [0.1, y, z]) == (FREE if z < 6.1 else UNKNOWN)
+    # the second line passes the uncertain cell at (2.1, 4.1): carved up to it, not past
+    assert query(tree, [0.85, y, 1.6]) == UNKNOWN              # nearer than start_ft
+    assert query(tree, [1.6, y, 3.1]) == FREE
+    assert query(tree, other[0]) == UNCERTAIN
+    assert query(tree, [3.1, y, 6.1]) == UNKNOWN
+    # the third line, with no hit cell on it: carved from start_ft to one cell short of its end
+    assert query(tree, [2.6, y, 0.1]) == FREE and query(tree, [5.6, y, 0.1]) == FREE
+    assert query(tree, [2.0, y, 0.1]) == UNKNOWN and query(tree, [6.05, y, 0.1]) == UNKNOWN
+    assert n > 0
+    # once more: every cell the assumption may reach is already free, none is marked
+    assert mark_assumed_free(tree, o, ends, hit, start_ft=2.3) == 0
+    assert query(tree, face[0]) == FREE
