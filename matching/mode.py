@@ -28,7 +28,7 @@ from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, match
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
-DEFAULT_CONSTRAINTS = "order,lr,neighbours,region,readmit"
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"    # readmit: named, off (verdict.py)
 
 
 class VerdictTables:
@@ -205,7 +205,7 @@ def _same(a: LineData, b: LineData) -> bool:
             and np.array_equal(a.maps1, b.maps1) and np.array_equal(a.maps2, b.maps2))
 
 
-def make_matcher(mode: str = "1985", constraints: Constraints | str = "all",
+def make_matcher(mode: str = "1985", constraints: Constraints | str = DEFAULT_CONSTRAINTS,
                  params: Params = Params(), vd=None) -> ImprovedMatcher | None:
     """None for ``"1985"`` (ESTAR's own lists), else an :class:`ImprovedMatcher`."""
     if mode not in MODES:

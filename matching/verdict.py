@@ -33,6 +33,10 @@ verdict, under constraints that are each switched on their own
     agrees on the disparity; two passes, so a vertical line grows past a
     damaged stretch.  Only in :func:`match_lines` (and the streaming
     :class:`matching.mode.ImprovedMatcher`), which see the other lines.
+    Off by default (``"all"`` includes it): on the rendered looks of the
+    bundled walk 41 % of its re-admissions are more than 2 px wrong (the
+    neighbours it trusts are wrong there too: repeated textures), and they
+    extend vertical lines, whose ends are the walk's corners (docs/matching.md).
 ``subpixel``
     edge positions from the grey profile of the .VD picture (twice the .BI's
     resolution), see :mod:`matching.subpixel`; changes locations, not verdicts.
@@ -57,7 +61,7 @@ class Constraints:
     lr: bool = True
     neighbours: bool = True
     region: bool = True
-    readmit: bool = True
+    readmit: bool = False          # named, off: it hurts the walk (module docstring)
     subpixel: bool = False
 
     @classmethod
@@ -75,10 +79,11 @@ class Constraints:
 
     @classmethod
     def parse(cls, text: str) -> "Constraints":
-        """``"all"``, ``"none"`` or a comma list such as ``"order,lr"``."""
+        """``"all"`` (every constraint but subpixel), ``"none"`` or a comma
+        list such as ``"order,lr"``."""
         text = text.strip().lower()
         if text == "all":
-            return cls()
+            return cls(readmit=True)
         if text in ("none", ""):
             return cls.none()
         return cls.only(*(t.strip() for t in text.split(",") if t.strip()))

@@ -302,12 +302,27 @@ def plain_cost(data: LineData, edge: int) -> float:
     return float(c.cost[k[0]])
 
 
+FIVE = Constraints.parse("all")          # the default four + readmit (named, off by default)
+
+
+def test_readmit_is_named_and_off_by_default():
+    """Re-admission puts wrong matches into the walk's looks (docs/matching.md),
+    so it is off unless asked for: not in Constraints(), not in the streaming
+    matcher make_matcher("improved") gives (rig walk's), in "all"."""
+    assert not Constraints().readmit and FIVE.readmit
+    assert FIVE == replace(Constraints(), readmit=True)
+    assert make_matcher("improved").constraints == Constraints()
+    stack = jump_line()
+    assert match_lines(stack) == match_lines(stack, replace(FIVE, readmit=False))
+    assert not {v.edge: v for v in match_lines(stack)[60]}[2].matched
+
+
 def test_readmit_takes_the_unused_partner_the_neighbours_agree_on():
     stack = jump_line()
     assert 96 < plain_cost(stack[3], 2) < 128
     before = {v.edge: v for v in match_lines(stack, replace(Constraints(), readmit=False))[60]}
     assert not before[2].matched and not before[52].matched
-    after = {v.edge: v for v in match_lines(stack, Constraints())[60]}
+    after = {v.edge: v for v in match_lines(stack, FIVE)[60]}
     for e in (2, 52):
         assert after[e].matched and after[e].reason == "readmitted", after[e]
         assert after[e].partner == e and after[e].disparity == 12
@@ -320,7 +335,7 @@ def test_readmit_wants_the_neighbours_disparity():
     """The same line with E's partner on line 60 two pixels off the
     neighbours' disparity (14, not 12): no neighbour agrees, no re-admission."""
     stack = jump_line(right_e=36)
-    after = {v.edge: v for v in match_lines(stack, Constraints())[60]}
+    after = {v.edge: v for v in match_lines(stack, FIVE)[60]}
     assert not after[2].matched and not after[52].matched
 
 
@@ -344,19 +359,19 @@ def test_a_second_readmit_pass_grows_the_vertical_line():
     and 62 (clean lines 56, 57, 63, 64 within reach), line 60 only sees
     damaged lines until the second pass, which sees their re-admissions."""
     stack = jump_line(hurt=range(58, 63), lines=range(55, 66))
-    one = {v.edge: v for v in match_lines(stack, Constraints(), Params(readmit_rounds=1))[60]}
+    one = {v.edge: v for v in match_lines(stack, FIVE, Params(readmit_rounds=1))[60]}
     assert not one[2].matched
     for y in (59, 61):
-        assert {v.edge: v for v in match_lines(stack, Constraints(),
+        assert {v.edge: v for v in match_lines(stack, FIVE,
                                                Params(readmit_rounds=1))[y]}[2].matched
-    two = {v.edge: v for v in match_lines(stack, Constraints())[60]}
+    two = {v.edge: v for v in match_lines(stack, FIVE)[60]}
     assert two[2].matched and two[2].reason == "readmitted" and two[2].disparity == 12
 
 
 def test_readmit_keeps_the_order_and_uses_no_partner_twice():
     """Every line of the bundled-like stack: re-admitted matches keep the
     left-to-right order of the line's matches and take unused partners."""
-    for y, vs in match_lines(jump_line(), Constraints()).items():
+    for y, vs in match_lines(jump_line(), FIVE).items():
         m = sorted((v.x, v.partner) for v in vs if v.matched)
         partners = [pt for _, pt in m]
         assert len(set(partners)) == len(partners)

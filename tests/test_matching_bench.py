@@ -88,8 +88,8 @@ def test_diagnosis_counts_reasons_against_the_truth():
                           datas, p)
     assert before["occluded"] == (2, 2, 2)              # edges 2 and 52 of line 60
     assert before["matched"][0] == before["matched"][1] == 6 * 7 - 2
-    now = bm.diagnosis(scene, match_lines(stack, Constraints(), p), datas, p)
+    now = bm.diagnosis(scene, match_lines(stack, Constraints.parse("all"), p), datas, p)
     assert now["readmitted"] == (2, 2, 2) and "occluded" not in now
     flat = bm.Scene("hand-made", None, None, None, None, np.full((120, 128), 8.0), None)
-    wrong = bm.diagnosis(flat, match_lines(stack, Constraints(), p), datas, p)
+    wrong = bm.diagnosis(flat, match_lines(stack, Constraints.parse("all"), p), datas, p)
     assert wrong["readmitted"] == (2, 0, 0)

@@ -80,9 +80,11 @@ def test_streaming_verdicts_equal_the_batch_api():
     look at IY-2..IY+2 each, the neighbour constraint at IY-1, IY+1 of those)
     gives the verdicts match_lines gives on a scan of those lines."""
     lines = range(40, 56)
-    streamed = scanmod.run_lines(eclipse(ImprovedMatcher()), lines)
+    five = Constraints.parse("all")
+    assert five.readmit
+    streamed = scanmod.run_lines(eclipse(ImprovedMatcher(five)), lines)
     faithful = scanmod.run_lines(eclipse(), range(35, 61))
-    batch = match_lines(faithful.results, Constraints())
+    batch = match_lines(faithful.results, five)
     for r in streamed.results:
         assert r.verdicts == batch[r.iyloc], r.iyloc
 
@@ -92,9 +94,10 @@ def test_streaming_rematch_equals_the_batch_api():
     IY-7..IY+7 are fetched."""
     p = Params(rematch_bonus=64.0)
     lines = range(44, 48)
-    streamed = scanmod.run_lines(eclipse(ImprovedMatcher(params=p)), lines)
+    five = Constraints.parse("all")
+    streamed = scanmod.run_lines(eclipse(ImprovedMatcher(five, params=p)), lines)
     faithful = scanmod.run_lines(eclipse(), range(37, 55))
-    batch = match_lines(faithful.results, Constraints(), p)
+    batch = match_lines(faithful.results, five, p)
     for r in streamed.results:
         assert r.verdicts == batch[r.iyloc], r.iyloc
 
