@@ -11,7 +11,7 @@ rendering, octree memory; and the dissertation's search against A* on the
 same final map of each run, from the start to the goal (path length pulled
 taut, and time).
 
-    python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
+    python bench/drive.py --rooms 20 [--match improved] [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
@@ -33,6 +33,11 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+# bench/matching.py shares its name with the package the loop's --match improved
+# imports: the repository goes first on the path, bench/ off it.
+REPO = Path(__file__).resolve().parent.parent
+sys.path[:] = [str(REPO)] + [p for p in sys.path if p not in (str(REPO), str(REPO / "bench"), "")]
 
 FT_PER_M = 3.28084
 
@@ -120,6 +125,9 @@ def main(argv=None) -> int:
     ap.add_argument("--search", choices=("dissertation", "astar"), default="dissertation")
     ap.add_argument("--max-looks", type=int, default=60)
     ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
+    ap.add_argument("--match", choices=("1985", "improved"), default="1985",
+                    help="the rig's stereo matcher in the loop (rig drive --match): 1985 (the "
+                         "eyes, default) or improved (package matching, on the in-process rig)")
     ap.add_argument("--pose", choices=("fused", "dead_reckoning"), default="dead_reckoning",
                     help="the loop's camera estimate (rig drive --pose)")
     ap.add_argument("--pose-method", default="robust",
@@ -173,7 +181,8 @@ def main(argv=None) -> int:
                           clearance_at=args.clearance_at, growth=args.growth,
                           uncertain=args.uncertain, look_around=args.look_around,
                           progress=args.progress, track_free=args.track_free,
-                          max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
+                          max_looks=args.max_looks, eyes=args.eyes, match=args.match,
+                          pose=args.pose,
                           pose_method=args.pose_method,
                           profile=dataclasses.replace(
                               DEFAULT, reverse=args.reverse == "on",
@@ -220,6 +229,7 @@ def main(argv=None) -> int:
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
+        "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
