@@ -198,6 +198,7 @@ def main(argv=None) -> int:
                "collisions": res.collisions, "looks": res.looks,
                "travelled_ft": res.travelled_ft, "optimal_ft": res.optimal_ft,
                "ratio": ratio, "work_ms_per_cycle": res.work_ms_per_cycle,
+               "scan_ms_per_cycle": res.scan_ms_per_cycle,
                "ms_per_cycle_with_look": 1e3 * res.seconds_per_cycle,
                "octree_bytes": res.octree_bytes, "final_true_error_ft": res.final_true_error_ft,
                "dissertation_ft": side[0], "dissertation_raw_ft": side[1],
@@ -240,6 +241,7 @@ def main(argv=None) -> int:
         "ratio_max": float(np.max(ratios)) if ratios else None,
         "looks_per_metre": looks / trav_m if trav_m else None,
         "work_ms_per_cycle_median": float(np.median([r["work_ms_per_cycle"] for r in rows])),
+        "scan_ms_per_cycle_median": float(np.median([r["scan_ms_per_cycle"] for r in rows])),
         "ms_per_cycle_with_look_median": float(np.median([r["ms_per_cycle_with_look"]
                                                           for r in rows])),
         "octree_kib_median": float(np.median([r["octree_bytes"] for r in rows])) / 1024,

@@ -164,6 +164,7 @@ class Cycle:
     work_s: float               # scan + model + octree + plan (the look's rendering excluded)
     path: list = field(default_factory=list)
     fmap: FloorMap | None = None
+    scan_s: float = 0.0         # the rig's scan alone (part of work_s): the matcher's cost
 
 
 @dataclass
@@ -187,6 +188,7 @@ class DriveResult:
     search: str
     estimate_track: list = field(default_factory=list)   # the camera estimate, as dead_track
     pose: str = "dead_reckoning"
+    match: str = "1985"
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -203,6 +205,10 @@ class DriveResult:
         return 1e3 * float(np.mean([c.work_s for c in self.cycles])) if self.cycles else 0.0
 
     @property
+    def scan_ms_per_cycle(self) -> float:
+        return 1e3 * float(np.mean([c.scan_s for c in self.cycles])) if self.cycles else 0.0
+
+    @property
     def render_ms_per_cycle(self) -> float:
         return 1e3 * float(np.mean([c.render_s for c in self.cycles])) if self.cycles else 0.0
 
@@ -216,6 +222,7 @@ class DriveResult:
             "seconds_per_cycle": round(self.seconds_per_cycle, 4),
             "work_ms_per_cycle": round(self.work_ms_per_cycle, 2),
             "render_ms_per_cycle": round(self.render_ms_per_cycle, 2),
+            "scan_ms_per_cycle": round(self.scan_ms_per_cycle, 2), "match": self.match,
             "seconds": round(self.seconds, 3), "octree_bytes": self.octree_bytes,
             "final_true_error_ft": round(self.final_true_error_ft, 3),
             "start": [self.start.x, self.start.z, self.start.heading_deg],
@@ -234,6 +241,7 @@ class DriveResult:
                         "path_left_ft": None if c.path_left_ft is None
                         else round(c.path_left_ft, 3),
                         "work_ms": round(1e3 * c.work_s, 2),
+                        "scan_ms": round(1e3 * c.scan_s, 2),
                         "render_ms": round(1e3 * c.render_s, 2)} for c in self.cycles],
         }
 
@@ -864,6 +872,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                supersample=cfg.supersample)
             t1 = time.perf_counter()
             scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
+            scan_s = time.perf_counter() - t1
             points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
             if walker is None:
                 est = veh.dead
@@ -950,7 +959,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             stuck = 0 if progressed else stuck + 1
             cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
                         left, format_commands(seg), note, t1 - t0, t2 - t1,
-                        list(pts), fm if keep_maps else None)
+                        list(pts), fm if keep_maps else None, scan_s)
             cycles.append(cyc)
             if on_cycle:
                 on_cycle(cyc)
@@ -974,7 +983,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     return DriveResult(reached, reason, len(cycles), veh.travelled_ft, opt, opt_grid,
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
-                       cfg.unknown, cfg.search, est_track, cfg.pose)
+                       cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match)
 
 
 def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,

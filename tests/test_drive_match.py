@@ -73,6 +73,9 @@ def test_the_loop_on_the_improved_matcher_reaches_the_tiny_room_goal():
     assert res.reached, res.reason
     assert res.collisions == 0
     assert res.travelled_ft <= 1.3 * res.optimal_ft
+    data = res.as_json()
+    assert data["match"] == "improved"
+    assert all(0 < c["scan_ms"] <= c["work_ms"] for c in data["cycles"])
 
 
 def test_rig_drive_match_reaches_the_loop(tmp_path, monkeypatch):
