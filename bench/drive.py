@@ -11,13 +11,17 @@ rendering, octree memory; and the dissertation's search against A* on the
 same final map of each run, from the start to the goal (path length pulled
 taut, and time).
 
-    python bench/drive.py --rooms 20 [--match improved] [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
+    python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
 pose's error on the same run beside it.  The summary ends with the rooms by how their
 drives ended (``stop_reasons``: reached, narrower than the vehicle, the goal too near an
 obstacle on the map, cannot turn, ...).
+
+``--match improved`` scans each look with the improved stereo matcher (package
+``matching``, on the in-process rig) instead of the 1985 eyes; ``scan_ms_per_cycle``
+is the scan's own share of the time.
 
 Numbers go into docs/planner.md with the command that made them.
 """
@@ -178,11 +182,11 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+                          match=args.match,
                           clearance_at=args.clearance_at, growth=args.growth,
                           uncertain=args.uncertain, look_around=args.look_around,
                           progress=args.progress, track_free=args.track_free,
-                          max_looks=args.max_looks, eyes=args.eyes, match=args.match,
-                          pose=args.pose,
+                          max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
                           pose_method=args.pose_method,
                           profile=dataclasses.replace(
                               DEFAULT, reverse=args.reverse == "on",
