@@ -25,6 +25,10 @@ pose's error on the same run beside it.  The summary ends with the rooms by how 
 drives ended (``stop_reasons``: reached, narrower than the vehicle, the goal too near an
 obstacle on the map, cannot turn, ...).
 
+``--match improved`` scans each look with the improved stereo matcher (package
+``matching``, on the in-process rig) instead of the 1985 eyes; ``scan_ms_per_cycle``
+is the scan's own share of the time.
+
 Numbers go into docs/planner.md with the command that made them.
 """
 
@@ -39,6 +43,11 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+# bench/matching.py shares its name with the package the loop's --match improved
+# imports: the repository goes first on the path, bench/ off it.
+REPO = Path(__file__).resolve().parent.parent
+sys.path[:] = [str(REPO)] + [p for p in sys.path if p not in (str(REPO), str(REPO / "bench"), "")]
 
 FT_PER_M = 3.28084
 
@@ -134,6 +143,9 @@ def main(argv=None) -> int:
     ap.add_argument("--search", choices=("dissertation", "astar"), default="dissertation")
     ap.add_argument("--max-looks", type=int, default=60)
     ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
+    ap.add_argument("--match", choices=("1985", "improved"), default="1985",
+                    help="the rig's stereo matcher in the loop (rig drive --match): 1985 (the "
+                         "eyes, default) or improved (package matching, on the in-process rig)")
     ap.add_argument("--pose", choices=("fused", "dead_reckoning"), default="dead_reckoning",
                     help="the loop's camera estimate (rig drive --pose)")
     ap.add_argument("--pose-method", default="robust",
@@ -205,6 +217,7 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+                          match=args.match,
                           clearance_at=args.clearance_at, growth=args.growth,
                           uncertain=args.uncertain, look_around=args.look_around,
                           progress=args.progress, track_free=args.track_free,
@@ -225,6 +238,7 @@ def main(argv=None) -> int:
                "collisions": res.collisions, "looks": res.looks,
                "travelled_ft": res.travelled_ft, "optimal_ft": res.optimal_ft,
                "ratio": ratio, "work_ms_per_cycle": res.work_ms_per_cycle,
+               "scan_ms_per_cycle": res.scan_ms_per_cycle,
                "ms_per_cycle_with_look": 1e3 * res.seconds_per_cycle,
                "octree_bytes": res.octree_bytes, "final_true_error_ft": res.final_true_error_ft,
                "dissertation_ft": side[0], "dissertation_raw_ft": side[1],
@@ -258,6 +272,7 @@ def main(argv=None) -> int:
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
         "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
+        "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
@@ -270,6 +285,7 @@ def main(argv=None) -> int:
         "ratio_max": float(np.max(ratios)) if ratios else None,
         "looks_per_metre": looks / trav_m if trav_m else None,
         "work_ms_per_cycle_median": float(np.median([r["work_ms_per_cycle"] for r in rows])),
+        "scan_ms_per_cycle_median": float(np.median([r["scan_ms_per_cycle"] for r in rows])),
         "ms_per_cycle_with_look_median": float(np.median([r["ms_per_cycle_with_look"]
                                                           for r in rows])),
         "octree_kib_median": float(np.median([r["octree_bytes"] for r in rows])) / 1024,

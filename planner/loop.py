@@ -4,8 +4,13 @@ floor map -> plan -> execute the next command segment -> repeat, "modifying
 the path as needed during the traversal".
 
 * **look**: the world renders both cameras at the vehicle's TRUE pose;
-* **scan**: the rig's whole-picture scan of the pair by the eyes (``eyes.scan_pair``, the
-  compiled 1985 frame scan, bit for bit ``rig.scan.scan_pair``);
+* **scan**: the rig's whole-picture scan of the pair (:func:`scan_look`): by the eyes
+  (``eyes.scan_pair``, the compiled 1985 frame scan, bit for bit ``rig.scan.scan_pair``)
+  with ``match="1985"`` (the default), or with ``match="improved"`` (``rig drive --match
+  improved``, not 1985) by the in-process rig with the improved matcher of package
+  ``matching`` (``rig.scan.scan_pair(..., matcher=make_matcher("improved"))``, as ``rig walk
+  --match improved``): a verdict per edge, so an edge without a right match is left out
+  instead of located at the best available;
 * **model update / camera estimate**: ``pose="fused"`` (``rig drive --pose
   fused``) runs the walk's per-look step (:class:`model.mapping.Walker`) on the
   same scan: vertical edges and vertices into the symbolic model, matched to it
@@ -80,6 +85,7 @@ UNCERTAIN_PLANS = ("blocked", "look")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
+MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -104,7 +110,10 @@ class DriveConfig:
     trust_view: bool = False              # drive into never-seen cells of the view just looked at
     known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
     start_clear_ft: float = 2.5           # the vehicle is set down this far from anything
-    eyes: str = "rig"                     # "rig": the 1985 matcher's ranges; "truth": the
+    match: str = "1985"                   # the rig's stereo matcher: "1985" (the eyes, bit
+                                          # for bit) or "improved" (package matching, on the
+                                          # in-process rig: several times slower; scan_look)
+    eyes: str = "rig"                     # "rig": the matcher's ranges; "truth": the
                                           # true range at the same edge pixels (an oracle
                                           # that separates the planner from the matcher)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
@@ -163,6 +172,7 @@ class Cycle:
     work_s: float               # scan + model + octree + plan (the look's rendering excluded)
     path: list = field(default_factory=list)
     fmap: FloorMap | None = None
+    scan_s: float = 0.0         # the rig's scan alone (part of work_s): the matcher's cost
 
 
 @dataclass
@@ -186,6 +196,7 @@ class DriveResult:
     search: str
     estimate_track: list = field(default_factory=list)   # the camera estimate, as dead_track
     pose: str = "dead_reckoning"
+    match: str = "1985"
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -202,6 +213,10 @@ class DriveResult:
         return 1e3 * float(np.mean([c.work_s for c in self.cycles])) if self.cycles else 0.0
 
     @property
+    def scan_ms_per_cycle(self) -> float:
+        return 1e3 * float(np.mean([c.scan_s for c in self.cycles])) if self.cycles else 0.0
+
+    @property
     def render_ms_per_cycle(self) -> float:
         return 1e3 * float(np.mean([c.render_s for c in self.cycles])) if self.cycles else 0.0
 
@@ -215,6 +230,7 @@ class DriveResult:
             "seconds_per_cycle": round(self.seconds_per_cycle, 4),
             "work_ms_per_cycle": round(self.work_ms_per_cycle, 2),
             "render_ms_per_cycle": round(self.render_ms_per_cycle, 2),
+            "scan_ms_per_cycle": round(self.scan_ms_per_cycle, 2), "match": self.match,
             "seconds": round(self.seconds, 3), "octree_bytes": self.octree_bytes,
             "final_true_error_ft": round(self.final_true_error_ft, 3),
             "start": [self.start.x, self.start.z, self.start.heading_deg],
@@ -233,8 +249,29 @@ class DriveResult:
                         "path_left_ft": None if c.path_left_ft is None
                         else round(c.path_left_ft, 3),
                         "work_ms": round(1e3 * c.work_s, 2),
+                        "scan_ms": round(1e3 * c.scan_s, 2),
                         "render_ms": round(1e3 * c.render_s, 2)} for c in self.cycles],
         }
+
+
+def scan_look(left, right, lines, match: str = "1985"):
+    """The rig's scan (a ``rig.scan.ScanResult``) of one look's .BI pair over
+    ``lines``.  ``"1985"``: the eyes (the compiled frame scan, the same result
+    as the reference rig, bit for bit).  ``"improved"`` (not 1985): the
+    in-process reference rig with a fresh improved matcher (its default
+    constraints: order, lr, neighbours, region, readmit), as ``rig walk
+    --match improved``; its line results carry the verdicts
+    (``matching.mode.located_points`` gives each point's confidence).  The
+    neighbours constraint asks NSTAR for lines IY-1 and IY+1 as well, so a
+    scan of every second line fetches the lines between too."""
+    if match not in MATCHES:
+        raise ValueError(f"unknown stereo matcher {match!r}; one of {', '.join(MATCHES)}")
+    if match == "1985":
+        from eyes import scan_pair
+        return scan_pair(left, right, lines=lines)
+    from matching.mode import make_matcher
+    from rig.scan import scan_pair
+    return scan_pair(left, right, lines, matcher=make_matcher("improved"))
 
 
 def true_optimum(room, start, goal, profile: VehicleProfile, cell: float):
@@ -809,11 +846,12 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True
         ) -> DriveResult:
     """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room)."""
-    from eyes import scan_pair
     from world.pose import Pose
     from world.render import render_look
 
     prof = cfg.profile
+    if cfg.match not in MATCHES:
+        raise ValueError(f"unknown stereo matcher {cfg.match!r}; one of {', '.join(MATCHES)}")
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
@@ -825,7 +863,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.pose == "fused":
         from model.mapping import WalkConfig, Walker, compose_step
         walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
-                                         lines=tuple(cfg.lines),
+                                         lines=tuple(cfg.lines), match=cfg.match,
                                          camera_pitch_deg=prof.camera_pitch_deg))
     est_track = [veh.dead]
     look_est = look_dead = None           # the estimate and the dead-reckoned pose at the last look
@@ -868,7 +906,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                seed=cfg.look_seed + look_no,
                                supersample=cfg.supersample)
             t1 = time.perf_counter()
-            scan = scan_pair(look.left_bi, look.right_bi, lines=cfg.lines)
+            scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
+            scan_s = time.perf_counter() - t1
             points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
             if walker is None:
                 est = veh.dead
@@ -960,7 +999,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             stuck = 0 if progressed else stuck + 1
             cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
                         left, format_commands(seg), note, t1 - t0, t2 - t1,
-                        list(pts), fm if keep_maps else None)
+                        list(pts), fm if keep_maps else None, scan_s)
             cycles.append(cyc)
             if on_cycle:
                 on_cycle(cyc)
@@ -984,7 +1023,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     return DriveResult(reached, reason, len(cycles), veh.travelled_ft, opt, opt_grid,
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
-                       cfg.unknown, cfg.search, est_track, cfg.pose)
+                       cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match)
 
 
 def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,
