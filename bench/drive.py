@@ -35,7 +35,6 @@ Numbers go into docs/planner.md with the command that made them.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import math
 import sys
@@ -43,11 +42,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-# bench/matching.py shares its name with the package the loop's --match improved
-# imports: the repository goes first on the path, bench/ off it.
-REPO = Path(__file__).resolve().parent.parent
-sys.path[:] = [str(REPO)] + [p for p in sys.path if p not in (str(REPO), str(REPO / "bench"), "")]
 
 FT_PER_M = 3.28084
 
@@ -136,57 +130,11 @@ def true_maps(args) -> int:
 
 
 def main(argv=None) -> int:
+    from rig.drive import add_loop_options
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=20)
     ap.add_argument("--first", type=int, default=1, help="first room seed")
-    ap.add_argument("--unknown", choices=("free", "blocked"), default="free")
-    ap.add_argument("--search", choices=("dissertation", "astar"), default="dissertation")
-    ap.add_argument("--max-looks", type=int, default=60)
-    ap.add_argument("--eyes", choices=("rig", "truth"), default="rig")
-    ap.add_argument("--match", choices=("1985", "improved"), default="1985",
-                    help="the rig's stereo matcher in the loop (rig drive --match): 1985 (the "
-                         "eyes, default) or improved (package matching, on the in-process rig)")
-    ap.add_argument("--pose", choices=("fused", "dead_reckoning"), default="dead_reckoning",
-                    help="the loop's camera estimate (rig drive --pose)")
-    ap.add_argument("--pose-method", default="robust",
-                    help="the fix fused under --pose fused (rig drive --pose-method)")
-    ap.add_argument("--margin", type=float, default=None, metavar="FT",
-                    help="the vehicle profile's planning margin in the loop (default: the "
-                         "profile's); the goals are drawn with the default profile either way")
-    ap.add_argument("--clearance-at", choices=("anywhere", "centre"), default="anywhere",
-                    help="where in a passable cell the vehicle's centre may be: anywhere "
-                         "(the dissertation's, default) or its centre, every position then "
-                         "tested by its exact distance to the blocked cells")
-    ap.add_argument("--growth", choices=("covariance", "across"), default="covariance",
-                    help="a located hit grown by its whole covariance (the dissertation's, "
-                         "default) or by its error across the sight line only")
-    ap.add_argument("--uncertain", choices=("blocked", "look"), default="blocked",
-                    help="no path avoids the uncertain cells (hit by one look): head for the "
-                         "reachable cell nearest the goal (default), or plan through them and "
-                         "go look again")
-    ap.add_argument("--look-around", choices=("sweep", "evidence"), default="sweep",
-                    help="when the vehicle cannot move: face the path and sweep (default), or "
-                         "look at where its path lacks evidence, from where a look shows it")
-    ap.add_argument("--progress", choices=("moved", "evidence"), default="moved",
-                    help="what resets the count of looks without progress: any motion "
-                         "(default), or a shorter way left than ever or new free space seen")
-    ap.add_argument("--reverse", choices=("off", "on"), default="off",
-                    help="the vehicle may BACK straight over space seen free (the profile's "
-                         "reverse; default off)")
-    ap.add_argument("--track-free", choices=("poses", "swept"), default="poses",
-                    help="free where the vehicle stood: its footprint at each pose (default), or "
-                         "the footprint swept by every move and pivot, shrunk by the margin")
-    ap.add_argument("--blank-carve", choices=("always", "unknown"), default="always",
-                    help="how columns showing nothing carve: 'always' (default) as a seen sight "
-                         "line; 'unknown': only unseen cells, never past a cell a look hit, only "
-                         "past a near zone seen free (DriveConfig.blank_carve)")
-    ap.add_argument("--carve", choices=("range", "error"), default="range",
-                    help="columns between edges free up to the edge's range (default) or to the "
-                         "near end of its error bound (DriveConfig.carve)")
-    ap.add_argument("--cell-ft", type=float, default=None, metavar="FT",
-                    help="the octree's finest cell: the fewest levels over the 32 ft volume "
-                         "of interest whose cell is no larger (default: depth 7, 0.25 ft; "
-                         "0.125 is depth 8)")
+    add_loop_options(ap)
     ap.add_argument("--losses", action="store_true",
                     help="also sort the final map's wrongly blocked cells (cell rounding of "
                          "hits, growth, false matches) and the passable cells each costs, "
@@ -198,15 +146,11 @@ def main(argv=None) -> int:
     if args.true_maps:
         return true_maps(args)
 
-    from planner.loop import DriveConfig, run
-    from planner.octree import VolumeOfInterest
+    from planner.loop import run
+    from rig.drive import loop_config
     from vehicle.profile import DEFAULT
     from world.odometry import OdometryNoise
-    try:
-        voi = DriveConfig.voi if args.cell_ft is None else \
-            VolumeOfInterest.for_accuracy(args.cell_ft)
-    except ValueError as exc:
-        ap.error(f"--cell-ft: {exc}")
+    voi = loop_config(args, (0.0, 0.0), ap.error).voi
 
     rows = []
     print(f"{'room':>4} {'goal':>14} {'ok':>3} {'coll':>4} {'looks':>5} {'trav ft':>7} "
@@ -216,18 +160,7 @@ def main(argv=None) -> int:
         if goal is None:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
-        cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                          match=args.match,
-                          clearance_at=args.clearance_at, growth=args.growth,
-                          uncertain=args.uncertain, look_around=args.look_around,
-                          progress=args.progress, track_free=args.track_free,
-                          max_looks=args.max_looks, eyes=args.eyes, pose=args.pose,
-                          pose_method=args.pose_method, voi=voi,
-                          blank_carve=args.blank_carve, carve=args.carve,
-                          profile=dataclasses.replace(
-                              DEFAULT, reverse=args.reverse == "on",
-                              margin_ft=DEFAULT.margin_ft if args.margin is None
-                              else args.margin))
+        cfg = loop_config(args, goal, ap.error)
         res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal

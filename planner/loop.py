@@ -118,13 +118,15 @@ class DriveConfig:
                                           # that separates the planner from the matcher)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
     blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
-    blank_carve: str = "always"           # how the blank-column assumption carves: "always":
-                                          # as a proven sight line (collides on seeds 21-40);
-                                          # "unknown" (a named option): only cells no look
-                                          # has seen, never past a cell any look hit, only
-                                          # past a near zone seen free (Perception.update)
-    carve: str = "range"                  # perception.floor_scan's carve: "range" or
-                                          # "error" (to the near end of an edge's bound)
+    blank_carve: str = "unknown"          # how the blank-column assumption carves: "unknown":
+                                          # only cells no look has seen, never past a cell any
+                                          # look hit, only past a near zone seen free
+                                          # (Perception.update); "always": as a proven sight
+                                          # line (so it carved through blank box faces: a
+                                          # collision in room 40)
+    carve: str = "error"                  # perception.floor_scan's carve: "error": to the
+                                          # near end of an edge's bound; "range": to its range
+                                          # (0.2-0.45 ft into a face in room 40)
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius

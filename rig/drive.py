@@ -65,7 +65,7 @@ def frames_of(result, room):
 
 
 def cmd_drive(args) -> int:
-    from planner.loop import DriveConfig, run
+    from planner.loop import run
     from rig.pictures import save_png
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
@@ -103,14 +103,9 @@ def cmd_drive(args) -> int:
                 f"{c:.2f} ft from an obstacle or wall"
             raise SystemExit(f"rig drive: the {what} ({x:g}, {z:g}) ft is {where} in "
                              f"{room.name!r}; the vehicle needs {r:.2f} ft")
-    cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                      max_looks=args.max_looks, eyes=args.eyes, match=args.match,
-                      pose=args.pose, pose_method=args.pose_method,
-                      clearance_at=args.clearance_at, growth=args.growth,
-                      look_around=args.look_around, progress=args.progress,
-                      uncertain=args.uncertain, track_free=args.track_free,
-                      profile=replace(DEFAULT, reverse=args.reverse == "on"),
-                      blank_ft=args.blank_ft if args.blank_ft > 0 else None)
+    def fail(message):
+        raise SystemExit(f"rig drive: {message}")
+    cfg = loop_config(args, goal, fail)
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -155,6 +150,93 @@ def cmd_drive(args) -> int:
     return 0 if res.reached else 3
 
 
+def add_loop_options(p) -> None:
+    """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
+    ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
+    from planner.loop import DriveConfig as C
+    from model.pose import ESTIMATORS
+    p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,
+                   help="plan through never-seen space as free (default) or blocked; the vehicle "
+                        "never drives into it either way")
+    p.add_argument("--search", choices=("dissertation", "astar"), default=C.search,
+                   help="the dissertation's hierarchical search (default) or A*")
+    p.add_argument("--eyes", choices=("rig", "truth"), default=C.eyes,
+                   help="rig: the matcher's ranges (default); truth: the true range at the "
+                        "same edge pixels (an oracle: the planner without the matcher's errors)")
+    p.add_argument("--match", choices=("1985", "improved"), default=C.match,
+                   help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
+                        "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
+                        "the best available; on the in-process rig, several times slower)")
+    p.add_argument("--pose", choices=("fused", "dead_reckoning"), default=C.pose,
+                   help="the camera estimate that places each look: fused: the symbolic model's "
+                        "(the walk's step: the robust fix on matched vertices fused with the "
+                        "odometry's prior); dead_reckoning: the odometry alone (default)")
+    p.add_argument("--pose-method", default=C.pose_method, choices=ESTIMATORS,
+                   help="the fix fused under --pose fused (rig walk's --method; default robust)")
+    p.add_argument("--margin", type=float, default=None, metavar="FT",
+                   help="the vehicle profile's planning margin (default: the profile's)")
+    p.add_argument("--clearance-at", choices=("anywhere", "centre"), default=C.clearance_at,
+                   help="where in a passable cell the vehicle's centre may be: anywhere (the "
+                        "dissertation's cross-section test, default) or its centre, every "
+                        "position then tested by its exact distance to the blocked cells")
+    p.add_argument("--growth", choices=("covariance", "across"), default=C.growth,
+                   help="a located hit grown by its whole covariance (the dissertation's, "
+                        "default) or by its error across the sight line only")
+    p.add_argument("--cell-ft", type=float, default=None, metavar="FT",
+                   help="the octree's finest cell: the fewest levels over the 32 ft volume of "
+                        "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
+                        "depth 8)")
+    p.add_argument("--look-around", choices=("sweep", "evidence"), default=C.look_around,
+                   help="when the vehicle cannot move: face the path and sweep (default), or look "
+                        "at where the path lacks evidence, from a place a look shows it")
+    p.add_argument("--progress", choices=("moved", "evidence"), default=C.progress,
+                   help="what resets the count of looks without progress: any motion (default), "
+                        "or a shorter way left than ever or new free space seen")
+    p.add_argument("--uncertain", choices=("blocked", "look"), default=C.uncertain,
+                   help="no path avoids the uncertain cells (hit by one look): head for the "
+                        "reachable cell nearest the goal (default), or plan through them and look")
+    p.add_argument("--reverse", choices=("off", "on"), default="off",
+                   help="the vehicle may BACK straight over space seen free (default off)")
+    p.add_argument("--track-free", choices=("poses", "swept"), default=C.track_free,
+                   help="free where the vehicle stood: its footprint at each pose (default), or "
+                        "the footprint swept by every move and pivot, shrunk by the margin")
+    p.add_argument("--blank-ft", type=float, default=C.blank_ft, metavar="FT",
+                   help="picture columns outside everything the look located count free this "
+                        "far (default 8; 0: off, then blank walls stop the vehicle)")
+    p.add_argument("--blank-carve", choices=("unknown", "always"), default=C.blank_carve,
+                   help="how that assumption carves: 'unknown' (default): only cells no look has "
+                        "seen, never past a cell any look hit, only past a near zone seen free; "
+                        "'always': as a seen sight line (collides in room 40)")
+    p.add_argument("--carve", choices=("error", "range"), default=C.carve,
+                   help="columns between two edges free up to the near end of the edges' error "
+                        "bound (default) or up to their range")
+    p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
+
+
+def loop_config(args, goal, fail):
+    """The :class:`planner.loop.DriveConfig` of :func:`add_loop_options`'s
+    arguments; ``fail(message)`` reports a bad value (and does not return)."""
+    from planner.loop import DriveConfig
+    from planner.octree import VolumeOfInterest
+    from vehicle.profile import DEFAULT
+    voi = DriveConfig.voi
+    if args.cell_ft is not None:
+        try:
+            voi = VolumeOfInterest.for_accuracy(args.cell_ft)
+        except ValueError as exc:
+            fail(f"--cell-ft: {exc}")
+    profile = replace(DEFAULT, reverse=args.reverse == "on",
+                      margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
+    return DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+                       max_looks=args.max_looks, eyes=args.eyes, match=args.match,
+                       pose=args.pose, pose_method=args.pose_method,
+                       clearance_at=args.clearance_at, growth=args.growth, voi=voi,
+                       look_around=args.look_around, progress=args.progress,
+                       uncertain=args.uncertain, track_free=args.track_free,
+                       blank_carve=args.blank_carve, carve=args.carve, profile=profile,
+                       blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
+
+
 def add_parser(sub) -> None:
     d = sub.add_parser("drive", help="drive the robot to a goal in a simulated room (closed loop)",
                        description="The goal-achievement loop of Chapter IV: look (render at the "
@@ -168,50 +250,7 @@ def add_parser(sub) -> None:
     d.add_argument("--goal", metavar="X,Z",
                    help=f"goal (ft; default {DEFAULT_LAB_GOAL} in the lab, a random reachable "
                         f"one in a generated room)")
-    d.add_argument("--unknown", choices=("free", "blocked"), default="free",
-                   help="plan through never-seen space as free (default) or blocked; the vehicle "
-                        "never drives into it either way")
-    d.add_argument("--search", choices=("dissertation", "astar"), default="dissertation",
-                   help="the dissertation's hierarchical search (default) or A*")
-    d.add_argument("--eyes", choices=("rig", "truth"), default="rig",
-                   help="rig: the 1985 matcher's ranges (default); truth: the true range at the "
-                        "same edge pixels (an oracle: the planner without the matcher's errors)")
-    d.add_argument("--match", choices=("1985", "improved"), default="1985",
-                   help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
-                        "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
-                        "the best available; on the in-process rig, several times slower)")
-    d.add_argument("--pose", choices=("fused", "dead_reckoning"), default="dead_reckoning",
-                   help="the camera estimate that places each look: fused: the symbolic model's "
-                        "(the walk's step: the robust fix on matched vertices fused with the "
-                        "odometry's prior); dead_reckoning: the odometry alone (default)")
-    from model.pose import ESTIMATORS
-    d.add_argument("--pose-method", default="robust", choices=ESTIMATORS,
-                   help="the fix fused under --pose fused (rig walk's --method; default robust)")
-    d.add_argument("--clearance-at", choices=("anywhere", "centre"), default="anywhere",
-                   help="where in a passable cell the vehicle's centre may be: anywhere (the "
-                        "dissertation's cross-section test, default) or its centre, every "
-                        "position then tested by its exact distance to the blocked cells")
-    d.add_argument("--growth", choices=("covariance", "across"), default="covariance",
-                   help="a located hit grown by its whole covariance (the dissertation's, "
-                        "default) or by its error across the sight line only")
-    d.add_argument("--look-around", choices=("sweep", "evidence"), default="sweep",
-                   help="when the vehicle cannot move: face the path and sweep (default), or look "
-                        "at where the path lacks evidence, from a place a look shows it")
-    d.add_argument("--progress", choices=("moved", "evidence"), default="moved",
-                   help="what resets the count of looks without progress: any motion (default), "
-                        "or a shorter way left than ever or new free space seen")
-    d.add_argument("--uncertain", choices=("blocked", "look"), default="blocked",
-                   help="no path avoids the uncertain cells (hit by one look): head for the "
-                        "reachable cell nearest the goal (default), or plan through them and look")
-    d.add_argument("--reverse", choices=("off", "on"), default="off",
-                   help="the vehicle may BACK straight over space seen free (default off)")
-    d.add_argument("--track-free", choices=("poses", "swept"), default="poses",
-                   help="free where the vehicle stood: its footprint at each pose (default), or "
-                        "the footprint swept by every move and pivot, shrunk by the margin")
-    d.add_argument("--blank-ft", type=float, default=8.0, metavar="FT",
-                   help="picture columns outside everything the look located count free this "
-                        "far (default 8; 0: off, then blank walls stop the vehicle)")
-    d.add_argument("--max-looks", type=int, default=60, metavar="N")
+    add_loop_options(d)
     d.add_argument("--seed", type=int, default=1985, help="odometry noise seed")
     d.add_argument("--no-noise", action="store_true", help="odometry noise off")
     d.add_argument("--out", default="out", help="where the pictures go (default ./out)")

@@ -102,8 +102,8 @@ def test_rig_drive_match_reaches_the_loop(tmp_path, monkeypatch):
 
 @pytest.mark.processes
 def test_bench_drive_runs_with_the_improved_matcher(tmp_path):
-    """bench/drive.py --match improved as a user runs it (the script's
-    directory holds a bench/matching.py that must not hide the package)."""
+    """bench/drive.py --match improved as a user runs it (from its own
+    directory on the path, where no module may hide the matching package)."""
     import json
     out = tmp_path / "b.json"
     r = subprocess.run([sys.executable, str(REPO / "bench" / "drive.py"), "--rooms", "1",

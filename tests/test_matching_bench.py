@@ -1,4 +1,4 @@
-"""The matching benchmark's truth (bench/matching.py): the occlusion mask of a
+"""The matching benchmark's truth (bench/bench_matching.py): the occlusion mask of a
 box before a wall against the same geometry worked out by hand, and the
 generated rooms render deterministically."""
 
@@ -10,7 +10,7 @@ import numpy as np
 
 from rig import scene as sc
 
-_PATH = Path(__file__).resolve().parent.parent / "bench" / "matching.py"
+_PATH = Path(__file__).resolve().parent.parent / "bench" / "bench_matching.py"
 _spec = importlib.util.spec_from_file_location("bench_matching", _PATH)
 bm = importlib.util.module_from_spec(_spec)
 sys.modules.setdefault("bench_matching", bm)

@@ -29,7 +29,7 @@ and StereoSGBM (bench/accuracy.py's settings) are scored at the same pixels
 (IY, x-1): precision = occluded share of "no match" verdicts, recall = share
 of the occluded edges of the left slices that got "no match".
 
-Run:  python bench/matching.py [--out docs/matching.md] [--scenes 6]
+Run:  python bench/bench_matching.py [--out docs/matching.md] [--scenes 6]
 """
 
 from __future__ import annotations
@@ -604,7 +604,7 @@ def main(argv=None) -> int:
     gen = [n for n in results if n.startswith("generated")]
     rel_real, rel_gen = reliability(results, scenes=real), reliability(results, scenes=gen)
     times = scan_times()
-    cmd = "python bench/matching.py" + (f" --scenes {args.scenes}" if args.scenes != 6 else "")
+    cmd = "python bench/bench_matching.py" + (f" --scenes {args.scenes}" if args.scenes != 6 else "")
     if args.halfwidth != 1:
         cmd += f" --halfwidth {args.halfwidth}"
     cmd += "".join(f" --param {a}" for a in args.param)
