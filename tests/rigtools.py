@@ -109,7 +109,9 @@ def nstar_ready(tmp: Path, tag: str, timeout=60.0) -> None:
                f"{tag} to serve")
 
 
-def finish(p: subprocess.Popen, timeout=20) -> int:
+def finish(p: subprocess.Popen, timeout=120) -> int:
+    """``p``'s exit code; the timeout is a hang detector (a loaded machine can
+    take many seconds to start a program), not a speed limit."""
     return p.wait(timeout=timeout)
 
 
@@ -130,7 +132,7 @@ def freeze(p: subprocess.Popen) -> None:
     wait_until(lambda: stopped(p.pid), 5, "SIGSTOP to take effect")
 
 
-def freeze_when(p: subprocess.Popen, cond, timeout=15.0, recheck=True) -> None:
+def freeze_when(p: subprocess.Popen, cond, timeout=120.0, recheck=True) -> None:
     """Stop ``p`` at a moment when ``cond()`` holds (with ``recheck``, checked
     again while it is stopped, so the state cannot move on under us)."""
     deadline = time.monotonic() + timeout
