@@ -179,6 +179,16 @@ def stale(jh: Path) -> list[str]:
     return sorted(p.name for p in d.iterdir()) if d.is_dir() else []
 
 
+def lock_held(jhdata: Path, name: str) -> bool:
+    """Does a process hold the lock file ``name`` (its file can exist a moment
+    before it is held)?"""
+    probe = JHData(jhdata, me="test", peer="test", use_events=False)
+    try:
+        return probe.held(name)
+    finally:
+        probe.close()
+
+
 def hold_estar_lock(jhdata: Path):
     """Play a live ESTAR's part in the protocol: hold ESTAR.LCK (NSTAR obeys a
     command found at its start only while an ESTAR holds it).
