@@ -54,6 +54,14 @@ def env() -> dict:
     return e
 
 
+def ctrl_c_default() -> None:
+    """``preexec_fn`` for a child a test sends a Ctrl-C: the default SIGINT, as
+    at a terminal — a suite started with SIGINT ignored (nohup, ``cmd &`` in a
+    script) would hand its children an ignored SIGINT, and the Ctrl-C would
+    never come."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def wait_until(cond, timeout=15.0, what="condition"):
     deadline = time.monotonic() + timeout
     while not cond():

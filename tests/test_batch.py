@@ -15,6 +15,7 @@ from rig import batch
 from rig import scan as scanmod
 from rig.main import main as rig_main
 from rig.scene import bundled_path
+from rigtools import ctrl_c_default
 
 
 def bundled_pair():
@@ -143,7 +144,8 @@ def test_ctrl_c_stops_cleanly_and_keeps_every_finished_frame(tmp_path):
     p = subprocess.Popen([sys.executable, "-m", "rig.main", "scan", "--pair-list",
                           str(tmp_path / "list.txt"), "--out", str(out), "--workers", "2",
                           "--chunk", "8", "--quiet"], env=env,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=ctrl_c_default)
     try:
         deadline = time.monotonic() + 600                # a hang detector
         while len(list(out.glob("frame-*.csv"))) < 20:

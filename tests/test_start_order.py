@@ -17,8 +17,8 @@ import pytest
 
 from diskfmt.layouts import TERM_TEXT
 
-from rigtools import (cleanup, env, finish, hold_estar_lock, nstar, nstar_ready, output,
-                      reference, run_estar, wait_until)
+from rigtools import (cleanup, ctrl_c_default, env, finish, hold_estar_lock, nstar, nstar_ready,
+                      output, reference, run_estar, wait_until)
 
 pytestmark = pytest.mark.processes
 
@@ -231,7 +231,8 @@ def test_ctrl_c_in_rig_scan_stops_at_once_and_tidily(tmp_path, link):
              else ["--engine", "reference"])                         # the bar: its progress
     p = subprocess.Popen([sys.executable, "-m", "rig.main", "scan", "--link", link, "--jhdata",
                           str(jh), *extra, "--line", *many], cwd=tmp_path, stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, env=env(), start_new_session=True)
+                         stderr=subprocess.PIPE, env=env(), start_new_session=True,
+                         preexec_fn=ctrl_c_default)
     try:
         out, err = _Reader(p.stdout), _Reader(p.stderr)
         if link == "file":
@@ -244,7 +245,10 @@ def test_ctrl_c_in_rig_scan_stops_at_once_and_tidily(tmp_path, link):
         out.join(30)
         err.join(30)
     finally:
-        cleanup(p)
+        if p.poll() is None:              # rig hung: killed, its own NSTAR is ours to stop
+            cleanup(p)
+            with contextlib.suppress(FileNotFoundError, ValueError, ProcessLookupError):
+                os.kill(int((jh / "NSTAR.LCK").read_text()), signal.SIGKILL)
     assert p.returncode == 130, err.text
     assert "Traceback" not in err.text
     if link == "file":           # said once: rig's own NSTAR is not in the Ctrl-C's group
