@@ -53,15 +53,18 @@ def nstar_command(jhdata: Path, left: Path | None, right: Path | None, *extra: s
 def start_nstar(jhdata: Path, left: Path | None, right: Path | None, *extra: str,
                 debug: int | None = 0, idle_timeout: float | None = 300, quiet: bool = False,
                 stdin=subprocess.DEVNULL, stdout=None, stderr=None, text: bool = True,
-                env: dict | None = None) -> subprocess.Popen:
+                env: dict | None = None, own_session: bool = False) -> subprocess.Popen:
     """Start an ``nstar`` process (the one constructor: rig, bench and tests).
-    Its console goes to ``stdout``/``stderr`` (inherited when None)."""
+    Its console goes to ``stdout``/``stderr`` (inherited when None).
+    ``own_session``: a session (process group) of its own, which a Ctrl-C at
+    the terminal does not reach — for an NSTAR its starter stops itself."""
     if env is None:
         env = child_env()
         env.pop("JHDATA", None)        # --jhdata names the directory, always
     return subprocess.Popen(nstar_command(jhdata, left, right, *extra, debug=debug,
                                           idle_timeout=idle_timeout, quiet=quiet),
-                            stdin=stdin, stdout=stdout, stderr=stderr, text=text, env=env)
+                            stdin=stdin, stdout=stdout, stderr=stderr, text=text, env=env,
+                            start_new_session=own_session)
 
 
 def stop_process(proc: subprocess.Popen, grace: float = 10.0) -> None:
@@ -93,11 +96,14 @@ def file_link_eclipse(jhdata: Path, left: Path, right: Path, ds: str = "0.75",
                       timeout: float = 30.0, say=None, matcher=None):
     """An ESTAR in this process and an NSTAR process, talking through ``jhdata``;
     NSTAR is told to terminate at the end (killed at once when the block ends
-    with an exception: an interrupted scan must not wait)."""
+    with an exception: an interrupted scan must not wait).  The Ctrl-C is
+    ours alone: NSTAR runs in a session of its own, or it would get the
+    terminal's SIGINT too and race us to the console with its own
+    "nstar: interrupted" (or a traceback, when it came during its start)."""
     jhdata.mkdir(parents=True, exist_ok=True)
     link = start_file_link(jhdata, timeout=timeout, say=say)
     try:
-        proc = start_nstar(jhdata, left, right, quiet=True)
+        proc = start_nstar(jhdata, left, right, quiet=True, own_session=True)
         ok = ended = False
         try:
             ecl = file_link_estar(link, ds, dv, options=options, matcher=matcher)

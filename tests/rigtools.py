@@ -54,6 +54,14 @@ def env() -> dict:
     return e
 
 
+def ctrl_c_default() -> None:
+    """``preexec_fn`` for a child a test sends a Ctrl-C: the default SIGINT, as
+    at a terminal — a suite started with SIGINT ignored (nohup, ``cmd &`` in a
+    script) would hand its children an ignored SIGINT, and the Ctrl-C would
+    never come."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def wait_until(cond, timeout=15.0, what="condition"):
     deadline = time.monotonic() + timeout
     while not cond():
@@ -109,7 +117,9 @@ def nstar_ready(tmp: Path, tag: str, timeout=60.0) -> None:
                f"{tag} to serve")
 
 
-def finish(p: subprocess.Popen, timeout=20) -> int:
+def finish(p: subprocess.Popen, timeout=120) -> int:
+    """``p``'s exit code; the timeout is a hang detector (a loaded machine can
+    take many seconds to start a program), not a speed limit."""
     return p.wait(timeout=timeout)
 
 
@@ -130,7 +140,7 @@ def freeze(p: subprocess.Popen) -> None:
     wait_until(lambda: stopped(p.pid), 5, "SIGSTOP to take effect")
 
 
-def freeze_when(p: subprocess.Popen, cond, timeout=15.0, recheck=True) -> None:
+def freeze_when(p: subprocess.Popen, cond, timeout=120.0, recheck=True) -> None:
     """Stop ``p`` at a moment when ``cond()`` holds (with ``recheck``, checked
     again while it is stopped, so the state cannot move on under us)."""
     deadline = time.monotonic() + timeout
@@ -175,6 +185,16 @@ def send_raw(jh: Path, cmd: Command) -> None:
 def stale(jh: Path) -> list[str]:
     d = jh / "STALE"
     return sorted(p.name for p in d.iterdir()) if d.is_dir() else []
+
+
+def lock_held(jhdata: Path, name: str) -> bool:
+    """Does a process hold the lock file ``name`` (its file can exist a moment
+    before it is held)?"""
+    probe = JHData(jhdata, me="test", peer="test", use_events=False)
+    try:
+        return probe.held(name)
+    finally:
+        probe.close()
 
 
 def hold_estar_lock(jhdata: Path):

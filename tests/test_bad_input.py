@@ -9,7 +9,8 @@ import time
 
 from diskfmt.layouts import Command, encode_ncont, encode_slice, Slice, decode_posit
 
-from rigtools import make_pair, start_nstar, run_estar, env, hold_estar_lock
+from rigtools import (make_pair, start_nstar, run_estar, env, hold_estar_lock, lock_held,
+                      wait_until)
 
 pytestmark = pytest.mark.processes
 
@@ -58,11 +59,11 @@ def test_unknown_code_is_ignored_and_nstar_keeps_serving(tmp_path):
         for code in (7, 2):
             tmp = jh / "ECONT.DT"
             tmp.write_bytes(encode_ncont(Command(code, 1, 0, 45, 128, 0)))
-            deadline = time.monotonic() + 30
+            deadline = time.monotonic() + 120             # a hang detector
             while (jh / "NCONT.DT").exists() and time.monotonic() < deadline:
                 time.sleep(0.01)
             tmp.rename(jh / "NCONT.DT")
-        deadline = time.monotonic() + 30
+        deadline = time.monotonic() + 120             # a hang detector
         while not (jh / "SLICE.DT").exists() and time.monotonic() < deadline:
             time.sleep(0.01)
         assert (jh / "SLICE.DT").stat().st_size == 1024    # the code-2 command was served
@@ -111,10 +112,7 @@ def test_second_estar_on_one_directory_is_refused(tmp_path):
         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         env=env())
     try:
-        deadline = time.monotonic() + 30
-        while not (jh / "ESTAR.LCK").exists() and time.monotonic() < deadline:
-            time.sleep(0.02)
-        time.sleep(0.2)
+        wait_until(lambda: lock_held(jh, "ESTAR.LCK"), 120, "the first ESTAR's lock")
         second = run_estar(jh, "--line", "60", "--timeout", "1")
         assert second.returncode == 1
         assert "another ESTAR is already running" in second.stderr
@@ -140,9 +138,7 @@ def test_second_nstar_on_one_directory_is_refused(tmp_path):
     left, right = make_pair(tmp_path)
     first = start_nstar(jh, left, right)
     try:
-        deadline = time.monotonic() + 30
-        while not (jh / "NSTAR.LCK").exists() and time.monotonic() < deadline:
-            time.sleep(0.02)
+        wait_until(lambda: lock_held(jh, "NSTAR.LCK"), 120, "the first NSTAR's lock")
         second = start_nstar(jh, left, right)
         out, err = second.communicate(timeout=60)
         assert second.returncode == 1

@@ -476,11 +476,10 @@ def test_permissions_removed_mid_run_stop_nstar_with_one_line(rig):
     err_file = tmp / "nstar.stderr"
     n = subprocess.Popen(prefix + nstar_command(jh, tmp / "L.BI", tmp / "R.BI",
                                                 idle_timeout=60),
-                         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                         stdin=subprocess.DEVNULL, stdout=open(tmp / "nstar.stdout", "w"),
                          stderr=open(err_file, "w"), env=env())
     try:
-        wait_until(lambda: (jh / "NSTAR.BSY").exists(), 60, "NSTAR")
-        time.sleep(1.0)                                    # its start-up sweep done
+        nstar_ready(tmp, "nstar", 120)                     # its start-up sweep done
         freeze(n)
         send_raw(jh, Command(CODE_SLICE, 1, 0, 45, 128, 0))
         os.chmod(jh, 0o555)                                # permissions removed
@@ -638,9 +637,10 @@ subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", jh], check=T
 live = hold_estar_lock(__import__("pathlib").Path(jh))
 n = subprocess.Popen(nstar_command(jh, os.path.join(tmp, "L.BI"), os.path.join(tmp, "R.BI"),
                                    idle_timeout=60), stdin=subprocess.DEVNULL,
-                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env())
-wait_until(lambda: os.path.exists(os.path.join(jh, "NSTAR.BSY")), 60, "NSTAR")
-time.sleep(1.0)
+                     stdout=open(os.path.join(tmp, "full.stdout"), "w"), stderr=subprocess.PIPE,
+                     text=True, env=env())
+wait_until(lambda: "Ready for the ECLIPSE" in open(os.path.join(tmp, "full.stdout")).read(),
+           120, "NSTAR to serve")                  # its start-up sweep done
 from diskfmt.layouts import encode_ncont
 for k, c in enumerate((Command(2, 1, 0, 45, 128, 0), Command(-1))):   # before the disk fills
     with open(os.path.join(jh, f"C{k}.DT"), "wb") as fh:
@@ -762,10 +762,10 @@ mid = tmp / "mid"
 mid.mkdir()
 live = hold_estar_lock(mid)
 n = subprocess.Popen(nstar_command(mid, tmp / "L.BI", tmp / "R.BI", idle_timeout=60),
-                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                     stdin=subprocess.DEVNULL, stdout=open(tmp / "mid.stdout", "w"),
                      stderr=subprocess.PIPE, text=True, env=env())
-wait_until(lambda: (mid / "NSTAR.BSY").exists(), 60, "NSTAR")
-time.sleep(1.0)                                    # its start-up sweep done
+wait_until(lambda: "Ready for the ECLIPSE" in (tmp / "mid.stdout").read_text(), 120,
+           "NSTAR to serve")                       # its start-up sweep done
 freeze(n)
 send_raw(mid, Command(2, 1, 0, 45, 128, 0))
 read_only(mid)
