@@ -225,6 +225,8 @@ def loop_config(args, goal, fail):
             voi = VolumeOfInterest.for_accuracy(args.cell_ft)
         except ValueError as exc:
             fail(f"--cell-ft: {exc}")
+    if args.margin is not None and not 0 <= args.margin < 10:
+        fail(f"--margin {args.margin!r}: a planning margin in feet, at least 0 and under 10")
     profile = replace(DEFAULT, reverse=args.reverse == "on",
                       margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
     return DriveConfig(goal=goal, unknown=args.unknown, search=args.search,

@@ -223,6 +223,41 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
         main(["drive", "--out", str(tmp_path), "--growth", "sideways"])
 
 
+def test_rig_drive_and_the_bench_share_the_loops_options(tmp_path, monkeypatch):
+    """The map and carving options reach DriveConfig from ``rig drive`` as from
+    ``bench/drive.py`` (one definition, rig.drive.add_loop_options); their
+    defaults are DriveConfig's own (the safe carving); bad values get one
+    clear error."""
+    import planner.loop
+    from planner.loop import DriveConfig
+    from rig.main import main
+    seen = {}
+
+    class Caught(Exception):
+        pass
+
+    def fake_run(room, start, cfg, **kw):
+        seen["cfg"] = cfg
+        raise Caught
+    monkeypatch.setattr(planner.loop, "run", fake_run)
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(tmp_path)])
+    c = seen["cfg"]
+    assert (c.blank_carve, c.carve) == ("unknown", "error") == \
+        (DriveConfig.blank_carve, DriveConfig.carve)
+    assert c.voi == DriveConfig.voi and c.voi.resolution == 0.25
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(tmp_path), "--cell-ft", "0.125", "--blank-carve", "always",
+              "--carve", "range", "--margin", "0.3"])
+    c = seen["cfg"]
+    assert c.voi.depth == 8 and c.voi.resolution == 0.125          # 32 ft / 2^8
+    assert (c.blank_carve, c.carve, c.profile.margin_ft) == ("always", "range", 0.3)
+    for bad, said in ((["--cell-ft", "0"], "--cell-ft"), (["--margin", "-1"], "--margin")):
+        with pytest.raises(SystemExit) as e:
+            main(["drive", "--out", str(tmp_path)] + bad)
+        assert said in str(e.value)
+
+
 def test_a_blank_look_carves_by_assumption_only_past_a_near_zone_seen_free():
     # a look that located nothing: under blank_carve="unknown" (a named option) its whole view
     # is free to blank_ft only along lines whose part nearer than near_ft is
