@@ -359,28 +359,38 @@ def memory_bytes(tree: pyoctomap.OcTree) -> int:
     return int(tree.memoryUsage())
 
 
+def _sight_samples(origin, ends, res: float, stop_short, start_ft: float, begin_ft: float):
+    """Samples half a cell apart along each sight line ``origin -> end``, from
+    ``begin_ft`` to ``stop_short`` (default one cell) before the end; a line
+    reaching no farther than ``start_ft`` has none.  ``(samples, their
+    distances, samples per line)``, or None when there are none."""
+    ends = np.asarray(ends, float).reshape(-1, 3)
+    if not len(ends):
+        return None
+    stop = res if stop_short is None else stop_short
+    origin = np.asarray(origin, float)
+    d = ends - origin
+    length = np.linalg.norm(d, axis=1)
+    reach = np.maximum(length - stop - begin_ft, 0.0)
+    n = np.where(length - stop > start_ft, np.floor(reach / (res / 2)).astype(int) + 1, 0)
+    if n.sum() == 0:
+        return None
+    seg = np.repeat(np.arange(len(ends)), n)
+    dist = begin_ft + np.concatenate([np.arange(m) for m in n]) * (res / 2)
+    unit = d / np.maximum(length, 1e-12)[:, None]
+    return origin + dist[:, None] * unit[seg], dist, n
+
+
 def mark_free_rays(tree: pyoctomap.OcTree, origin, ends, stop_short: float | None = None,
                    start_ft: float = 0.0) -> int:
     """One miss for each cell along the sight lines ``origin -> end`` from
     ``start_ft`` on, stopping ``stop_short`` (default one cell) before each
     end; the ends are not hit.  Returns the number of cells."""
-    ends = np.asarray(ends, float).reshape(-1, 3)
-    if not len(ends):
-        return 0
     res = tree.getResolution()
-    stop = res if stop_short is None else stop_short
-    origin = np.asarray(origin, float)
-    d = ends - origin
-    length = np.linalg.norm(d, axis=1)
-    reach = np.maximum(length - stop - start_ft, 0.0)
-    n = np.where(length - stop > start_ft, np.floor(reach / (res / 2)).astype(int) + 1, 0)
-    if n.sum() == 0:
+    along = _sight_samples(origin, ends, res, stop_short, start_ft, start_ft)
+    if along is None:
         return 0
-    seg = np.repeat(np.arange(len(ends)), n)
-    dist = start_ft + np.concatenate([np.arange(m) for m in n]) * (res / 2)
-    unit = d / np.maximum(length, 1e-12)[:, None]
-    samples = origin + dist[:, None] * unit[seg]
-    cells = cell_centres(samples, res)
+    cells = cell_centres(along[0], res)
     tree.updateNodes(np.ascontiguousarray(cells), False)
     return len(cells)
 
@@ -402,22 +412,12 @@ def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: 
     ``start_ft`` on, ``stop_short`` (default one cell) before each end; a hit
     cell nearer than ``start_ft`` stops its line too.  Returns the number of
     cells marked."""
-    ends = np.asarray(ends, float).reshape(-1, 3)
-    if not len(ends):
-        return 0
     res = tree.getResolution()
-    stop = res if stop_short is None else stop_short
-    origin = np.asarray(origin, float)
-    d = ends - origin
-    length = np.linalg.norm(d, axis=1)
-    reach = np.maximum(length - stop, 0.0)
-    n = np.where(length - stop > start_ft, np.floor(reach / (res / 2)).astype(int) + 1, 0)
-    if n.sum() == 0:
+    along = _sight_samples(origin, ends, res, stop_short, start_ft, 0.0)
+    if along is None:
         return 0
-    seg = np.repeat(np.arange(len(ends)), n)
-    dist = np.concatenate([np.arange(m) for m in n]) * (res / 2)
-    unit = d / np.maximum(length, 1e-12)[:, None]
-    keys = cell_keys(origin + dist[:, None] * unit[seg], res)
+    samples, dist, n = along
+    keys = cell_keys(samples, res)
     hit = np.isin(keys, np.asarray(hit_keys, np.int64))
     # a sample is kept while no sample at or before it on its line is a hit cell
     m = n[n > 0]
