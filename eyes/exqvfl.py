@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from diskfmt.jit import jit
-from nstar.exqvfl import NFMAX, mean_plus_half
+from nstar.exqvfl import NFMAX, end_of_line_grey, suppress_overlaps
 
 
 def new_work(npix: int = 128) -> np.ndarray:
@@ -181,31 +181,6 @@ def exqvfl_fast(ipix, ilast, ithr, ifeat, work):
     # Label 300: end of the line.
     if nfeat <= 0:
         return nfeat, False
-    if inum >= 1:
-        isum = 0
-        inum = 0
-        for k in range(3):
-            if jloc + k > iloc:
-                continue
-            inum += 1
-            isum += ipix[jloc + k - 1]
-        ifeat[3, nfeat - 1] = mean_plus_half(isum, inum)
-    else:                                                # unreachable once a feature exists
-        ifeat[3, nfeat - 1] = ipix[ilast - 1]
-
+    end_of_line_grey(ipix, ilast, ifeat, nfeat, jloc, iloc, inum)
     # Label 410: suppress overlapping edge features (merge touching narrow ones).
-    ifloc = 1
-    for k in range(2, nfeat + 1):
-        merge = False
-        if ifeat[1, ifloc - 1] >= ifeat[0, k - 1]:
-            iwd1 = ifeat[1, k - 1] - ifeat[0, k - 1]
-            iwd2 = ifeat[1, ifloc - 1] - ifeat[0, ifloc - 1]
-            merge = not (iwd1 > 1 or iwd2 > 1)
-        if merge:
-            ifeat[1, ifloc - 1] = ifeat[1, k - 1]
-            ifeat[3, ifloc - 1] = ifeat[3, k - 1]
-        else:
-            ifloc += 1
-            for j in range(4):
-                ifeat[j, ifloc - 1] = ifeat[j, k - 1]
-    return ifloc, False
+    return suppress_overlaps(ifeat, nfeat), False

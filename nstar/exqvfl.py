@@ -150,20 +150,34 @@ def exqvfl_kernel(ipix, ilast, ithr, ifeat):
         else:                                            # label 300: end of the line
             if nfeat <= 0:
                 return nfeat, False
-            if inum >= 1:
-                isum = 0
-                inum = 0
-                for k in range(3):
-                    if jloc + k > iloc:
-                        continue
-                    inum += 1
-                    isum += ipix[jloc + k - 1]
-                ifeat[3, nfeat - 1] = mean_plus_half(isum, inum)
-            else:                                        # unreachable once a feature exists
-                ifeat[3, nfeat - 1] = ipix[ilast - 1]
+            end_of_line_grey(ipix, ilast, ifeat, nfeat, jloc, iloc, inum)
             break
+    return suppress_overlaps(ifeat, nfeat), False
 
-    # Label 410: suppress overlapping edge features (merge touching narrow ones).
+
+@jit
+def end_of_line_grey(ipix, ilast, ifeat, nfeat, jloc, iloc, inum):
+    """Label 300 (end of the line, NFEAT > 0): the last feature's right grey
+    IFEAT(NFEAT,4), the mean of up to three pixels from JLOC to ILOC.  Shared
+    with the eyes' EXQVFL (eyes/exqvfl.py)."""
+    if inum >= 1:
+        isum = 0
+        inum = 0
+        for k in range(3):
+            if jloc + k > iloc:
+                continue
+            inum += 1
+            isum += ipix[jloc + k - 1]
+        ifeat[3, nfeat - 1] = mean_plus_half(isum, inum)
+    else:                                        # unreachable once a feature exists
+        ifeat[3, nfeat - 1] = ipix[ilast - 1]
+
+
+@jit
+def suppress_overlaps(ifeat, nfeat):
+    """Label 410: suppress overlapping edge features (merge touching narrow
+    ones) in IFEAT's first NFEAT entries; returns the new NFEAT.  Shared with
+    the eyes' EXQVFL (eyes/exqvfl.py)."""
     ifloc = 1
     for k in range(2, nfeat + 1):        # DO 490 ILOC=2,NFEAT (zero trips if NFEAT=1)
         merge = False
@@ -178,7 +192,7 @@ def exqvfl_kernel(ipix, ilast, ithr, ifeat):
             ifloc += 1
             for j in range(4):
                 ifeat[j, ifloc - 1] = ifeat[j, k - 1]
-    return ifloc, False
+    return ifloc
 
 
 def exqvfl(ipix, ithr: int, ifeat=None, ilast: int | None = None, warn=None):
