@@ -241,3 +241,24 @@ class FakeNova(threading.Thread):
         self.running = False
         self.join(5)
         self.jh.close()
+
+
+def drive_config(monkeypatch, out, *options):
+    """The planner.loop.DriveConfig that ``rig drive --out OUT OPTIONS`` hands
+    the loop (which is stopped before its first look)."""
+    import pytest
+
+    import planner.loop
+    from rig.main import main
+    seen = {}
+
+    class Caught(Exception):
+        pass
+
+    def fake_run(room, start, cfg, **kw):
+        seen["cfg"] = cfg
+        raise Caught                                  # stop before any look
+    monkeypatch.setattr(planner.loop, "run", fake_run)
+    with pytest.raises(Caught):
+        main(["drive", "--out", str(out), *options])
+    return seen["cfg"]

@@ -14,6 +14,7 @@ from rig.scan import Point
 from vehicle.profile import DEFAULT
 from vehicle.sim import State
 from world.odometry import OdometryNoise
+from rigtools import drive_config
 
 
 def test_tiny_room_true_optimum_is_the_straight_line():
@@ -194,28 +195,14 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     """``rig drive --clearance-at centre --growth across`` and the behaviour
     options reach the loop's DriveConfig (the bench's options of the same
     names); the defaults are the loop's; a bad value is refused by argparse."""
-    import planner.loop
     from rig.main import main
-    seen = {}
-
-    class Caught(Exception):
-        pass
-
-    def fake_run(room, start, cfg, **kw):
-        seen["cfg"] = cfg
-        raise Caught                                  # stop before any look
-    monkeypatch.setattr(planner.loop, "run", fake_run)
-    with pytest.raises(Caught):
-        main(["drive", "--out", str(tmp_path), "--clearance-at", "centre", "--growth", "across",
-              "--look-around", "evidence", "--progress", "evidence", "--uncertain", "look",
-              "--reverse", "on", "--track-free", "swept"])
-    c = seen["cfg"]
+    c = drive_config(monkeypatch, tmp_path, "--clearance-at", "centre", "--growth", "across",
+                     "--look-around", "evidence", "--progress", "evidence", "--uncertain",
+                     "look", "--reverse", "on", "--track-free", "swept")
     assert c.clearance_at == "centre" and c.growth == "across"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("evidence", "evidence", "look", "swept", True)
-    with pytest.raises(Caught):
-        main(["drive", "--out", str(tmp_path)])
-    c = seen["cfg"]
+    c = drive_config(monkeypatch, tmp_path)
     assert c.clearance_at == "anywhere" and c.growth == "covariance"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("sweep", "moved", "blocked", "poses", False)
@@ -228,28 +215,13 @@ def test_rig_drive_and_the_bench_share_the_loops_options(tmp_path, monkeypatch):
     ``bench/drive.py`` (one definition, rig.drive.add_loop_options); their
     defaults are DriveConfig's own (the safe carving); bad values get one
     clear error."""
-    import planner.loop
-    from planner.loop import DriveConfig
     from rig.main import main
-    seen = {}
-
-    class Caught(Exception):
-        pass
-
-    def fake_run(room, start, cfg, **kw):
-        seen["cfg"] = cfg
-        raise Caught
-    monkeypatch.setattr(planner.loop, "run", fake_run)
-    with pytest.raises(Caught):
-        main(["drive", "--out", str(tmp_path)])
-    c = seen["cfg"]
+    c = drive_config(monkeypatch, tmp_path)
     assert (c.blank_carve, c.carve) == ("unknown", "error") == \
         (DriveConfig.blank_carve, DriveConfig.carve)
     assert c.voi == DriveConfig.voi and c.voi.resolution == 0.25
-    with pytest.raises(Caught):
-        main(["drive", "--out", str(tmp_path), "--cell-ft", "0.125", "--blank-carve", "always",
-              "--carve", "range", "--margin", "0.3"])
-    c = seen["cfg"]
+    c = drive_config(monkeypatch, tmp_path, "--cell-ft", "0.125", "--blank-carve", "always",
+                     "--carve", "range", "--margin", "0.3")
     assert c.voi.depth == 8 and c.voi.resolution == 0.125          # 32 ft / 2^8
     assert (c.blank_carve, c.carve, c.profile.margin_ft) == ("always", "range", 0.3)
     for bad, said in ((["--cell-ft", "0"], "--cell-ft"), (["--margin", "-1"], "--margin")):

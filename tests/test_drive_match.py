@@ -13,6 +13,7 @@ from planner.loop import DriveConfig, run, scan_look, true_range_points
 from planner.tiny import GOAL, tiny_room
 from vehicle.sim import State
 from world.odometry import OdometryNoise
+from rigtools import drive_config
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -79,23 +80,9 @@ def test_the_loop_on_the_improved_matcher_reaches_the_tiny_room_goal():
 
 
 def test_rig_drive_match_reaches_the_loop(tmp_path, monkeypatch):
-    import planner.loop
     from rig.main import main
-    seen = {}
-
-    class Caught(Exception):
-        pass
-
-    def fake_run(room, start, cfg, **kw):
-        seen["cfg"] = cfg
-        raise Caught
-    monkeypatch.setattr(planner.loop, "run", fake_run)
-    with pytest.raises(Caught):
-        main(["drive", "--out", str(tmp_path), "--match", "improved"])
-    assert seen["cfg"].match == "improved"
-    with pytest.raises(Caught):
-        main(["drive", "--out", str(tmp_path)])
-    assert seen["cfg"].match == "1985"
+    assert drive_config(monkeypatch, tmp_path, "--match", "improved").match == "improved"
+    assert drive_config(monkeypatch, tmp_path).match == "1985"
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--match", "sgbm"])
 
