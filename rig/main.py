@@ -35,7 +35,8 @@ from .checks import (PICTURE_SUFFIXES, UsageError, blank_service_warning, check_
                      check_output_dir, check_output_file, impossible_share, load_picture,
                      load_truth, pair_warnings, positive_number)
 from .scene import bundled_path
-from .session import child_env, file_link_eclipse, rig_jhdata, start_nstar, stop_process
+from .session import (child_env, file_link_eclipse, rig_jhdata, start_nstar, stop_process,
+                      tidy_link_files)
 
 DEMO_LINES = (40, 60, 80)
 EXIT_USAGE = 1                   # as estar and pre: 1 for any bad input
@@ -85,24 +86,34 @@ def _demo(args, jhdata, out, lp, rp, left, right) -> int:
     from .pictures import line_picture, monitor_picture, save_png, topdown_map
     lines = [str(y) for y in args.lines]
     print(f"== NSTAR (NOVA) starts on {jhdata}/ with the bundled laboratory pair")
-    nstar = start_nstar(jhdata, lp, rp, quiet=True, idle_timeout=120)
+    # Both in sessions of their own: a Ctrl-C is rig's alone, and rig stops
+    # them, so the console gets one "rig: interrupted", not one per program.
+    nstar = start_nstar(jhdata, lp, rp, quiet=True, idle_timeout=120, own_session=True)
+    estar = None
     try:
         print(f"== ESTAR (Eclipse): ds 0.75 ft, dv 180 px, debug 8 (position lists), "
-              f"lines {' '.join(lines)}")
+              f"lines {' '.join(lines)}", flush=True)
         t0 = time.perf_counter()
-        estar = subprocess.run(
+        estar = subprocess.Popen(
             [sys.executable, "-m", "estar.main", "--jhdata", str(jhdata), "--separation",
              "0.75", "--virtual-distance", "180", "--debug", "8", "--line", *lines,
-             "--terminate"], env=child_env(), stdin=subprocess.DEVNULL)
+             "--terminate"], env=child_env(), stdin=subprocess.DEVNULL,
+            start_new_session=True)
+        estar.wait()
         took = time.perf_counter() - t0
         if estar.returncode != 0:
             print("rig: estar failed (see above)", file=sys.stderr)
             return 1
         stop_process(nstar, 60)
     finally:
-        if nstar.poll() is None:          # interrupted: at once
-            nstar.kill()
-            nstar.wait()
+        interrupted = False
+        for proc in (estar, nstar):       # interrupted: at once
+            if proc is not None and proc.poll() is None:
+                proc.kill()
+                proc.wait()
+                interrupted = True
+        if interrupted:                   # every protocol file left is the killed pair's
+            tidy_link_files(jhdata)
     posit = (jhdata / "POSIT.DT").read_bytes()
     print(f"\n== {len(lines)} lines in {took:.2f} s over the file link; jhdata/ now holds: "
           + ", ".join(sorted(p.name for p in jhdata.iterdir() if p.is_file())))

@@ -27,6 +27,15 @@ _IN_FLIGHT = ("ECONT.DT", "NCONT.DT", "NDAT.DT", "SLICE.DT", "SL.DT", "WBMAP.DT"
               "EDAT.DT", "TRM.DT", "TERM.DT")
 
 
+def tidy_link_files(jhdata: Path) -> None:
+    """Delete every protocol file an interrupted scan's two programs may have
+    left in ``jhdata`` (both killed, so each is theirs); POSIT.DT stays.  An
+    unlink removes a link found there, never what it points to."""
+    for name in _IN_FLIGHT:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(Path(jhdata) / name)
+
+
 def child_env() -> dict:
     """The environment for a child program: this checkout first on the path."""
     env = dict(os.environ)
@@ -120,8 +129,7 @@ def file_link_eclipse(jhdata: Path, left: Path, right: Path, ds: str = "0.75",
                     if proc.poll() is None:    # protocol file in it is ours or our NSTAR's)
                         proc.kill()
                     proc.wait()
-                    for name in _IN_FLIGHT:
-                        link.jh.delete(name)
+                    tidy_link_files(jhdata)
     finally:
         link.close()
 

@@ -282,6 +282,51 @@ def test_rigs_own_nstar_is_out_of_reach_of_the_terminals_ctrl_c(tmp_path):
                 os.kill(served, signal.SIGKILL)
 
 
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    try:                                      # a zombie not yet reaped by its parent
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(") ")[-1][:1] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+def test_ctrl_c_in_rig_demo_is_said_once_and_stops_both_programs(tmp_path):
+    """Before: NSTAR and ESTAR shared rig's process group, so a Ctrl-C during
+    `rig demo` printed "nstar: interrupted", "estar: interrupted" and "rig:
+    interrupted".  Now rig alone gets it, kills both (their pids, read from
+    their locks, are gone when rig has ended) and tidies jhdata/."""
+    jh = tmp_path / "jh"
+    many = [str(8 + 2 * (k % 52)) for k in range(2000)]                 # long enough
+    p = subprocess.Popen([sys.executable, "-m", "rig.main", "demo", "--jhdata", str(jh),
+                          "--out", str(tmp_path / "out"), "--lines", *many], cwd=tmp_path,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env(),
+                         start_new_session=True, preexec_fn=ctrl_c_default)
+    pids = []
+    try:
+        err = _Reader(p.stderr)
+        wait_until(lambda: (jh / "POSIT.DT").exists(), 300, "the first line")
+        pids = [int((jh / name).read_text()) for name in ("NSTAR.LCK", "ESTAR.LCK")]
+        assert p.poll() is None
+        os.killpg(p.pid, signal.SIGINT)                # Ctrl-C: the whole foreground group
+        p.wait(timeout=120)                            # a hang detector, not a speed limit
+        err.join(30)
+    finally:
+        cleanup(p)
+        for pid in pids:
+            with contextlib.suppress(ProcessLookupError):
+                if p.returncode is None:
+                    os.kill(pid, signal.SIGKILL)
+    assert p.returncode == 130, err.text
+    assert err.text == "rig: interrupted\n"
+    assert not [pid for pid in pids if _alive(pid)]
+    left = sorted(x.name for x in jh.iterdir())
+    assert set(left) <= {"ESTAR.LCK", "NSTAR.LCK", "NSTAR.BSY", "POSIT.DT"}, left
+
+
 def test_ctrl_c_just_after_pnpl_wrote_its_temporary_leaves_no_file(rig, monkeypatch):
     """The race behind a rare failure of the test above on a loaded machine:
     a Ctrl-C that lands between PNPL's write of EDAT.DT and its rename over
