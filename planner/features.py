@@ -231,29 +231,38 @@ class FloorFeatures:
         return np.vstack(occ), np.vstack(und)
 
 
-def honesty(features: FloorFeatures, corners, near_ft: float = 0.75, min_looks: int = 2):
+def honesty(features: FloorFeatures, outline, near_ft: float = 1.0, min_looks: int = 2):
     """How honest the fused covariances are: of the alive features fused from
-    at least ``min_looks`` looks whose nearest true corner (``corners`` (K, 2))
-    is within ``near_ft``, the share whose 2-sigma ellipse holds that corner
-    (an honest 2-D Gaussian: 86.5 %).  Returns (share or None, how many)."""
+    at least ``min_looks`` looks that lie within ``near_ft`` of the true room's
+    outline (``outline`` (K, 2): points along every obstacle's footprint and
+    the walls, :func:`true_outline`), the share whose 2-sigma ellipse reaches
+    the outline (the smallest Mahalanobis distance to its points at most 2).
+    A located edge lies somewhere on an outline, so an honest covariance holds
+    it in at least the share a 2-D Gaussian has within 2 sigma (86.5 %).
+    Returns (share or None, how many features)."""
     sel = np.flatnonzero(features.alive & (features.looks >= min_looks))
-    corners = np.asarray(corners, float).reshape(-1, 2)
-    if not len(sel) or not len(corners):
+    outline = np.asarray(outline, float).reshape(-1, 2)
+    if not len(sel) or not len(outline):
         return None, 0
-    m = features.mean[sel]
-    dist = np.hypot(m[:, None, 0] - corners[None, :, 0], m[:, None, 1] - corners[None, :, 1])
-    k = dist.argmin(1)
-    near = dist[np.arange(len(sel)), k] <= near_ft
-    if not near.any():
-        return None, 0
-    d = corners[k[near]] - m[near]
-    m2 = np.einsum("ni,nij,nj->n", d, _inv2(features.cov[sel[near]]), d)
-    return float(np.mean(m2 <= 4.0)), int(near.sum())
+    inside, n = 0, 0
+    for i in sel:
+        d = outline - features.mean[i]
+        near = np.hypot(d[:, 0], d[:, 1]) <= near_ft
+        if not near.any():
+            continue
+        n += 1
+        m2 = np.einsum("ni,ij,nj->n", d[near], _inv2(features.cov[i]), d[near])
+        inside += bool(m2.min() <= 4.0)
+    return (inside / n if n else None), n
 
 
-def true_corners(room) -> np.ndarray:
-    """(K, 2) the (x, z) corners of the room's obstacle footprints and walls."""
+def true_outline(room, step_ft: float = 0.01) -> np.ndarray:
+    """(K, 2) points ``step_ft`` apart along the (x, z) outline of every
+    obstacle footprint and of the walls."""
     out = []
     for x0, x1, z0, z1 in list(np.asarray(room.obstacles, float)) + [room.bounds]:
-        out += [(x0, z0), (x0, z1), (x1, z0), (x1, z1)]
-    return np.asarray(out, float)
+        for a, b in (((x0, z0), (x1, z0)), ((x1, z0), (x1, z1)), ((x1, z1), (x0, z1)),
+                     ((x0, z1), (x0, z0))):
+            n = max(2, int(np.ceil(np.hypot(b[0] - a[0], b[1] - a[1]) / step_ft)) + 1)
+            out.append(np.linspace(a, b, n))
+    return np.vstack(out)

@@ -76,7 +76,7 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
 from .octree import free_below, logodds_at
-from .perception import MAX_RANGE_FT, floor_scan
+from .perception import MAX_RANGE_FT, PLACES, floor_scan
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
     line_of_sight, path_length, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
@@ -162,6 +162,11 @@ class DriveConfig:
                                           # look's covariance, never shrunk; "model": drawn
                                           # each cycle from the floor features, fused look
                                           # by look (planner.features; Perception.update)
+    hit_at: str = "axis"                  # where a look's range lands on the floor plane
+                                          # (perception.floor_scan's place): "axis": laid
+                                          # along the pitched optical axis (short by up to
+                                          # its cosine); "point": the located point's own
+                                          # horizontal position
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -323,6 +328,7 @@ class Perception:
         self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
+        self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.confirm_looks = confirm_looks
         self.features = FloorFeatures()
         self.retired = 0
@@ -372,7 +378,7 @@ class Perception:
         R = pose.rotation()
         left = pose.camera_centre("left")
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
-                        blank_ft=self.blank_ft, carve=self.carve)
+                        blank_ft=self.blank_ft, carve=self.carve, place=self.place)
         res = self.tree.getResolution()
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
@@ -955,6 +961,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"unknown occupied-cell source {cfg.occupied!r}; one of "
                          f"{', '.join(OCCUPIEDS)}")
     model.occupied = cfg.occupied
+    if cfg.hit_at not in PLACES:
+        raise ValueError(f"unknown hit placement {cfg.hit_at!r}; one of {', '.join(PLACES)}")
+    model.place = cfg.hit_at
     # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
     dead_cov = np.zeros((3, 3))
     odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \

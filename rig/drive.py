@@ -182,6 +182,10 @@ def add_loop_options(p) -> None:
     p.add_argument("--growth", choices=("covariance", "across"), default=C.growth,
                    help="a located hit grown by its whole covariance (the dissertation's, "
                         "default) or by its error across the sight line only")
+    p.add_argument("--hit-at", choices=("axis", "point"), default=C.hit_at,
+                   help="where a look's range lands on the floor plane: along the pitched "
+                        "optical axis (default; short by up to the pitch's cosine) or at the "
+                        "located point's own horizontal position")
     p.add_argument("--occupied", choices=("looks", "model"), default=C.occupied,
                    help="the map's occupied cells: every look's hits grown by that look's "
                         "covariance (default), or regenerated each cycle from the floor "
@@ -238,7 +242,7 @@ def loop_config(args, goal, fail):
                        max_looks=args.max_looks, eyes=args.eyes, match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, growth=args.growth, voi=voi,
-                       occupied=args.occupied,
+                       occupied=args.occupied, hit_at=args.hit_at,
                        look_around=args.look_around, progress=args.progress,
                        uncertain=args.uncertain, track_free=args.track_free,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
