@@ -217,6 +217,7 @@ def main(argv=None) -> int:
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "occupied": args.occupied, "hit_at": args.hit_at,
+        "feature_pose": args.feature_pose,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
@@ -253,7 +254,7 @@ def main(argv=None) -> int:
         summary["honest_2sigma"] = sum(r["honest_2sigma"] * r["honest_features"]
                                        for r in honest) / n
         summary["honest_features"] = n
-        kinds = {}
+    kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])
     summary["stop_reasons"] = kinds

@@ -164,31 +164,57 @@ class FloorFeatures:
     looks: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     alive: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
     spans: dict = field(default_factory=dict)
+    seen_pose_cov: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)))
     fused: int = 0               # observations fused into an existing feature so far
     started: int = 0             # observations that started a feature
 
     def __len__(self) -> int:
         return int(self.alive.sum())
 
-    def add_look(self, obs, obs_cov, spans=(), near=None, near_ft: float | None = None
-                 ) -> np.ndarray:
+    def add_look(self, obs, obs_cov, spans=(), near=None, near_ft: float | None = None,
+                 drift_cov=None) -> np.ndarray:
         """One look's observations ((O, 2) means, (O, 2, 2) covariances, the
         pose's share already in them) into the model; ``spans`` are pairs of
         observation indices.  Only alive features within ``near_ft`` of
         ``near`` are candidates (a look sees no farther).  Returns the
-        feature id of each observation."""
+        feature id of each observation.
+
+        ``drift_cov`` (the pose's (x, z, heading) covariance now, with
+        ``near`` the vehicle's position): the features are kept in the
+        dead-reckoned frame, so a feature last seen under the pose covariance
+        P_then is uncertain in the current frame by the drift since,
+        ``P_now - P_then`` carried by its lever arm from ``near``; that is
+        added to its covariance before it is gated and fused (the
+        observations then carry no pose share of their own).  A feature this
+        look did not see keeps its covariance (in the frame it was last seen
+        in)."""
         obs = np.asarray(obs, float).reshape(-1, 2)
         obs_cov = np.asarray(obs_cov, float).reshape(-1, 2, 2)
         cand = np.flatnonzero(self.alive)
         if near is not None and near_ft is not None and len(cand):
             cand = cand[np.hypot(*(self.mean[cand] - np.asarray(near, float)).T) <= near_ft]
-        match = associate(self.mean[cand], self.cov[cand], obs, obs_cov, self.gate)
+        if drift_cov is not None and len(cand):
+            D = np.asarray(drift_cov, float)[None] - self.seen_pose_cov[cand]
+            w, V = np.linalg.eigh((D + np.swapaxes(D, 1, 2)) / 2)
+            D = (V * np.clip(w, 0, None)[:, None, :]) @ np.swapaxes(V, 1, 2)
+            v = self.mean[cand] - np.asarray(near, float)
+            J = np.zeros((len(cand), 2, 3))
+            J[:, 0, 0] = J[:, 1, 1] = 1.0
+            J[:, 0, 2], J[:, 1, 2] = v[:, 1], -v[:, 0]
+            prior = self.cov[cand] + J @ D @ np.swapaxes(J, 1, 2)
+        else:
+            prior = self.cov[cand]
+        match = associate(self.mean[cand], prior, obs, obs_cov, self.gate)
         ids = np.full(len(obs), -1, int)
         ids[match >= 0] = cand[match[match >= 0]]
         old = ids >= 0
         if old.any():
             f = ids[old]
-            self.mean[f], self.cov[f] = fuse2(self.mean[f], self.cov[f], obs[old], obs_cov[old])
+            # only the features this look saw move into the current frame
+            self.mean[f], self.cov[f] = fuse2(self.mean[f], prior[match[old]], obs[old],
+                                              obs_cov[old])
+            if drift_cov is not None:
+                self.seen_pose_cov[f] = np.asarray(drift_cov, float)
             self.looks[f] += 1
             self.fused += int(old.sum())
         new = np.flatnonzero(~old)
@@ -198,6 +224,9 @@ class FloorFeatures:
             self.cov = np.concatenate([self.cov, obs_cov[new]])
             self.looks = np.concatenate([self.looks, np.ones(len(new), int)])
             self.alive = np.concatenate([self.alive, np.ones(len(new), bool)])
+            seen = np.zeros((len(new), 3, 3)) if drift_cov is None else \
+                np.repeat(np.asarray(drift_cov, float)[None], len(new), 0)
+            self.seen_pose_cov = np.concatenate([self.seen_pose_cov, seen])
             self.started += len(new)
         for a, b in spans:
             key = (int(min(ids[a], ids[b])), int(max(ids[a], ids[b])))

@@ -89,6 +89,7 @@ PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
+FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -162,6 +163,12 @@ class DriveConfig:
                                           # look's covariance, never shrunk; "model": drawn
                                           # each cycle from the floor features, fused look
                                           # by look (planner.features; Perception.update)
+    feature_pose: str = "absolute"        # under occupied="model", the pose error in each
+                                          # observation's covariance: "absolute": the
+                                          # dead-reckoned pose's whole covariance;
+                                          # "drift": the features kept in the dead-reckoned
+                                          # frame, an old feature's covariance grown by the
+                                          # drift since it was last seen; "none"
     hit_at: str = "axis"                  # where a look's range lands on the floor plane
                                           # (perception.floor_scan's place): "axis": laid
                                           # along the pitched optical axis (short by up to
@@ -329,6 +336,7 @@ class Perception:
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
+        self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
         self.confirm_looks = confirm_looks
         self.features = FloorFeatures()
         self.retired = 0
@@ -404,10 +412,12 @@ class Perception:
                 mark_occupied(self.tree, cell_centres(fs.hits, res))
                 obs = fs.hits[:, [0, 2]]
                 obs_cov = fs.hit_cov[:, [0, 2]][:, :, [0, 2]]
-                if pose_cov is not None:
+                if pose_cov is not None and self.feature_pose == "absolute":
                     obs_cov = obs_cov + pose_point_covariance(obs, (est.x, est.z), pose_cov)
                 self.features.add_look(obs, obs_cov, fs.spans, near=(est.x, est.z),
-                                       near_ft=self.max_range_ft + 3.0)
+                                       near_ft=self.max_range_ft + 3.0,
+                                       drift_cov=pose_cov if self.feature_pose == "drift"
+                                       and pose_cov is not None else None)
             if self.occupied == "model":
                 self.retire(left, self.max_range_ft + 3.0)
         self.points = np.vstack([self.points, fs.hits])
@@ -964,6 +974,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.hit_at not in PLACES:
         raise ValueError(f"unknown hit placement {cfg.hit_at!r}; one of {', '.join(PLACES)}")
     model.place = cfg.hit_at
+    if cfg.feature_pose not in FEATURE_POSES:
+        raise ValueError(f"unknown feature pose error {cfg.feature_pose!r}; one of "
+                         f"{', '.join(FEATURE_POSES)}")
+    model.feature_pose = cfg.feature_pose
     # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
     dead_cov = np.zeros((3, 3))
     odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \

@@ -172,3 +172,25 @@ def test_the_loop_on_the_regenerated_map_reaches_the_tiny_rooms_goal():
 def test_an_unknown_occupied_source_is_refused():
     with pytest.raises(ValueError, match="occupied"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, occupied="octree"))
+
+
+def test_drift_since_a_feature_was_last_seen_widens_only_what_is_seen_again():
+    f = FloorFeatures()
+    P0 = np.zeros((3, 3))
+    f.add_look([[0.0, 5.0], [3.0, 5.0]], [_cov(0.05, 0.05)] * 2, near=(0.0, 0.0),
+               near_ft=20.0, drift_cov=P0)
+    # the vehicle has since drifted (heading 2 deg): a corner 5 ft ahead of it
+    # is uncertain by 5 ft x 2 deg = 0.175 ft across, so a hit 0.3 ft to the
+    # side (6 of the look's standard deviations, under 2 of the drift's) fuses
+    P1 = np.diag([0.0, 0.0, math.radians(2.0) ** 2])
+    ids = f.add_look([[0.3, 5.0]], [_cov(0.05, 0.05)], near=(0.0, 0.0), near_ft=20.0,
+                     drift_cov=P1)
+    assert list(ids) == [0] and f.looks[0] == 2
+    # without the drift it would not have
+    g = FloorFeatures()
+    g.add_look([[0.0, 5.0]], [_cov(0.05, 0.05)], near=(0.0, 0.0), near_ft=20.0)
+    assert list(g.add_look([[0.3, 5.0]], [_cov(0.05, 0.05)], near=(0.0, 0.0),
+                           near_ft=20.0)) == [1]
+    # the feature not seen again keeps its covariance and the frame it was seen in
+    assert np.allclose(f.cov[1], _cov(0.05, 0.05)) and np.allclose(f.seen_pose_cov[1], P0)
+    assert np.allclose(f.seen_pose_cov[0], P1)
