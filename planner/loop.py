@@ -27,7 +27,12 @@ the path as needed during the traversal".
   all of them free up to ``blank_ft``.  One update per cell per look, so
   inserting a look equals regenerating the tree from all looks while no
   earlier feature moves (true of the dead-reckoned adapter).  A cell is
-  believed occupied once ``confirm_looks`` looks hit it (uncertain before);
+  believed occupied once ``confirm_looks`` looks hit it (uncertain before).
+  ``occupied="model"`` (a named option, :mod:`planner.features`) instead
+  draws the occupied and uncertain cells each cycle from floor features
+  fused look by look, each grown by its fused covariance (Chapter IV's
+  octree "regenerated from the symbolic model"); the free space is the same
+  sight-line carving;
 * **plan**: the floor map over the vehicle's height band, grown by the
   vehicle's radius, searched by the dissertation's search (or A*), pulled
   taut, turned into motion commands;

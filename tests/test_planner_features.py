@@ -172,6 +172,10 @@ def test_the_loop_on_the_regenerated_map_reaches_the_tiny_rooms_goal():
 def test_an_unknown_occupied_source_is_refused():
     with pytest.raises(ValueError, match="occupied"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, occupied="octree"))
+    with pytest.raises(ValueError, match="feature pose"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, feature_pose="gps"))
+    with pytest.raises(ValueError, match="placement"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, hit_at="floor"))
 
 
 def test_drift_since_a_feature_was_last_seen_widens_only_what_is_seen_again():
