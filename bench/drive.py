@@ -14,6 +14,11 @@ taut, and time).
     python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
     python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
     python bench/drive.py --rooms 20 --first 21 --blank-carve unknown --carve error
+    python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
+
+``--occupied model`` draws the map's occupied cells from floor features fused look by look
+(planner.features); the summary then adds ``honest_2sigma``: the share of fused features
+whose 2-sigma ellipse reaches the true outline.
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
