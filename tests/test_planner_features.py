@@ -9,8 +9,8 @@ import pytest
 from planner.features import FloorFeatures, associate, ellipse_cells, fuse2, \
     pose_point_covariance, segment_cells
 from planner.loop import DriveConfig, Perception, run
-from planner.octree import VolumeOfInterest, cell_centres, features_cells, mark_free_rays, \
-    mark_occupied
+from planner.octree import VolumeOfInterest, cell_centres, feature_cells, features_cells, \
+    mark_free_rays, mark_occupied
 from planner.tiny import GOAL, tiny_room
 from vehicle.commands import Forward, Turn
 from vehicle.sim import State, Vehicle, odometry_covariance
@@ -93,6 +93,16 @@ def test_ellipse_cells_equal_the_octrees_growth_in_the_floor_plane():
     ref = {(int(math.floor(x / RES)), int(math.floor(z / RES))) for x, _, z in ref}
     got = {tuple(c) for c in ellipse_cells(means, covs, RES)}
     assert got == ref and len(got) > 40
+    # and the plain per-feature growth (octree.feature_cells, one at a time) where the cap
+    # does not bite
+    small = np.flatnonzero(2 * np.sqrt(np.diagonal(covs, axis1=1, axis2=2)).max(1) < 1.0)
+    assert len(small) > 10
+    plain = set()
+    for n in small:
+        for x, yy, z in feature_cells(m3[n], c3[n], RES):
+            if np.isclose(yy, (math.floor(y / RES) + 0.5) * RES):
+                plain.add((int(math.floor(x / RES)), int(math.floor(z / RES))))
+    assert {tuple(c) for c in ellipse_cells(means[small], covs[small], RES)} == plain
     # a segment's cells as the octree's surface sampling
     seg = {tuple(c) for c in segment_cells([[0.0, 4.0]], [[1.3, 5.1]], RES)}
     ref = cell_centres(np.linspace([0.0, 0.0, 4.0], [1.3, 0.0, 5.1], 200), RES)
