@@ -27,7 +27,12 @@ the path as needed during the traversal".
   all of them free up to ``blank_ft``.  One update per cell per look, so
   inserting a look equals regenerating the tree from all looks while no
   earlier feature moves (true of the dead-reckoned adapter).  A cell is
-  believed occupied once ``confirm_looks`` looks hit it (uncertain before);
+  believed occupied once ``confirm_looks`` looks hit it (uncertain before).
+  ``occupied="model"`` (a named option, :mod:`planner.features`) instead
+  draws the occupied and uncertain cells each cycle from floor features
+  fused look by look, each grown by its fused covariance (Chapter IV's
+  octree "regenerated from the symbolic model"); the free space is the same
+  sight-line carving;
 * **plan**: the floor map over the vehicle's height band, grown by the
   vehicle's radius, searched by the dissertation's search (or A*), pulled
   taut, turned into motion commands;
@@ -69,12 +74,14 @@ import numpy as np
 
 from vehicle.commands import Back, Forward, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
-from vehicle.sim import State, Vehicle
+from vehicle.sim import State, Vehicle, odometry_covariance
 from .floormap import FLOOR_Y, FloorMap, empty_map, project_octree, true_floor_map
 from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_centres, \
     cell_keys, features_cells, mark_assumed_free, mark_free_rays, mark_occupied, memory_bytes, \
     new_octree, spans_cells
-from .perception import MAX_RANGE_FT, floor_scan
+from .features import FloorFeatures, pose_point_covariance
+from .octree import free_below, logodds_at
+from .perception import MAX_RANGE_FT, PLACES, floor_scan
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
     line_of_sight, path_length, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
@@ -86,6 +93,8 @@ LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
+OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
+FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -154,6 +163,22 @@ class DriveConfig:
                                           # "moved": any motion; "evidence" (measured, not
                                           # adopted): a shorter way left than ever, or new
                                           # free space seen
+    occupied: str = "looks"               # the map's occupied / uncertain cells: "looks":
+                                          # every look's hits as log-odds, grown by that
+                                          # look's covariance, never shrunk; "model": drawn
+                                          # each cycle from the floor features, fused look
+                                          # by look (planner.features; Perception.update)
+    feature_pose: str = "absolute"        # under occupied="model", the pose error in each
+                                          # observation's covariance: "absolute": the
+                                          # dead-reckoned pose's whole covariance;
+                                          # "drift": the features kept in the dead-reckoned
+                                          # frame, an old feature's covariance grown by the
+                                          # drift since it was last seen; "none"
+    hit_at: str = "axis"                  # where a look's range lands on the floor plane
+                                          # (perception.floor_scan's place): "axis": laid
+                                          # along the pitched optical axis (short by up to
+                                          # its cosine); "point": the located point's own
+                                          # horizontal position
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -199,6 +224,7 @@ class DriveResult:
     estimate_track: list = field(default_factory=list)   # the camera estimate, as dead_track
     pose: str = "dead_reckoning"
     match: str = "1985"
+    features: FloorFeatures | None = None     # the floor features under occupied="model"
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -313,6 +339,12 @@ class Perception:
         self.growth = "covariance"        # or "across" (DriveConfig.growth)
         self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
         self.carve = "range"              # or "error" (DriveConfig.carve)
+        self.occupied = "looks"           # or "model" (DriveConfig.occupied)
+        self.place = "axis"               # or "point" (DriveConfig.hit_at)
+        self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
+        self.confirm_looks = confirm_looks
+        self.features = FloorFeatures()
+        self.retired = 0
         self.hit_keys = np.zeros(0, np.int64)   # cells of the floor slab any look has hit
         self.free_looks = free_looks
         self.free_band = None
@@ -330,7 +362,7 @@ class Perception:
         return dead
 
     def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
-               known: FloorMap | None = None) -> int:
+               known: FloorMap | None = None, pose_cov=None) -> int:
         """One look into the model as a floor range scan
         (:func:`~planner.perception.floor_scan`): each column's nearest
         supported point hit (grown by its covariance; surface spans between
@@ -346,12 +378,20 @@ class Perception:
         and, given the ``known`` floor map (the last one, the vehicle's track
         free), only along a line whose part nearer than ``near_ft`` (where the
         look proves nothing) is free on it: a blank view may be a blank face
-        right in front."""
+        right in front.
+
+        ``occupied="model"`` (a named option, :mod:`planner.features`): the
+        octree gets the sight lines as above but only the hits' own cells
+        (the evidence :meth:`retire` weighs); the hits go into the floor
+        features instead, their covariance with the pose's share added
+        (``pose_cov``: the estimate's (x, z, heading) covariance), and the map's
+        occupied and uncertain cells are drawn from the features
+        (:meth:`floor_map`)."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
-                        blank_ft=self.blank_ft, carve=self.carve)
+                        blank_ft=self.blank_ft, carve=self.carve, place=self.place)
         res = self.tree.getResolution()
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
@@ -370,11 +410,46 @@ class Perception:
             if known is not None and len(ends):
                 ends = ends[_near_free(known, left, ends, self.near_ft)]
             mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
-            if len(grown):
-                mark_occupied(self.tree, grown)
+            if self.occupied == "looks":
+                if len(grown):
+                    mark_occupied(self.tree, grown)
+            elif len(fs.hits):
+                mark_occupied(self.tree, cell_centres(fs.hits, res))
+                obs = fs.hits[:, [0, 2]]
+                obs_cov = fs.hit_cov[:, [0, 2]][:, :, [0, 2]]
+                if pose_cov is not None and self.feature_pose == "absolute":
+                    obs_cov = obs_cov + pose_point_covariance(obs, (est.x, est.z), pose_cov)
+                self.features.add_look(obs, obs_cov, fs.spans, near=(est.x, est.z),
+                                       near_ft=self.max_range_ft + 3.0,
+                                       drift_cov=pose_cov if self.feature_pose == "drift"
+                                       and pose_cov is not None else None)
+            if self.occupied == "model":
+                self.retire(left, self.max_range_ft + 3.0)
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
+
+    def retire(self, origin, within_ft: float) -> int:
+        """Retire the floor features within ``within_ft`` of ``origin`` whose
+        cell later looks have seen through: its log-odds in the octree below
+        the free threshold (more misses than hits)."""
+        f = self.features
+        sel = np.flatnonzero(f.alive)
+        if not len(sel):
+            return 0
+        sel = sel[np.hypot(f.mean[sel, 0] - origin[0], f.mean[sel, 1] - origin[2]) <= within_ft]
+        if not len(sel):
+            return 0
+        res = self.tree.getResolution()
+        xyz = np.column_stack([f.mean[sel, 0], np.full(len(sel), origin[1]), f.mean[sel, 1]])
+        keys = cell_keys(xyz, res)
+        uniq, inv = np.unique(keys, return_inverse=True)
+        lo = logodds_at(self.tree, uniq)[inv]
+        through = np.zeros(len(f.alive), bool)
+        through[sel] = lo < free_below(self.free_looks)       # NaN (unknown): not seen through
+        n = f.retire(through)
+        self.retired += n
+        return n
 
     def _extend(self, xz):
         if len(xz) == 0:
@@ -389,9 +464,23 @@ class Perception:
         if self.lo is not None:
             lo, hi = np.minimum(lo, self.lo), np.maximum(hi, self.hi)
         margin = 2.0
-        return project_octree(self.tree, (lo[0] - margin, hi[0] + margin, lo[1] - margin,
-                                          hi[1] + margin), self.band, margin=0.0,
-                              free_looks=self.free_looks, free_band=self.free_band)
+        fm = project_octree(self.tree, (lo[0] - margin, hi[0] + margin, lo[1] - margin,
+                                        hi[1] + margin), self.band, margin=0.0,
+                            free_looks=self.free_looks, free_band=self.free_band)
+        if self.occupied == "model":
+            self._draw_features(fm)
+        return fm
+
+    def _draw_features(self, fm: FloorMap) -> None:
+        """The occupied and uncertain cells regenerated from the floor
+        features; the octree's hit cells count only as seen, not free."""
+        fm.cells[(fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)] = UNKNOWN
+        occ, unc = self.features.cells(fm.cell, self.confirm_looks)
+        i0, j0 = int(round(fm.z0 / fm.cell)), int(round(fm.x0 / fm.cell))
+        for cells, st in ((unc, UNCERTAIN), (occ, OCCUPIED)):        # occupied wins
+            i, j = cells[:, 1] - i0, cells[:, 0] - j0
+            ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+            fm.cells[i[ok], j[ok]] = st
 
 
 def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
@@ -883,6 +972,21 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"blank_carve must be 'unknown' or 'always', not {cfg.blank_carve!r}")
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve
+    if cfg.occupied not in OCCUPIEDS:
+        raise ValueError(f"unknown occupied-cell source {cfg.occupied!r}; one of "
+                         f"{', '.join(OCCUPIEDS)}")
+    model.occupied = cfg.occupied
+    if cfg.hit_at not in PLACES:
+        raise ValueError(f"unknown hit placement {cfg.hit_at!r}; one of {', '.join(PLACES)}")
+    model.place = cfg.hit_at
+    if cfg.feature_pose not in FEATURE_POSES:
+        raise ValueError(f"unknown feature pose error {cfg.feature_pose!r}; one of "
+                         f"{', '.join(FEATURE_POSES)}")
+    model.feature_pose = cfg.feature_pose
+    # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
+    dead_cov = np.zeros((3, 3))
+    odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
+        if noise is not None else (0.0, 0.0)
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
     tried: dict = {}                      # blocker cell -> places it was looked at from
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
@@ -921,7 +1025,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
                                   cfg.start_clear_ft + 1.0)
                 _mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
-            model.update(points, est, Pose, prof.camera_pitch_deg, known)
+            model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov)
             fm = model.floor_map([(est.x, est.z), goal])
             _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                              prof.margin_ft if cfg.track_free == "swept" else None)
@@ -981,6 +1085,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             before = (veh.true.x, veh.true.z)
             n_before = len(veh.dead_track)
             ok = veh.execute(seg)
+            for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
+                dead_cov = odometry_covariance(dead_cov, a, b, *odo)
             for d in veh.dead_track[n_before:]:
                 est_track.append(d if walker is None else State(*compose_step(
                     (est.x, est.z, est.heading_deg), look_dead, d)[0]))
@@ -1025,7 +1131,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     return DriveResult(reached, reason, len(cycles), veh.travelled_ft, opt, opt_grid,
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
-                       cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match)
+                       cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match,
+                       model.features if cfg.occupied == "model" else None)
 
 
 def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,

@@ -182,6 +182,20 @@ def add_loop_options(p) -> None:
     p.add_argument("--growth", choices=("covariance", "across"), default=C.growth,
                    help="a located hit grown by its whole covariance (the dissertation's, "
                         "default) or by its error across the sight line only")
+    p.add_argument("--feature-pose", choices=("absolute", "drift", "none"),
+                   default=C.feature_pose,
+                   help="with --occupied model: the pose error in each observation's "
+                        "covariance: the dead-reckoned pose's whole covariance (default), the "
+                        "drift since a feature was last seen, or none")
+    p.add_argument("--hit-at", choices=("axis", "point"), default=C.hit_at,
+                   help="where a look's range lands on the floor plane: along the pitched "
+                        "optical axis (default; short by up to the pitch's cosine) or at the "
+                        "located point's own horizontal position")
+    p.add_argument("--occupied", choices=("looks", "model"), default=C.occupied,
+                   help="the map's occupied cells: every look's hits grown by that look's "
+                        "covariance (default), or regenerated each cycle from the floor "
+                        "features fused look by look (Chapter IV's octree regenerated from "
+                        "the symbolic model)")
     p.add_argument("--cell-ft", type=float, default=None, metavar="FT",
                    help="the octree's finest cell: the fewest levels over the 32 ft volume of "
                         "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
@@ -233,6 +247,8 @@ def loop_config(args, goal, fail):
                        max_looks=args.max_looks, eyes=args.eyes, match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, growth=args.growth, voi=voi,
+                       occupied=args.occupied, hit_at=args.hit_at,
+                       feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,
                        uncertain=args.uncertain, track_free=args.track_free,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,

@@ -266,3 +266,18 @@ def test_a_blank_look_carves_by_assumption_only_past_a_near_zone_seen_free():
 def test_blank_carve_rejects_an_unknown_way():
     with pytest.raises(ValueError, match="blank_carve"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, blank_carve="never"))
+
+
+def test_rig_drive_passes_the_map_source_options_to_the_loop(tmp_path, monkeypatch):
+    """``--occupied model --feature-pose drift --hit-at point`` reach DriveConfig;
+    the defaults are the loop's own (per-look accumulation, absolute pose
+    error, hits along the optical axis); a bad value is refused."""
+    from rig.main import main
+    c = drive_config(monkeypatch, tmp_path, "--occupied", "model", "--feature-pose", "drift",
+                     "--hit-at", "point")
+    assert (c.occupied, c.feature_pose, c.hit_at) == ("model", "drift", "point")
+    c = drive_config(monkeypatch, tmp_path)
+    assert (c.occupied, c.feature_pose, c.hit_at) == ("looks", "absolute", "axis") == \
+        (DriveConfig.occupied, DriveConfig.feature_pose, DriveConfig.hit_at)
+    with pytest.raises(SystemExit):
+        main(["drive", "--out", str(tmp_path), "--occupied", "octree"])

@@ -1,5 +1,7 @@
 """The loop's perception step (planner.perception) on hand-made located points."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -106,3 +108,33 @@ def test_assumed_free_stops_at_a_cell_hit_before_and_leaves_seen_cells_alone():
     # once more: every cell the assumption may reach is already free, none is marked
     assert mark_assumed_free(tree, o, ends, hit, start_ft=2.3) == 0
     assert query(tree, face[0]) == FREE
+
+
+def test_place_point_puts_a_pitched_looks_range_where_the_edge_stands():
+    """A vertical edge 6 ft ahead of a camera pitched 25 deg down, seen on
+    lines 30 and 32 (above the picture's centre): ``place="point"`` puts the
+    column's hit at the edge's horizontal position; the default lays the
+    range along the tilted optical axis, short by the hand-derived amount."""
+    from world.pose import Pose
+    pose = Pose(0.0, 0.0, 30.0, -25.0)
+    R, left = pose.rotation(), pose.camera_centre("left")
+    p = math.radians(25.0)
+    # the camera's z axis points forward and down (cos p, sin p), its y axis
+    # (down the picture) back and down (-sin p, cos p): a point on line 30
+    # (pixel centre 30.5, y = (30.5 - 60) / 180 of its depth) at forward
+    # distance 6 ft has the depth 6 / (cos p - (30.5 - 60) / 180 sin p)
+    dp = 6.0 / (math.cos(p) - (30.5 - 60) / 180 * math.sin(p))
+    pts = [_pt(30, 64, dp, 0.1), _pt(32, 64, dp + 0.01, 0.1)]    # the nearer: line 30
+    band = (-5.0, 5.0)
+    by_point = floor_scan(pts, R, left, band, place="point")
+    by_axis = floor_scan(pts, R, left, band)
+    h = math.radians(30.0)
+    fwd = np.array([math.sin(h), 0.0, math.cos(h)])
+    ahead_point = (by_point.hits[0] - left) @ fwd
+    ahead_axis = (by_axis.hits[0] - left) @ fwd
+    assert abs(ahead_point - 6.0) < 1e-9
+    assert abs(ahead_axis - dp * math.cos(p)) < 1e-9      # the default: short by 0.43 ft
+    assert ahead_point - ahead_axis > 0.4
+    assert by_point.hits[0][1] == left[1]                 # at the camera's height
+    with pytest.raises(ValueError, match="place"):
+        floor_scan(pts, R, left, band, place="floor")

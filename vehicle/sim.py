@@ -149,3 +149,31 @@ class Vehicle:
         self.true_track.append(self.true)
         self.dead_track.append(self.dead)
         return ok
+
+
+def odometry_covariance(cov, a: State, b: State, distance_fraction: float = 0.02,
+                        turn_deg: float = 1.0):
+    """The dead-reckoned pose's (x, z, heading in radians) covariance after one
+    reported command from ``a`` to ``b`` (both dead-reckoned), propagated by
+    the odometry's noise model (the world's ``OdometryNoise``: a standard
+    deviation of ``distance_fraction`` of the distance and ``turn_deg`` per
+    command), linearised about the move along the mean heading as
+    :meth:`Vehicle._one` integrates it.  A step without motion reports
+    nothing and adds nothing."""
+    import numpy as np
+    cov = np.asarray(cov, float)
+    dx, dz = b.x - a.x, b.z - a.z
+    d = math.hypot(dx, dz)
+    t = math.radians(_wrap(b.heading_deg - a.heading_deg))
+    if d < 1e-12 and abs(t) < 1e-12:
+        return cov
+    # the mean heading the move went along (sign: a backward move has d < 0)
+    h = math.atan2(dx, dz) if d > 1e-12 else math.radians(a.heading_deg) + t / 2
+    if d > 1e-12 and math.cos(h - math.radians(a.heading_deg) - t / 2) < 0:
+        h, d = h + math.pi, -d
+    F = np.array([[1.0, 0.0, d * math.cos(h)], [0.0, 1.0, -d * math.sin(h)], [0.0, 0.0, 1.0]])
+    G = np.array([[math.sin(h), d * math.cos(h) / 2], [math.cos(h), -d * math.sin(h) / 2],
+                  [0.0, 1.0]])
+    Q = np.diag([(distance_fraction * d) ** 2, math.radians(turn_deg) ** 2])
+    out = F @ cov @ F.T + G @ Q @ G.T
+    return (out + out.T) / 2
