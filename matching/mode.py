@@ -29,7 +29,7 @@ from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, confi
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
-DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"    # readmit: named, off (verdict.py)
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"    # confirm, readmit: named, off (verdict.py)
 
 
 class VerdictTables:
@@ -264,7 +264,7 @@ def add_arguments(parser: argparse.ArgumentParser, subpixel: bool = True) -> Non
                              "confidence or 'no match'")
     parser.add_argument("--constraints", default=None, metavar="LIST",
                         help="with --match improved: a comma list of " + ", ".join(names)
-                             + ", or 'all' (" + ("all six" if subpixel else "all five")
+                             + ", or 'all' (" + ("all seven" if subpixel else "all six")
                              + ") or 'none' (default " + DEFAULT_CONSTRAINTS + ")")
 
 
