@@ -36,8 +36,8 @@ verdict, under constraints that are each switched on their own
     disparity within 1 px; three passes.  Unlike ``readmit`` it never switches
     an edge to a dearer partner because the neighbours like it better: the
     neighbours only vouch for the edge's own evidence.  Off by default
-    (docs/matching.md: it meets the motorcycle's target, at the walk's and
-    the bundled pair's expense).
+    (docs/matching.md: with it the motorcycle meets its target, narrowly,
+    but the walk is mixed: a better pose, more wrong correspondences).
 ``readmit``
     a second pass once every line has its verdicts (:func:`readmit`): an edge
     left with "no match" takes a partner its line left unused, keeping the
