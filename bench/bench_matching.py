@@ -304,10 +304,12 @@ def score(scene: Scene, e: Edges, bm: np.ndarray, sgbm: np.ndarray) -> Score:
                  out[1][0], out[1][1], prec, rec, err, e.conf[ok], own_at_bm)
 
 
-BEFORE = Constraints()                         # the defaults: re-admission named, off
-FIVE = Constraints.parse("all")                # ... and with it
+BEFORE = Constraints()                         # the defaults: confirm, re-admission named, off
+FIVE = replace(BEFORE, readmit=True)           # ... with re-admission
+CONFIRMED = replace(BEFORE, confirm=True)      # ... with confirm
 TARGET = "the default four (no re-admission)"
 WITH_READMIT = "all five (re-admission on)"
+WITH_CONFIRM = "the four + confirm"
 VARIANTS = [
     ("1985 (default)", None),
     ("improved, no constraint, no minimum confidence", (Constraints.none(),
@@ -318,6 +320,7 @@ VARIANTS = [
     ("neighbouring lines alone", Constraints.only("neighbours")),
     ("region first alone", Constraints.only("region")),
     ("re-admission alone", Constraints.only("readmit")),
+    ("confirm alone", Constraints.only("confirm")),
     ("sub-pixel alone", Constraints.only("subpixel")),
     ("the four, no width term (as before re-admission)", (BEFORE, {"width_penalty": 0.0})),
     (TARGET, BEFORE),
@@ -326,11 +329,15 @@ VARIANTS = [
     ("the four, neighbours from IY-2..IY+2", (BEFORE, {"neighbour_reach": 2})),
     ("all five, lines assigned again with the neighbours' support (rematch_bonus 64)",
      (FIVE, {"rematch_bonus": 64.0})),
+    (WITH_CONFIRM, CONFIRMED),
+    ("the four + confirm, two lines of IY-5..IY+5 in two passes",
+     (CONFIRMED, {"confirm_support": 2, "confirm_reach": 5, "confirm_rounds": 2})),
+    ("the four + confirm, neighbours from IY-2..IY+2", (CONFIRMED, {"neighbour_reach": 2})),
     ("the four, region strict", (BEFORE, {"region_penalty": None})),
     ("the four + sub-pixel", replace(BEFORE, subpixel=True)),
 ]
-DIAGNOSED = ("the four, no width term (as before re-admission)", WITH_READMIT)
-REASONS = ("matched", "readmitted", "occluded", "not mutual", "no region partner",
+DIAGNOSED = (TARGET, WITH_CONFIRM)
+REASONS = ("matched", "confirmed", "readmitted", "occluded", "not mutual", "no region partner",
            "not on a vertical line", "ambiguous", "no candidate")
 
 
@@ -428,17 +435,17 @@ def table(results, faithful) -> str:
     return "\n".join(out)
 
 
-def targets(results, faithful) -> str:
+def targets(results, faithful, variant: str = TARGET) -> str:
     lines = []
     for scene, rows in results.items():
-        s = dict(rows)[TARGET]
+        s = dict(rows)[variant]
         keep = s.located / max(1, faithful[scene])
         verdict = ("met" if (s.bad2 <= s.bm_bad2 and keep >= 0.6) else "NOT met")
         stretch = "met" if s.bad2 <= s.sgbm_bad2 else "not met"
         lines.append(f"| {scene} | {pct(s.bad2)} | {pct(s.bm_bad2)} | {pct(s.sgbm_bad2)} | "
                      f"{100 * keep:.1f} % | {verdict} | {stretch} | {pct(s.bad2_at_bm)} |")
-    return ("| scene | the four: bad-2.0 % | StereoBM there | StereoSGBM there | edges kept | "
-            "target (<= BM, >= 60 %) | stretch (<= SGBM) | the four where StereoBM answers |"
+    return ("| scene | bad-2.0 % | StereoBM there | StereoSGBM there | edges kept | "
+            "target (<= BM, >= 60 %) | stretch (<= SGBM) | bad-2.0 % where StereoBM answers |"
             "\n|---|---|---|---|---|---|---|---|\n" + "\n".join(lines))
 
 
@@ -451,7 +458,7 @@ def diagnosis_table(diagnoses) -> str:
     for scene, by_variant in diagnoses.items():
         for name, d in by_variant.items():
             cells = [f"{d[r][0]} ({d[r][1]}; {d[r][2]})" if r in d else "-" for r in REASONS]
-            short = "before" if name == DIAGNOSED[0] else "now"
+            short = "the four" if name == DIAGNOSED[0] else "+ confirm"
             out.append(f"| {scene} | {short} | " + " | ".join(cells) + " |")
     return "\n".join(out)
 
@@ -527,7 +534,8 @@ def scan_times(repeat: int = 5) -> dict[str, float]:
     from rig.scan import scan_pair
     s = bundled()
     out = {}
-    for name, make in (("1985", lambda: None), ("improved", ImprovedMatcher)):
+    for name, make in (("1985", lambda: None), ("improved", ImprovedMatcher),
+                       ("confirm", lambda: ImprovedMatcher(CONFIRMED))):
         scan_pair(s.left_bi, s.right_bi, matcher=make())            # warm (numba, caches)
         times = []
         for _ in range(repeat):
@@ -620,18 +628,22 @@ def main(argv=None) -> int:
     have_moto = any("motorcycle" in k for k in results)
     block = "\n\n".join([
         table(results, faithful),
-        "Targets (the default four constraints):\n\n" + targets(results, faithful),
+        "Targets, the default four constraints:\n\n" + targets(results, faithful),
+        "Targets, the four + confirm (`--constraints order,lr,neighbours,region,confirm`):\n\n"
+        + targets(results, faithful, WITH_CONFIRM),
         "Why edges get no match, and how many of them were in fact right: edges per "
         "verdict, n (right; some), where right = the partner (for a match, or one dropped "
         "afterwards by the neighbour or ambiguity rule) or else the cheapest candidate "
-        "within 2 px of the truth, some = a right one among all its candidates; before = the "
-        "four without the width term (as before re-admission), now = all five (re-admission on):\n\n" + diagnosis_table(diagnoses),
+        "within 2 px of the truth, some = a right one among all its candidates; the four = "
+        "the default four, + confirm = with the confirm pass:\n\n" + diagnosis_table(diagnoses),
         "Reliability, the default four constraints, all scenes pooled:\n\n" + rel_text,
         ("" if have_moto else "The motorcycle pair was left out: scikit-image is not "
                               "installed (`pip install -e .[bench]`).\n\n")
         + f"Whole scan of the bundled pair (lines 8..112, direct link, median of 5): "
           f"1985 {1000 * times['1985']:.0f} ms, improved (the default four) "
-          f"{1000 * times['improved']:.0f} ms ({times['improved'] / times['1985']:.1f} x).\n\n"
+          f"{1000 * times['improved']:.0f} ms ({times['improved'] / times['1985']:.1f} x), "
+          f"the four + confirm {1000 * times['confirm']:.0f} ms "
+          f"({times['confirm'] / times['1985']:.1f} x).\n\n"
         + f"Parameters: {params}.\n\nMade by `{cmd}`."])
     print(block)
     if args.out:

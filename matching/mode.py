@@ -23,12 +23,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, match_line,
-                      line_candidates, neighbour_lines, readmit, rematch_params, rematches)
+from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, confirm,
+                      judged_candidates, line_candidates, match_line, neighbour_lines, readmit,
+                      rematch_params, rematches)
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
-DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"    # readmit: named, off (verdict.py)
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"    # confirm, readmit: named, off (verdict.py)
 
 
 class VerdictTables:
@@ -78,7 +79,10 @@ class ImprovedMatcher:
         self._second: dict[int, list[Verdict]] = {}
         self._rounds: dict[tuple[int, int], list[Verdict]] = {}
         self._rematch: dict[int, list[Verdict]] = {}
+        self._confirms: dict[tuple[int, int], list[Verdict]] = {}
         self._cands: dict = {}
+        self._judged: dict = {}
+        self._max_lines = max(MAX_CACHED_LINES, 2 * _reach(constraints, params) + 4)
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
         """LCLN's hook: (tables for LCSL, verdicts) of line IY."""
@@ -90,7 +94,7 @@ class ImprovedMatcher:
             from .subpixel import line_profile
             profiles = (line_profile(self.vd[0], iyloc), line_profile(self.vd[1], iyloc))
         again = rematches(self.constraints, self.params)
-        if not self.constraints.readmit and not again:
+        if not self.constraints.readmit and not self.constraints.confirm and not again:
             verdicts = match_line(data, self.constraints, self.params,
                                   self._neighbours(eclipse, iyloc), profiles,
                                   self._candidates(eclipse, iyloc))
@@ -110,17 +114,21 @@ class ImprovedMatcher:
             self._second.clear()
             self._rounds.clear()
             self._rematch.clear()
+            self._confirms.clear()
             self._cands.clear()
+            self._judged.clear()
         self._lines[iyloc] = data
-        while len(self._lines) > MAX_CACHED_LINES:
+        while len(self._lines) > self._max_lines:
             old = next(iter(self._lines))
             del self._lines[old]
             self._first.pop(old, None)
             self._second.pop(old, None)
             self._cands.pop(old, None)
+            self._judged.pop(old, None)
             self._rematch.pop(old, None)
-            for key in [k for k in self._rounds if k[0] == old]:
-                del self._rounds[key]
+            for cache in (self._rounds, self._confirms):
+                for key in [k for k in cache if k[0] == old]:
+                    del cache[key]
 
     def _line(self, eclipse, y: int) -> LineData:
         if y not in self._lines:
@@ -151,7 +159,8 @@ class ImprovedMatcher:
     def _readmitted(self, eclipse, y: int, rounds: int) -> list[Verdict]:
         """Line y's verdicts after ``rounds`` re-admission passes (as match_lines)."""
         if rounds == 0:
-            return self._base(eclipse, y)
+            return self._confirmed(eclipse, y, self.params.confirm_rounds
+                                   if self.constraints.confirm else 0)
         key = (y, rounds)
         if key not in self._rounds:
             p = self.params
@@ -161,6 +170,23 @@ class ImprovedMatcher:
                  for n in neighbour_lines(y, p, p.readmit_reach) if 0 <= n <= 119],
                 p, self._candidates(eclipse, y))
         return self._rounds[key]
+
+    def _confirmed(self, eclipse, y: int, rounds: int) -> list[Verdict]:
+        """Line y's verdicts after ``rounds`` confirm passes (as match_lines)."""
+        if rounds == 0:
+            return self._base(eclipse, y)
+        key = (y, rounds)
+        if key not in self._confirms:
+            p = self.params
+            if y not in self._judged:
+                self._judged[y] = judged_candidates(self._candidates(eclipse, y),
+                                                    self.constraints, p)
+            self._confirms[key] = confirm(
+                self._line(eclipse, y), self._confirmed(eclipse, y, rounds - 1),
+                [self._confirmed(eclipse, n, rounds - 1)
+                 for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119],
+                p, self._judged[y])
+        return self._confirms[key]
 
     def _base(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts before re-admission: the second pass, or with
@@ -183,6 +209,18 @@ class ImprovedMatcher:
                                          self.params, self._neighbours(eclipse, y),
                                          cands=self._candidates(eclipse, y))
         return self._second[y]
+
+
+def _reach(constraints: Constraints, p: Params) -> int:
+    """How many lines either side of IY a line's verdicts depend on."""
+    reach = p.neighbour_reach if constraints.neighbours else 0
+    if rematches(constraints, p):
+        reach += p.readmit_reach
+    if constraints.confirm:
+        reach += p.confirm_reach * p.confirm_rounds
+    if constraints.readmit:
+        reach += p.readmit_reach * p.readmit_rounds
+    return reach
 
 
 def verdict_listing(verdicts: list[Verdict], constraints: Constraints) -> list[str]:
@@ -226,7 +264,7 @@ def add_arguments(parser: argparse.ArgumentParser, subpixel: bool = True) -> Non
                              "confidence or 'no match'")
     parser.add_argument("--constraints", default=None, metavar="LIST",
                         help="with --match improved: a comma list of " + ", ".join(names)
-                             + ", or 'all' (" + ("all six" if subpixel else "all five")
+                             + ", or 'all' (" + ("all seven" if subpixel else "all six")
                              + ") or 'none' (default " + DEFAULT_CONSTRAINTS + ")")
 
 

@@ -26,6 +26,18 @@ verdict, under constraints that are each switched on their own
     then the coinciding edges can be matched"): an edge pair counts only if
     the other ends of the two feature intervals also pass the grey rule and
     give nearly the same disparity (both ends matched together).
+``confirm``
+    a second look at the edges the other rules dropped (:func:`confirm`):
+    an edge left with "no match" (occluded, not on a vertical line,
+    ambiguous) takes its own choice (the partner the assignment had chosen,
+    or its cheapest candidate when that partner is unused and keeps the
+    order of the line's matches) when at least three lines of IY-7..IY+7, in
+    their final verdicts, match an edge of the same side within 2 px at a
+    disparity within 1 px; three passes.  Unlike ``readmit`` it never switches
+    an edge to a dearer partner because the neighbours like it better: the
+    neighbours only vouch for the edge's own evidence.  Off by default
+    (docs/matching.md: with it the motorcycle meets its target, narrowly,
+    but the walk is mixed: a better pose, more wrong correspondences).
 ``readmit``
     a second pass once every line has its verdicts (:func:`readmit`): an edge
     left with "no match" takes a partner its line left unused, keeping the
@@ -51,7 +63,7 @@ import numpy as np
 from .candidates import Candidates, candidates
 from .order import assign
 
-CONSTRAINTS = ("order", "lr", "neighbours", "region", "readmit", "subpixel")
+CONSTRAINTS = ("order", "lr", "neighbours", "region", "confirm", "readmit", "subpixel")
 
 
 @dataclass(frozen=True)
@@ -61,6 +73,7 @@ class Constraints:
     lr: bool = True
     neighbours: bool = True
     region: bool = True
+    confirm: bool = False          # named, off: it keeps more, the walk's looks worse
     readmit: bool = False          # named, off: it hurts the walk (module docstring)
     subpixel: bool = False
 
@@ -83,7 +96,7 @@ class Constraints:
         list such as ``"order,lr"``."""
         text = text.strip().lower()
         if text == "all":
-            return cls(readmit=True)
+            return cls(readmit=True, confirm=True)
         if text in ("none", ""):
             return cls.none()
         return cls.only(*(t.strip() for t in text.split(",") if t.strip()))
@@ -118,6 +131,10 @@ class Params:
     readmit_dd: float = 1.0        # px: ... with a disparity this close
     readmit_cost: float = 128.0    # ... and a candidate no dearer than this
     readmit_rounds: int = 2        # passes, each seeing the re-admissions of the one before
+    confirm_reach: int = 7         # confirm: lines IY-reach..IY+reach (not IY) vouch
+    confirm_support: int = 3       # ... at least this many of them
+    confirm_dd: float = 1.0        # px: ... with a match at a disparity this close
+    confirm_rounds: int = 3        # passes, each seeing the confirmations of the one before
     rematch_bonus: float = 0.0     # > 0: before re-admission, assign every line again with
     #                                this much off a candidate's cost per neighbouring line
     #                                whose verdicts agree (inter-scanline support; off)
@@ -358,6 +375,92 @@ def rematch_params(params: Params) -> Params:
                    neighbour_dd=params.readmit_dd, neighbour_reach=params.readmit_reach)
 
 
+def judged_candidates(c: Candidates, constraints: Constraints, p: Params) -> Candidates:
+    """The candidates as :func:`match_line`'s assignment weighs them: only the
+    mutual ones under ``lr``, with the region penalty (or without the lone
+    ends, when strict) under ``region``."""
+    if constraints.lr:
+        c = c.subset(_mutual(c, p.lr_tolerance))
+    if constraints.region:
+        supported = _region_supported(c, p.region_tolerance)
+        if p.region_penalty is None:
+            c = c.subset(supported)
+        else:
+            c = replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
+    return c
+
+
+CONFIRMABLE = ("occluded", "not on a vertical line", "ambiguous")
+
+
+def confirm(data: LineData, verdicts: list[Verdict], neighbours,
+            params: Params = Params(), cands: Candidates | None = None,
+            constraints: Constraints = Constraints()) -> list[Verdict]:
+    """The ``confirm`` pass: a second look at the edges the line's rules
+    dropped.  An edge left without a match for a reason in
+    :data:`CONFIRMABLE` keeps its *own* choice: the partner the assignment
+    had given it (dropped afterwards by the neighbour or ambiguity rule), or
+    else (the assignment left it out) its cheapest candidate as the
+    assignment weighed it (:func:`judged_candidates`).  It takes it when that
+    partner is unused, keeps the order of the line's matches, and at least
+    ``confirm_support`` of the neighbouring lines' verdicts (``neighbours``:
+    lines IY-confirm_reach..IY+confirm_reach) match an edge of the same side
+    within ``neighbour_dx`` px at a disparity within ``confirm_dd``.
+
+    Why: on the motorcycle the rules after the assignment dropped mostly
+    right matches (the first pass the neighbour rule asks is noisy, and a
+    match barely worth its cost is not a wrong one), and most right edges
+    the assignment left out were dear rather than out-bid; their own
+    evidence, with a vertical line two lines agree on, is what separates
+    them from the wrong ones.  Unlike :func:`readmit` the neighbours never
+    pick the partner: a candidate the edge's own maps do not prefer is not
+    taken.  Edges are visited along the line, each confirmed match counting
+    as used at once.  Reason "confirmed"; confidence = the share of the
+    neighbouring lines that agree times 1 - cost/256.  ``cands``: the line's
+    :func:`judged_candidates` under ``constraints``, when already at hand."""
+    p = params
+    c = judged_candidates(line_candidates(data, p), constraints, p) if cands is None else cands
+    if len(c) == 0:
+        return verdicts
+    pos1 = {int(e): i for i, e in enumerate(c.left.edge)}
+    pos2 = {int(e): j for j, e in enumerate(c.right.edge)}
+    pairs = sorted((pos1[v.edge], pos2[v.partner]) for v in verdicts if v.matched)
+    lines = [[(n.edge > 50, n.x, n.disparity) for n in line if n.matched]
+             for line in neighbours]
+    n_lines = max(1, len(neighbours))
+    by_edge = {v.edge: v for v in verdicts}
+    for v in sorted(verdicts, key=lambda v: pos1[v.edge]):
+        if v.matched or v.reason not in CONFIRMABLE:
+            continue
+        i = pos1[v.edge]
+        if v.partner:                                   # the assignment's own choice
+            ks = np.flatnonzero((c.i == i) & (c.j == pos2[v.partner]))
+        else:                                           # its cheapest candidate
+            ks = np.flatnonzero(c.i == i)
+            ks = ks[np.lexsort((c.j[ks], c.cost[ks]))][:1]
+        if not len(ks):
+            continue
+        k = int(ks[0])
+        j = int(c.j[k])
+        lo = max((b for a, b in pairs if a < i), default=-1)
+        hi = min((b for a, b in pairs if a > i), default=len(c.right))
+        if not lo < j < hi:                             # used, or out of order
+            continue
+        side, d = v.edge > 50, float(c.disp[k])
+        support = sum(any(s == side and abs(x - v.x) <= p.neighbour_dx
+                          and abs(nd - d) <= p.confirm_dd for s, x, nd in line)
+                      for line in lines)
+        if support < p.confirm_support:
+            continue
+        conf = support / n_lines * max(0.0, 1.0 - float(c.cost[k]) / 256.0)
+        by_edge[v.edge] = replace(v, matched=True, reason="confirmed",
+                                  partner=int(c.right.edge[j]), loc1=float(c.loc1[k]),
+                                  loc2=float(c.loc2[k]), cost=float(c.cost[k]),
+                                  confidence=conf)
+        pairs = sorted(pairs + [(i, j)])
+    return [by_edge[v.edge] for v in verdicts]
+
+
 READMITTABLE = ("occluded", "not on a vertical line", "ambiguous", "not mutual")
 
 
@@ -422,7 +525,7 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
              for y, d in datas.items()} if constraints.neighbours else {}
     out = {}
     again = rematches(constraints, params)
-    later = ((constraints.readmit or again) and constraints.subpixel
+    later = ((constraints.readmit or constraints.confirm or again) and constraints.subpixel
              and profiles is not None)
     for y, d in datas.items():
         nb = [first[n] for n in neighbour_lines(y, params) if n in first]
@@ -435,6 +538,12 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
         out = {y: match_line(datas[y], replace(constraints, subpixel=False), p2,
                              [out[n] for n in neighbour_lines(y, p2) if n in out],
                              cands=cands[y]) for y in out}
+    if constraints.confirm:
+        judged = {y: judged_candidates(cands[y], constraints, params) for y in out}
+        for _ in range(params.confirm_rounds):
+            out = {y: confirm(datas[y], v, [out[n] for n in neighbour_lines(
+                       y, params, params.confirm_reach) if n in out], params, judged[y])
+                   for y, v in out.items()}
     if constraints.readmit:
         for _ in range(params.readmit_rounds):
             out = {y: readmit(datas[y], v, [out[n] for n in neighbour_lines(

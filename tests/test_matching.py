@@ -302,7 +302,7 @@ def plain_cost(data: LineData, edge: int) -> float:
     return float(c.cost[k[0]])
 
 
-FIVE = Constraints.parse("all")          # the default four + readmit (named, off by default)
+FIVE = replace(Constraints(), readmit=True)    # the default four + readmit (named, off by default)
 
 
 def test_readmit_is_named_and_off_by_default():
@@ -310,7 +310,7 @@ def test_readmit_is_named_and_off_by_default():
     so it is off unless asked for: not in Constraints(), not in the streaming
     matcher make_matcher("improved") gives (rig walk's), in "all"."""
     assert not Constraints().readmit and FIVE.readmit
-    assert FIVE == replace(Constraints(), readmit=True)
+    assert Constraints.parse("all") == replace(FIVE, confirm=True)
     assert make_matcher("improved").constraints == Constraints()
     stack = jump_line()
     assert match_lines(stack) == match_lines(stack, replace(FIVE, readmit=False))
@@ -377,6 +377,81 @@ def test_readmit_keeps_the_order_and_uses_no_partner_twice():
         assert len(set(partners)) == len(partners)
         locs = sorted((v.loc1, v.loc2) for v in vs if v.matched)
         assert [b for _, b in locs] == sorted(b for _, b in locs), y
+
+
+CONFIRM = replace(Constraints(), confirm=True)   # the default four + confirm (named, off)
+
+
+def test_confirm_is_named_and_off_by_default():
+    assert not Constraints().confirm and Constraints.parse("all").confirm
+    assert Constraints.parse("order,lr,neighbours,region,confirm") == CONFIRM
+    assert make_matcher("improved").constraints == Constraints()
+
+
+def test_confirm_keeps_the_match_the_assignment_left_out():
+    """jump_line: E's maps are damaged on line 60 (cost near 110), so the
+    assignment there leaves it out ("occluded") rather than pay two
+    disparity jumps, though its one candidate is its true partner.  Lines
+    57..59 and 61..63 match E at that disparity (12): confirm keeps it."""
+    stack = jump_line()
+    before = {v.edge: v for v in match_lines(stack)[60]}
+    assert not before[2].matched and before[2].reason == "occluded"
+    after = {v.edge: v for v in match_lines(stack, CONFIRM)[60]}
+    for e in (2, 52):
+        assert after[e].matched and after[e].reason == "confirmed", after[e]
+        assert after[e].partner == e and after[e].disparity == 12
+        assert after[e].cost == plain_cost(stack[3], e)
+        assert 0 < after[e].confidence <= 1
+    for e in (1, 3, 51, 53):                                  # the rest as before
+        assert after[e] == before[e] and after[e].disparity == 8
+
+
+def test_confirm_keeps_the_match_the_neighbour_rule_dropped():
+    """E damaged on lines 59 and 61 only: line 60's assignment takes E at its
+    true disparity, but the neighbour rule, which asks the noisy first pass
+    of lines 59 and 61 (where E was left out), drops it as "not on a
+    vertical line".  Lines 57, 58, 62 and 63 match E at 12: kept."""
+    stack = jump_line(hurt=(59, 61))
+    before = {v.edge: v for v in match_lines(stack)[60]}
+    assert not before[2].matched and before[2].reason == "not on a vertical line"
+    assert before[2].partner == 2 and before[2].disparity == 12
+    after = {v.edge: v for v in match_lines(stack, CONFIRM)[60]}
+    assert after[2].matched and after[2].reason == "confirmed"
+    assert after[2].partner == 2 and after[2].disparity == 12
+
+
+def test_confirm_wants_three_lines_at_the_edges_own_disparity():
+    """E's partner on line 60 two pixels off (disparity 14): no line agrees,
+    not confirmed.  With E damaged on lines 59..63, only lines 57 and 58
+    match it (at 12): two lines are not enough for one pass."""
+    after = {v.edge: v for v in match_lines(jump_line(right_e=36), CONFIRM)[60]}
+    assert not after[2].matched and after[2].reason == "occluded"
+    few = jump_line(hurt=range(59, 64), lines=range(57, 64))
+    v = {x.edge: x for x in match_lines(few, CONFIRM, Params(confirm_rounds=1))[60]}
+    assert not v[2].matched
+    v = {x.edge: x for x in match_lines(few, CONFIRM, Params(confirm_rounds=1,
+                                                               confirm_support=2))[60]}
+    assert v[2].matched and v[2].reason == "confirmed"
+
+
+def test_confirm_still_refuses_the_fence_and_the_occluded_feature():
+    """A vertical picket fence (15 lines): the first picket, which only the
+    left camera sees, stays "no match" (its cheapest candidate is the second
+    picket's partner, already taken), every other picket keeps its true
+    partner.  The occluded feature of occluded_line on 15 lines: still no
+    match (its look-alike's partner belongs to the look-alike)."""
+    data, truth = picket_fence()
+    lines = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
+             for y in range(53, 68)]
+    m = matched(match_lines(lines, CONFIRM)[60])
+    assert {e: x.disparity for e, x in m.items()} == {
+        e: D_TRUE for k, p in truth.items() if p is not None for e in (k, k + 50)}
+    data = occluded_line()
+    lines = [LineData(y, data.features1, data.features2, data.maps1, data.maps2)
+             for y in range(53, 68)]
+    for y, vs in match_lines(lines, CONFIRM).items():
+        v = {x.edge: x for x in vs}
+        assert not v[3].matched and not v[53].matched, (y, v[3])
 
 
 def test_region_constraint_wants_both_ends():

@@ -73,7 +73,8 @@ def test_param_flags_change_params_and_refuse_bad_ones():
 def test_diagnosis_counts_reasons_against_the_truth():
     """On the hand-made stack of tests/test_matching.py (E at 50 with its
     maps damaged on line 60): without re-admission line 60's E is "occluded"
-    and its cheapest candidate is right; with it, E is "readmitted" and right.
+    and its cheapest candidate is right; with it, E is "readmitted" and right
+    (with confirm instead: "confirmed" and right).
     A truth that puts E at disparity 8 instead makes the same edges wrong."""
     from test_matching import jump_line
     from matching import Constraints, match_lines
@@ -88,8 +89,12 @@ def test_diagnosis_counts_reasons_against_the_truth():
                           datas, p)
     assert before["occluded"] == (2, 2, 2)              # edges 2 and 52 of line 60
     assert before["matched"][0] == before["matched"][1] == 6 * 7 - 2
-    now = bm.diagnosis(scene, match_lines(stack, Constraints.parse("all"), p), datas, p)
+    five = dc_replace(Constraints(), readmit=True)
+    now = bm.diagnosis(scene, match_lines(stack, five, p), datas, p)
     assert now["readmitted"] == (2, 2, 2) and "occluded" not in now
     flat = bm.Scene("hand-made", None, None, None, None, np.full((120, 128), 8.0), None)
-    wrong = bm.diagnosis(flat, match_lines(stack, Constraints.parse("all"), p), datas, p)
+    wrong = bm.diagnosis(flat, match_lines(stack, five, p), datas, p)
     assert wrong["readmitted"] == (2, 0, 0)
+    confirmed = bm.diagnosis(scene, match_lines(stack, dc_replace(Constraints(), confirm=True),
+                                                p), datas, p)
+    assert confirmed["confirmed"] == (2, 2, 2) and "occluded" not in confirmed

@@ -14,7 +14,7 @@ from diskfmt.layouts import decode_bi, decode_posit
 from estar.lcsl import locate
 from estar.program import in_process_rig
 from matching import Constraints, Params, match_lines
-from matching.mode import ImprovedMatcher
+from matching.mode import ImprovedMatcher, _reach
 from rig import main as rigmain
 from rig import scan as scanmod
 from rig.scene import bundled_path, bundled_range
@@ -76,14 +76,18 @@ def test_improved_posit_has_only_the_vouched_edges():
 
 
 def test_streaming_verdicts_equal_the_batch_api():
-    """ESTAR line by line (fetching lines IY-5..IY+5: two re-admission passes
-    look at IY-2..IY+2 each, the neighbour constraint at IY-1, IY+1 of those)
+    """ESTAR line by line (with every constraint fetching lines IY-26..IY+26:
+    three confirm passes look at IY-7..IY+7 each, then two re-admission
+    passes at IY-2..IY+2 each, the neighbour constraint at IY-1, IY+1 of those)
     gives the verdicts match_lines gives on a scan of those lines."""
-    lines = range(40, 56)
+    lines = range(40, 50)
     five = Constraints.parse("all")
-    assert five.readmit
+    assert five.readmit and five.confirm
+    reach = _reach(five, Params())
+    assert reach == 26
     streamed = scanmod.run_lines(eclipse(ImprovedMatcher(five)), lines)
-    faithful = scanmod.run_lines(eclipse(), range(35, 61))
+    assert any(v.reason == "confirmed" for r in streamed.results for v in r.verdicts)
+    faithful = scanmod.run_lines(eclipse(), range(40 - reach, 50 + reach))
     batch = match_lines(faithful.results, five)
     for r in streamed.results:
         assert r.verdicts == batch[r.iyloc], r.iyloc
