@@ -152,6 +152,7 @@ class LookRecord:
     velocity: Velocity | None = None
     driver_refused: str | None = None
     pose_covariance: np.ndarray | None = None      # the robot's (x, z, heading rad) covariance
+    pose: PoseEstimate | None = None               # the pose the model was updated with (all six)
 
     def errors(self, name: str) -> tuple[float, float] | None:
         est = self.estimates.get(name)
@@ -515,7 +516,8 @@ class Walker:
         rec = LookRecord(
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
-            len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov)
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov,
+            pose_est)
         self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
         self.records.append(rec)
         return rec
