@@ -253,10 +253,10 @@ def feature_table(sets) -> str:
         same += (f"; 1st -> 5th: {fmt(f['same5_rms_1'])} -> {fmt(f['same5_rms_5'])} "
                  f"({f['same5_features']})" if f["same5_features"] else "")
         rows.append(f"| {name} | {f['features']} | {curve} | {same} | "
-                    f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']})"
+                    f"{100 * (f['inside_2sigma'] or 0):.1f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.1f} % ({f['confirmed']})"
                     + (f" [{100 * (f['filter_inside_2sigma'] or 0):.0f} %]" if f["consider"] else "")
-                    + (f" | {100 * (f['track_confirmed_inside_2sigma'] or 0):.0f} % "
-                       f"({f['track_confirmed']}); {100 * (f['tentative_inside_2sigma'] or 0):.0f} % "
+                    + (f" | {100 * (f['track_confirmed_inside_2sigma'] or 0):.1f} % "
+                       f"({f['track_confirmed']}); {100 * (f['tentative_inside_2sigma'] or 0):.1f} % "
                        f"({f['tentative']})" if f["confirm"] else " | -")
                     + f" | {f['retired']} ({f['retired_wrong']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
                     f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "

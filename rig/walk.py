@@ -156,10 +156,10 @@ def summary_text(result, rows) -> str:
     out.append("")
     out.append(f"model: {fs['features']} vertices, {len(result.model.lines)} boundary lines; "
                f"RMS error {f(fs['rms_error_ft'])} ft (median {f(fs['median_error_ft'])}); truths "
-               f"inside 2 sigma {100 * (fs['inside_2sigma'] or 0):.0f} %")
+               f"inside 2 sigma {100 * (fs['inside_2sigma'] or 0):.1f} %")
     out.append(f"  confirmed (seen in 2 looks or more): {fs['confirmed']}, RMS error "
                f"{f(fs['confirmed_rms_error_ft'])} ft (median {f(fs['confirmed_median_error_ft'])}), "
-               f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.0f} %")
+               f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.1f} %")
     if result.config.consider:
         out.append(f"  (inside 2 sigma of the consider covariance ({result.config.consider}); of "
                    f"the filter's own: {100 * (fs['filter_inside_2sigma'] or 0):.0f} %)")
@@ -169,9 +169,9 @@ def summary_text(result, rows) -> str:
     if result.config.confirm is not None:
         out.append(f"  track-confirmed ({result.config.confirm} consistent looks or more): "
                    f"{fs['track_confirmed']}, RMS error {f(fs['track_confirmed_rms_error_ft'])} ft, "
-                   f"inside 2 sigma {100 * (fs['track_confirmed_inside_2sigma'] or 0):.0f} %; "
+                   f"inside 2 sigma {100 * (fs['track_confirmed_inside_2sigma'] or 0):.1f} %; "
                    f"tentative: {fs['tentative']}, inside 2 sigma "
-                   f"{100 * (fs['tentative_inside_2sigma'] or 0):.0f} %")
+                   f"{100 * (fs['tentative_inside_2sigma'] or 0):.1f} %")
     if result.config.feature_gate or result.config.retire_unseen:
         out.append(f"  {fs['retired']} vertices retired (contradicted by later looks, or unseen "
                    "where they should have been seen)")
