@@ -641,7 +641,8 @@ def _measured_covariances(obs, est: PoseEstimate, config: WalkConfig, lines,
 
 def _retire_unseen(model, pairs, est: PoseEstimate, look: int, rows, config: WalkConfig) -> None:
     """Count a miss for every vertex the fixed pose predicts well inside the view that
-    no observation matched; retire those missed ``retire_unseen`` times per look seen."""
+    no observation matched (the evidence of ``confirm`` too); with ``retire_unseen``,
+    retire those missed that many times per look seen."""
     from .matching import in_view
     ids, means, _, _, _ = model.vertex_arrays()
     if not len(ids):

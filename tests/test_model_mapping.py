@@ -297,3 +297,17 @@ def test_variance_factor_widens_only_the_reported_covariance():
     assert scaled["filter_inside_2sigma"] == plain["filter_inside_2sigma"]
     for v in res.model.vertices.values():
         np.testing.assert_array_equal(v.cov, I)
+
+
+def test_confirmation_counts_misses_without_retiring():
+    # with --confirm alone the looks that should have seen a vertex are counted (the
+    # evidence against it), and nothing leaves the model
+    from model.mapping import WalkConfig, _retire_unseen
+    from model.symbolic import SymbolicModel
+    est = _given_pose()
+    est = PoseEstimate("fused", est.left, est.M, est.inliers, covariance6=est.covariance6)
+    model = SymbolicModel()
+    ahead = model.add_vertex(est.left + [0, 0, 10.0], np.eye(3) * 0.01, "top", (3, 9), 0)
+    for look in (1, 2, 3):
+        _retire_unseen(model, [], est, look, (8, 113), WalkConfig(confirm=2))
+    assert ahead.id in model.vertices and ahead.missed == 3
