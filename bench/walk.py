@@ -115,9 +115,9 @@ def calibrate(rooms: int, looks: int) -> str:
     rows += ["", "| walk (fused pose) | looks | median position error ft | its claimed sigma ft "
              "(median, per axis) | median heading error deg | its claimed sigma deg | "
              "true pose inside its 95 % region |", "|---|---|---|---|---|---|---|"]
-    tilt_rows = ["", "| walk (fused pose) | looks fused | median height error ft | its sigma "
-                 "(median, 0.674 sigma) ft | height 95.4 % point ft | median tilt error deg "
-                 "(both horizontal axes) | its sigma (median, 1.177 sigma) deg | its claimed "
+    tilt_rows = ["", "| walk (fused pose) | looks fused | median height error ft | as a sigma "
+                 "(median / 0.674) ft | height 95.4 % point ft | median tilt error deg "
+                 "(both horizontal axes) | as a sigma (median / 1.177) deg | its claimed "
                  "sigma deg (median) |", "|---|---|---|---|---|---|---|---|"]
     for name, kw in (("bundled, A-29", dict(kalman="a29")),
                      ("bundled, A-30 (as written)", dict(kalman="a30"))):
