@@ -59,7 +59,7 @@ MEASURED_POSE_SIGMA_FLOOR = (0.13, 0.85)
 # 0.216 ft at the median (0.32 ft sigma; 3.9 ft at the 95.4 % point) and its tilt (about the
 # two horizontal room axes together) by 3.7 degrees (a 2-D Gaussian's median radius is 1.177
 # sigma: 3.2 degrees), where it claims 1.7 degrees; every feature a look places or updates
-# inherits that error, vertically.  The consider covariance's floor for them (--tilt-floor)
+# inherits that error, vertically.  The consider covariance's floor for them (--tilt-floor):
 MEASURED_TILT_SIGMA_FLOOR = (0.32, 3.2)
 CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
 TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
