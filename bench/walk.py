@@ -15,16 +15,22 @@ with covariance intersection, with every line scanned, without the 15 ft
 range limit and without the shape gate; the bundled walk and the rooms again
 with the honest-covariance options: the calibrated column error
 (``--column-error calibrated``) and the measured pose floor (``--pose-floor
-measured``) under A-29 and covariance intersection.
+measured``) under A-29 and covariance intersection, the consider covariance
+(``--consider``), with the measured height and tilt floor (``--tilt-floor``), the
+variance factor (``--variance-factor``) and track confirmation (``--confirm``:
+the track-confirmed and the tentative features' shares inside 2 sigma apart).
 
 ``--calibrate`` measures instead the rig's pixel errors at the true corners
 (every 3rd look of the bundled walk and of the rooms' walks): the vertex
 column and disparity against the true corner's projection, the numbers
 behind ``model.edges.CALIBRATED_COLUMN_ERROR_PX``; and the robot's pose error
 on the bundled walk against its own covariance, the numbers behind
-``model.mapping.MEASURED_POSE_SIGMA_FLOOR``.
+``model.mapping.MEASURED_POSE_SIGMA_FLOOR`` and ``MEASURED_TILT_SIGMA_FLOOR``.
 
-Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE] [--calibrate]
+``--breakdown`` runs only the configuration measured against the issue's targets
+and groups its truths' Mahalanobis distances (by looks seen, range, confirmation).
+
+Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE] [--calibrate | --breakdown]
 """
 
 from __future__ import annotations
@@ -41,8 +47,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
 from model.geometry import wrap_deg  # noqa: E402
-from model.mapping import (FEATURE_GATE_CHI2, MEASURED_POSE_SIGMA_FLOOR, WalkConfig,  # noqa: E402
-                           run_walk)
+from model.mapping import (FEATURE_GATE_CHI2, MEASURED_POSE_SIGMA_FLOOR,  # noqa: E402
+                           MEASURED_TILT_SIGMA_FLOOR, WalkConfig, run_walk)
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
 from world.render import render_look  # noqa: E402
@@ -112,11 +118,36 @@ def calibrate(rooms: int, looks: int) -> str:
     rows += ["", "| walk (fused pose) | looks | median position error ft | its claimed sigma ft "
              "(median, per axis) | median heading error deg | its claimed sigma deg | "
              "true pose inside its 95 % region |", "|---|---|---|---|---|---|---|"]
+    tilt_rows = ["", "| walk (fused pose) | looks fused | median height error ft | as a sigma "
+                 "(median / 0.674) ft | height 95.4 % point ft | median tilt error deg "
+                 "(both horizontal axes) | as a sigma (median / 1.177) deg | its claimed "
+                 "sigma deg (median) |", "|---|---|---|---|---|---|---|---|"]
     for name, kw in (("bundled, A-29", dict(kalman="a29")),
                      ("bundled, A-30 (as written)", dict(kalman="a30"))):
         res, _ = one_walk(lab, bundled_walk(), **kw)
         rows.append(pose_honesty_row(name, res))
-    return "\n".join(rows)
+        tilt_rows.append(tilt_honesty_row(name, res))
+    return "\n".join(rows + tilt_rows)
+
+
+def tilt_honesty_row(name, res) -> str:
+    """The fused pose's height and tilt (the fix's alone: the odometry knows neither)
+    against the truth, the numbers behind ``model.mapping.MEASURED_TILT_SIGMA_FLOOR``."""
+    from scipy.spatial.transform import Rotation
+    height, tilt, claimed = [], [], []
+    for r in res.records[1:]:
+        if r.pose is None or r.pose.method != "fused":
+            continue
+        t = r.true_pose
+        R_true = np.asarray(t.rotation(), float)
+        err = np.degrees(Rotation.from_matrix(r.pose.R @ R_true.T).as_rotvec())
+        height.append(abs(r.pose.centre[1] - getattr(t, "y", 0.0)))
+        tilt.append(np.hypot(err[0], err[2]))
+        c = np.diag(r.pose.covariance6)
+        claimed.append(np.degrees(np.sqrt((c[3] + c[5]) / 2)))
+    return (f"| {name} | {len(height)} | {np.median(height):.3f} | {np.median(height) / 0.6745:.2f} | "
+            f"{np.percentile(height, 95.45):.2f} | {np.median(tilt):.2f} | "
+            f"{np.median(tilt) / 1.1774:.2f} | {np.median(claimed):.2f} |")
 
 
 def method_errors(results) -> dict:
@@ -153,6 +184,7 @@ def feature_stats(results) -> dict:
     rms5 = ([float(np.sqrt(np.mean([h[k] ** 2 for h in same5]))) for k in (0, 4)]
             if same5 else [None, None])
     inside, scored, feats, conf_in, conf, filt, retired = [], 0, 0, [], 0, [], 0
+    track = {"track_confirmed": [0, 0.0], "tentative": [0, 0.0]}     # n, n inside
     retired_wrong = 0
     for res in results:
         fs = res.feature_scores()
@@ -164,6 +196,10 @@ def feature_stats(results) -> dict:
             scored += fs["scored"]
             inside.append(fs["inside_2sigma"] * fs["scored"])
             filt.append(fs["filter_inside_2sigma"] * fs["scored"])
+        for k in track:
+            if fs.get(k):
+                track[k][0] += fs[k]
+                track[k][1] += fs[f"{k}_inside_2sigma"] * fs[k]
         if fs["confirmed"]:
             conf += fs["confirmed"]
             conf_in.append(fs["confirmed_inside_2sigma"] * fs["confirmed"])
@@ -180,6 +216,9 @@ def feature_stats(results) -> dict:
             "consider": results[0].config.consider, "retired": retired,
             "retired_wrong": retired_wrong,
             "confirmed": conf, "confirmed_inside_2sigma": sum(conf_in) / conf if conf else None,
+            "confirm": results[0].config.confirm,
+            **{k: n for k, (n, _) in track.items()},
+            **{f"{k}_inside_2sigma": (i / n if n else None) for k, (n, i) in track.items()},
             "wrong_share": wrong / matched if matched else None,
             "used_wrong_share": used_wrong / used if used else None,
             "median_look_ms": float(np.median(look_ms)), "median_scan_ms": float(np.median(scan_ms)),
@@ -206,8 +245,9 @@ def method_table(title, errs) -> str:
 def feature_table(sets) -> str:
     rows = ["| set | features | RMS ft after 1 / 2 / 3 / 5 / 10 looks (features) | same features: "
             "RMS after 1st -> 10th look; 1st -> 5th | inside 2 sigma (all; confirmed) [the filter's own] | "
+            "track-confirmed; tentative: inside 2 sigma (features) | "
             "retired (of them > 0.5 ft off) | wrong corr. (all / used) | ms per look "
-            "(median, p90; scan) |", "|---|---|---|---|---|---|---|---|"]
+            "(median, p90; scan) |", "|---|---|---|---|---|---|---|---|---|"]
     for name, f in sets:
         curve = " / ".join(f"{c['rms']:.2f} ({c['features']})" for c in f["curve"]
                            if c["looks"] in (1, 2, 3, 5, 10))
@@ -216,8 +256,11 @@ def feature_table(sets) -> str:
         same += (f"; 1st -> 5th: {fmt(f['same5_rms_1'])} -> {fmt(f['same5_rms_5'])} "
                  f"({f['same5_features']})" if f["same5_features"] else "")
         rows.append(f"| {name} | {f['features']} | {curve} | {same} | "
-                    f"{100 * (f['inside_2sigma'] or 0):.0f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.0f} % ({f['confirmed']})"
+                    f"{100 * (f['inside_2sigma'] or 0):.1f} %; {100 * (f['confirmed_inside_2sigma'] or 0):.1f} % ({f['confirmed']})"
                     + (f" [{100 * (f['filter_inside_2sigma'] or 0):.0f} %]" if f["consider"] else "")
+                    + (f" | {100 * (f['track_confirmed_inside_2sigma'] or 0):.1f} % "
+                       f"({f['track_confirmed']}); {100 * (f['tentative_inside_2sigma'] or 0):.1f} % "
+                       f"({f['tentative']})" if f["confirm"] else " | -")
                     + f" | {f['retired']} ({f['retired_wrong']}) | {100 * (f['wrong_share'] or 0):.0f} % / "
                     f"{100 * (f['used_wrong_share'] or 0):.0f} % | {f['median_look_ms']:.0f}, "
                     f"{f['p90_look_ms']:.0f}; {f['median_scan_ms']:.0f} |")
@@ -248,6 +291,58 @@ def honest_table(rows) -> str:
     return "\n".join(out)
 
 
+NAMED = dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR, confirm=2)
+"""The configuration docs/model.md measures against the issue's targets."""
+
+
+def mahalanobis_rows(name, results) -> list[str]:
+    """Where the truths outside 2 sigma are: the share inside, and beyond Mahalanobis
+    distance 10, by the looks a feature was seen in, by its range at its first look and by
+    track confirmation; the reported covariance (the consider covariance where kept)."""
+    rows = []
+    feats = []
+    for res in results:
+        for v in res.model.vertices.values():
+            if v.truth is None:
+                continue
+            d = v.mean - v.truth
+            m = float(np.sqrt(d @ np.linalg.solve(res.reported_covariance(v), d)))
+            t = res.records[v.first_look].true_pose
+            rng = float(np.hypot(v.truth[0] - t.x, v.truth[2] - t.z))
+            conf = res.confirmed_by_track(v) if res.config.confirm else None
+            feats.append((m, v.looks, rng, conf))
+    m = np.array([f[0] for f in feats])
+    looks = np.array([f[1] for f in feats])
+    rng = np.array([f[2] for f in feats])
+    groups = [("seen once", looks == 1), ("seen twice", looks == 2),
+              ("seen 3-4 times", (looks >= 3) & (looks <= 4)),
+              ("seen 5-9 times", (looks >= 5) & (looks <= 9)), ("seen 10+ times", looks >= 10),
+              ("first seen at 0-5 ft", rng < 5), ("first seen at 5-10 ft", (rng >= 5) & (rng < 10)),
+              ("first seen at 10-15 ft", rng >= 10)]
+    if feats and feats[0][3] is not None:
+        conf = np.array([f[3] for f in feats], bool)
+        groups += [("track-confirmed", conf), ("tentative", ~conf)]
+    for label, sel in [("all", np.ones(len(m), bool)), *groups]:
+        if sel.any():
+            rows.append(f"| {name} | {label} | {int(sel.sum())} | "
+                        f"{100 * np.mean(m[sel] <= np.sqrt(8.0249)):.1f} % | "
+                        f"{100 * np.mean(m[sel] > 10):.1f} % | {np.median(m[sel]):.2f} |")
+    return rows
+
+
+def breakdown(rooms: int, looks: int) -> str:
+    """``--breakdown``: the named configuration on the bundled walk and the rooms, its
+    truths' Mahalanobis distances grouped."""
+    out = ["| set | features | n | inside 2 sigma | beyond Mahalanobis 10 | median distance |",
+           "|---|---|---|---|---|---|"]
+    res, _ = one_walk(bundled_lab(), bundled_walk(), **NAMED)
+    out += mahalanobis_rows("bundled", [res])
+    rs = [one_walk(generate_room(s), generate_walk(generate_room(s), s, looks), **NAMED)[0]
+          for s in range(1, rooms + 1)]
+    out += mahalanobis_rows(f"{rooms} rooms", rs)
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
@@ -256,8 +351,15 @@ def main(argv=None) -> int:
     ap.add_argument("--json", help="write all figures as JSON")
     ap.add_argument("--calibrate", action="store_true",
                     help="measure the rig's pixel errors at the true corners instead")
+    ap.add_argument("--breakdown", action="store_true",
+                    help="only the named configuration (A-29, consider bound, tilt floor, "
+                         "confirm 2): where its truths outside 2 sigma are")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.breakdown:
+        print(breakdown(args.rooms, args.looks))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     if args.calibrate:
         print(calibrate(args.rooms, args.looks))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")
@@ -287,6 +389,19 @@ def main(argv=None) -> int:
               "A-29, consider (bound), retire unseen 1, feature gate":
                   dict(kalman="a29", consider="bound", retire_unseen=1,
                        feature_gate=FEATURE_GATE_CHI2),
+              "A-29, consider (bound), variance factor": dict(kalman="a29", consider="bound",
+                                                              variance_factor=True),
+              "A-29, consider (bound), tilt floor": dict(kalman="a29", consider="bound",
+                                                         tilt_floor=MEASURED_TILT_SIGMA_FLOOR),
+              "A-29, consider (bound), tilt floor, confirm 2":
+                  dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
+                       confirm=2),
+              "A-29, consider (bound), tilt floor, confirm 3":
+                  dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
+                       confirm=3),
+              "A-29, consider (bound), tilt floor, variance factor, confirm 2":
+                  dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
+                       variance_factor=True, confirm=2),
               "A-29, improved stereo matcher, consider (bound)":
                   dict(kalman="a29", consider="bound", match="improved"),
               "A-29, improved stereo matcher, consider (bound), retire unseen 1":
@@ -297,7 +412,8 @@ def main(argv=None) -> int:
         print(f"bundled, {name}: {took:.0f} s", file=sys.stderr)
     rooms_honest_sets = ("A-29", "covariance intersection, calibrated column error and pose floor",
                          "A-29, consider covariance (bound)",
-                         "A-29, consider (bound), retire unseen 1")
+                         "A-29, consider (bound), retire unseen 1",
+                         "A-29, consider (bound), tilt floor, confirm 2")
     rooms, rooms_honest = [], {name: [] for name in rooms_honest_sets}
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)

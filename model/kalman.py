@@ -128,3 +128,51 @@ KALMAN_MODES = {"a30": "camera error ignored (as written)",
                 "a29": "camera error propagated (alternative)",
                 "ci": "A-29's measurement covariance, fused by covariance intersection "
                       "(correlated looks; alternative)"}
+
+
+# --- the a-posteriori variance factor (adjustment theory) ---------------------------
+
+CHI2_3DOF_MEDIAN = 2.365974       # the median of chi-square with 3 degrees of freedom
+
+
+def normalised_innovation(mean, cov, z, R) -> float:
+    """The innovation's squared Mahalanobis length ``r^T (P + R)^-1 r``, ``r = z - m``
+    (the filter's NIS: chi-square with 3 degrees of freedom when P and R are honest)."""
+    r = np.asarray(z, dtype=np.float64) - np.asarray(mean, dtype=np.float64)
+    S = np.asarray(cov, dtype=np.float64) + np.asarray(R, dtype=np.float64)
+    return float(r @ np.linalg.solve(S, r))
+
+
+def variance_of_unit_weight(nis, dof: int = 3) -> float:
+    """The a-posteriori variance factor of a sequence of innovations: the sum of
+    their normalised squares over their degrees of freedom, ``sum(NIS) / (dof n)``.
+    1 when the claimed covariances are honest; 4 when the errors are twice the
+    claimed sigma.  NaN for an empty sequence."""
+    nis = np.asarray(nis, dtype=np.float64).ravel()
+    return float(nis.sum() / (dof * len(nis))) if len(nis) else float("nan")
+
+
+def robust_variance_factor(nis, dof: int = 3) -> float:
+    """The variance factor from the median of many innovations' NIS, over the
+    median of chi-square (3 degrees of freedom): a few phantoms far out do not
+    move it.  NaN for an empty sequence."""
+    if dof != 3:
+        raise ValueError("robust_variance_factor: only 3 degrees of freedom")
+    nis = np.asarray(nis, dtype=np.float64).ravel()
+    return float(np.median(nis) / CHI2_3DOF_MEDIAN) if len(nis) else float("nan")
+
+
+def feature_variance_factors(nis_lists, global_factor: float, prior_dof: float = 3.0,
+                             dof: int = 3, floor: float | None = 1.0) -> np.ndarray:
+    """One variance factor per feature: its own innovations' where it has them, the
+    ``global_factor`` where it has none, and between them the pooled estimate
+    ``(prior_dof g + sum NIS) / (prior_dof + dof n)`` (the global factor counted as
+    ``prior_dof`` degrees of freedom of evidence: one look's worth by default), so a
+    feature seen twice is not judged on one innovation alone.  ``floor``: no factor
+    below it (1: the reported covariance is only ever widened); None: none."""
+    g = float(global_factor) if np.isfinite(global_factor) else 1.0
+    out = np.array([(prior_dof * g + float(np.sum(n))) / (prior_dof + dof * len(n))
+                    for n in nis_lists], dtype=np.float64)
+    if floor is not None:
+        out = np.maximum(out, floor)
+    return out

@@ -40,7 +40,9 @@ from .edges import (CALIBRATED_COLUMN_ERROR_PX, E_LR, MEASURED_DISPARITY_ERROR_P
                     surface_observations, vertex_observations)
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .kalman import (consider_update, covariance_intersection, kalman_gain,
-                     measurement_covariance_a29, measurement_covariance_a30, static_update)
+                     measurement_covariance_a29, measurement_covariance_a30,
+                     feature_variance_factors, normalised_innovation, robust_variance_factor,
+                     static_update)
 from .matching import MATCHERS, MatchResult
 from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
 from .symbolic import SymbolicModel
@@ -52,11 +54,19 @@ from .velocity import Velocity, velocity
 # 0.032 ft per axis and 0.47 degrees: only 13 % of the looks' true poses lie inside its 95 %
 # region (bench/walk.py --calibrate)
 MEASURED_POSE_SIGMA_FLOOR = (0.13, 0.85)
+# the fused pose's height and tilt are the driving fix's alone (the odometry knows neither):
+# on the bundled walk (A-29, twice round; bench/walk.py --calibrate) its height is off by
+# 0.216 ft at the median (0.32 ft sigma; 3.9 ft at the 95.4 % point) and its tilt (about the
+# two horizontal room axes together) by 3.7 degrees (a 2-D Gaussian's median radius is 1.177
+# sigma: 3.2 degrees), where it claims 1.7 degrees; every feature a look places or updates
+# inherits that error, vertically.  The consider covariance's floor for them (--tilt-floor):
+MEASURED_TILT_SIGMA_FLOOR = (0.32, 3.2)
 CHI2_3DOF_2SIGMA = 8.0249     # the 3-D ellipsoid holding 95.45 % (the share of +-2 sigma in 1-D)
 TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS that corner
 WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
 FEATURE_GATE_CHI2 = 16.27     # the feature gate's default: chi-square 99.9 %, 3 degrees of freedom
 CONSIDER_MODES = ("bound", "joseph")
+CONSISTENT_CHI2 = 11.345      # a look consistent with its feature: chi-square 99 %, 3 degrees of freedom
 
 
 @dataclass
@@ -100,12 +110,26 @@ class WalkConfig:
     # (model.kalman.consider_update).  Reported and scored; the matcher and the pose keep
     # using the filter's own
     consider: str | None = None
+    # with the consider covariance: a floor (ft, degrees) under the camera's height and tilt
+    # sigma in its camera term (None: the pose's own; MEASURED_TILT_SIGMA_FLOOR measured)
+    tilt_floor: tuple[float, float] | None = None
     # retiring the unseen (named alternative; None: off, the model remembers everything): a
     # vertex that looks whose pose was fixed predicted well inside their view (8 px in from
     # the picture's edges, within max_range_ft) did not match, this many times per look it
     # was seen in, leaves the model (a phantom of a wrong stereo match is seen once and never
     # again where it claims to be)
     retire_unseen: int | None = None
+    # track confirmation (named alternative; None: off, every feature is the model's): a
+    # feature is CONFIRMED once this many of its looks (its first included) were consistent
+    # with it (the innovation inside CONSISTENT_CHI2 of the covariances it reports) and no
+    # fewer than the looks that should have seen it and did not; until then it is TENTATIVE:
+    # matched and updated like any other, reported apart (WalkResult.feature_scores)
+    confirm: int | None = None
+    # the a-posteriori variance factor (named alternative; False: off): the reported
+    # covariance (the consider covariance where kept) scaled by the variance of unit weight of
+    # the feature's own innovations, pooled with a robust global one (model.kalman.
+    # feature_variance_factors); scoring and reporting only
+    variance_factor: bool = False
 
 
 @dataclass
@@ -128,6 +152,7 @@ class LookRecord:
     velocity: Velocity | None = None
     driver_refused: str | None = None
     pose_covariance: np.ndarray | None = None      # the robot's (x, z, heading rad) covariance
+    pose: PoseEstimate | None = None               # the pose the model was updated with (all six)
 
     def errors(self, name: str) -> tuple[float, float] | None:
         est = self.estimates.get(name)
@@ -145,28 +170,73 @@ class WalkResult:
     model: SymbolicModel
     error_history: dict[int, list[float]] = field(default_factory=dict)   # vertex -> error after each look
 
+    def variance_factors(self) -> tuple[float, dict[int, float]]:
+        """The a-posteriori variance factors (adjustment theory's variance of unit
+        weight): the robust global one from every innovation of the walk, and one per
+        vertex pooled from its own innovations and the global one
+        (:func:`model.kalman.feature_variance_factors`, never below 1)."""
+        every = [*self.model.vertices.values(), *self.model.retired.values()]
+        g = robust_variance_factor([x for v in every for x in v.nis])
+        vs = list(self.model.vertices.values())
+        f = feature_variance_factors([v.nis for v in vs], g)
+        return g, {v.id: float(x) for v, x in zip(vs, f)}
+
+    def reported_covariance(self, v, factors: dict[int, float] | None = None) -> np.ndarray:
+        """The covariance a vertex reports: the consider covariance where kept, else
+        the filter's; scaled by its variance factor where ``factors`` are given."""
+        C = v.cov if v.report_cov is None else v.report_cov
+        return C if factors is None else C * factors[v.id]
+
+    def confirmed_by_track(self, v) -> bool:
+        """Track confirmation (``WalkConfig.confirm`` = M): at least M of the vertex's
+        looks, its first included, consistent with it (the innovation inside
+        CONSISTENT_CHI2 of the covariances it reports), and they no fewer than the
+        looks that should have seen it and did not (``missed``)."""
+        hits = 1 + sum(1 for x in v.nis if x <= CONSISTENT_CHI2)
+        return hits >= (self.config.confirm or 2) and hits >= v.missed
+
     def feature_scores(self) -> dict:
         """RMS error (ft) and share of truths inside 2 sigma over the vertices
-        with a truth; the Mahalanobis-2 radius share too."""
-        errs, inside, inside_r2, confirmed, inside_filter = [], [], [], [], []
+        with a truth; the Mahalanobis-2 radius share too.  With
+        ``WalkConfig.variance_factor`` the reported covariances are scaled; with
+        ``WalkConfig.confirm`` the track-confirmed and the tentative vertices are
+        scored apart as well (``track_confirmed_*``, ``tentative_*``)."""
+        factors = None
+        out_extra = {}
+        if self.config.variance_factor:
+            g, factors = self.variance_factors()
+            out_extra["variance_factor_global"] = g
+            out_extra["variance_factor_median"] = (float(np.median(list(factors.values())))
+                                                   if factors else None)
+        errs, inside, inside_r2, confirmed, inside_filter, track = [], [], [], [], [], []
         for v in self.model.vertices.values():
             if v.truth is None:
                 continue
             d = v.mean - v.truth
             errs.append(float(d @ d))
-            m2 = float(d @ np.linalg.solve(v.cov if v.report_cov is None else v.report_cov, d))
+            m2 = float(d @ np.linalg.solve(self.reported_covariance(v, factors), d))
             inside.append(m2 <= CHI2_3DOF_2SIGMA)
             inside_r2.append(m2 <= 4.0)
             inside_filter.append(float(d @ np.linalg.solve(v.cov, d)) <= CHI2_3DOF_2SIGMA)
             confirmed.append(v.looks >= 2)
+            track.append(self.confirmed_by_track(v))
+        if self.config.confirm is not None:
+            t = np.array(track, dtype=bool)
+            e, i = np.array(errs).reshape(-1), np.array(inside, dtype=bool)
+            for name, sel in (("track_confirmed", t), ("tentative", ~t)):
+                out_extra[name] = int(sel.sum())
+                out_extra[f"{name}_inside_2sigma"] = float(np.mean(i[sel])) if sel.any() else None
+                out_extra[f"{name}_rms_error_ft"] = (float(np.sqrt(np.mean(e[sel])))
+                                                     if sel.any() else None)
         if not errs:
             return {"features": len(self.model.vertices), "scored": 0, "rms_error_ft": None,
                     "inside_2sigma": None, "inside_mahalanobis_2": None, "confirmed": 0,
                     "confirmed_rms_error_ft": None, "confirmed_median_error_ft": None,
                     "confirmed_inside_2sigma": None, "median_error_ft": None,
-                    "filter_inside_2sigma": None, "retired": len(self.model.retired)}
+                    "filter_inside_2sigma": None, "retired": len(self.model.retired),
+                    **out_extra}
         errs, inside, confirmed = np.array(errs), np.array(inside), np.array(confirmed)
-        return {"features": len(self.model.vertices), "scored": len(errs),
+        return {**out_extra, "features": len(self.model.vertices), "scored": len(errs),
                 "rms_error_ft": float(np.sqrt(np.mean(errs))),
                 "median_error_ft": float(np.sqrt(np.median(errs))),
                 "inside_2sigma": float(np.mean(inside)),
@@ -292,6 +362,11 @@ class Walker:
                              "--kalman a30 or a29, not ci")
         if config.retire_unseen is not None and config.retire_unseen < 1:
             raise ValueError(f"retire unseen {config.retire_unseen!r}: must be at least 1")
+        if config.tilt_floor is not None and config.consider is None:
+            raise ValueError("the tilt floor widens the consider covariance: use it with "
+                             "--consider")
+        if config.confirm is not None and config.confirm < 2:
+            raise ValueError(f"confirm {config.confirm!r}: at least 2 consistent looks")
         if config.feature_gate is not None and not config.feature_gate > 0:
             raise ValueError(f"feature gate {config.feature_gate!r}: must be a positive "
                              "chi-square bound")
@@ -426,7 +501,8 @@ class Walker:
                               pose_floor=config.pose_sigma_floor if k > 0 else None,
                               honest=honest, consider=config.consider,
                               feature_gate=config.feature_gate)
-        if config.retire_unseen is not None and k > 0 and pose_est.method == "fused":
+        if ((config.retire_unseen is not None or config.confirm is not None) and k > 0
+                and pose_est.method == "fused"):
             _retire_unseen(model, match.pairs, pose_est, k, rows, config)
         est_xzh = estimates["fused"]
         est_cov = P.copy()
@@ -440,7 +516,8 @@ class Walker:
         rec = LookRecord(
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
-            len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov)
+            len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov,
+            pose_est)
         self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
         self.records.append(rec)
         return rec
@@ -519,13 +596,17 @@ def _fuse(fix: PoseEstimate, prior_xzh, P):
     return est, P_post
 
 
-def floored_pose(est: PoseEstimate, position_ft: float, heading_deg: float) -> PoseEstimate:
+def floored_pose(est: PoseEstimate, position_ft: float, heading_deg: float,
+                 height_ft: float = 0.0, tilt_deg: float = 0.0) -> PoseEstimate:
     """The pose with its 6x6 covariance raised, where smaller, to ``position_ft`` on
-    the floor (x, z) and ``heading_deg`` about the vertical: a diagonal added, so it
-    stays a covariance and never shrinks."""
+    the floor (x, z), ``heading_deg`` about the vertical, ``height_ft`` in y and
+    ``tilt_deg`` about each horizontal room axis: a diagonal added, so it stays a
+    covariance and never shrinks."""
     import dataclasses
     cov6 = np.zeros((6, 6)) if est.covariance6 is None else est.covariance6
-    floor = np.array([position_ft ** 2, 0.0, position_ft ** 2, 0.0, np.radians(heading_deg) ** 2, 0.0])
+    tilt = np.radians(tilt_deg) ** 2
+    floor = np.array([position_ft ** 2, height_ft ** 2, position_ft ** 2, tilt,
+                      np.radians(heading_deg) ** 2, tilt])
     cov6 = cov6 + np.diag(np.maximum(floor - np.diag(cov6), 0.0))
     return dataclasses.replace(est, covariance6=cov6, Cc=None)
 
@@ -553,13 +634,15 @@ def _measured_covariances(obs, est: PoseEstimate, config: WalkConfig, lines,
     if given:
         return measurement_covariance_a30(est.M, cq)
     q = np.array([o.q for o in obs])
-    camera = floored_pose(est, *(config.pose_sigma_floor or MEASURED_POSE_SIGMA_FLOOR))
+    camera = floored_pose(est, *(config.pose_sigma_floor or MEASURED_POSE_SIGMA_FLOOR),
+                          *(config.tilt_floor or (0.0, 0.0)))
     return measurement_covariance_a29(est.M, cq, camera.pose_covariance_at(q))
 
 
 def _retire_unseen(model, pairs, est: PoseEstimate, look: int, rows, config: WalkConfig) -> None:
     """Count a miss for every vertex the fixed pose predicts well inside the view that
-    no observation matched; retire those missed ``retire_unseen`` times per look seen."""
+    no observation matched (the evidence of ``confirm`` too); with ``retire_unseen``,
+    retire those missed that many times per look seen."""
     from .matching import in_view
     ids, means, _, _, _ = model.vertex_arrays()
     if not len(ids):
@@ -572,7 +655,7 @@ def _retire_unseen(model, pairs, est: PoseEstimate, look: int, rows, config: Wal
         if int(vid) in matched or v.first_look == look:
             continue
         v.missed += 1
-        if v.missed >= config.retire_unseen * v.looks:
+        if config.retire_unseen is not None and v.missed >= config.retire_unseen * v.looks:
             model.retire(int(vid))
 
 
@@ -608,13 +691,14 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
     vertex_of: dict[int, int] = {}
     for vid, i in pairs_used:
         v = model.vertices[vid]
+        # the innovation against what the feature and the observation claim (their
+        # consider covariances where kept): the feature gate's test, the variance factor's
+        # and confirmation's evidence
+        nis = normalised_innovation(v.mean, v.cov if v.report_cov is None else v.report_cov,
+                                    z[i], Rm[i] if honest is None else honest[i])
         if feature_gate is not None:
-            # the innovation against what the feature and the observation claim (their
-            # consider covariances where kept): far outside, the pair is a wrong merge
-            r = z[i] - v.mean
-            S = ((v.cov if v.report_cov is None else v.report_cov)
-                 + (Rm[i] if honest is None else honest[i]))
-            if float(r @ np.linalg.solve(S, r)) > feature_gate:
+            # far outside, the pair is a wrong merge
+            if nis > feature_gate:
                 v.contradicted += 1
                 claimed.discard(i)                 # the observation starts its own feature
                 if v.contradicted >= max(2, v.looks):
@@ -629,6 +713,7 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
             v.mean, v.cov = m[0], P[0]
         else:
             v.mean, v.cov = static_update(v.mean, v.cov, z[i], Rm[i])
+        v.nis.append(nis)
         v.looks += 1
         v.last_look = look
         v.shape = obs[i].shape

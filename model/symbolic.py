@@ -50,6 +50,10 @@ class Vertex:
     report_cov: np.ndarray | None = None
     contradicted: int = 0            # looks whose matched observation failed the feature gate
     missed: int = 0                  # looks that should have seen it, well inside the view, and did not
+    # the normalised innovation squared (NIS) of every look fused into it, against the
+    # covariances it reports (the consider covariances where kept, else the filter's): the
+    # evidence of the variance factor and of confirmation (model.mapping), scoring only
+    nis: list[float] = field(default_factory=list)
 
 
 @dataclass
@@ -150,7 +154,7 @@ class SymbolicModel:
                           "truth": arr(v.truth),
                           "shape": None if v.shape is None else list(v.shape),
                           "report_cov": arr(v.report_cov), "contradicted": v.contradicted,
-                          "missed": v.missed}
+                          "missed": v.missed, "nis": [round(float(x), 4) for x in v.nis]}
                          for v in self.vertices.values()],
             "retired_vertices": sorted(self.retired),
             "lines": [{"id": ln.id, "centre": arr(ln.centre), "centre_cov": arr(ln.centre_cov),

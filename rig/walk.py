@@ -156,13 +156,22 @@ def summary_text(result, rows) -> str:
     out.append("")
     out.append(f"model: {fs['features']} vertices, {len(result.model.lines)} boundary lines; "
                f"RMS error {f(fs['rms_error_ft'])} ft (median {f(fs['median_error_ft'])}); truths "
-               f"inside 2 sigma {100 * (fs['inside_2sigma'] or 0):.0f} %")
+               f"inside 2 sigma {100 * (fs['inside_2sigma'] or 0):.1f} %")
     out.append(f"  confirmed (seen in 2 looks or more): {fs['confirmed']}, RMS error "
                f"{f(fs['confirmed_rms_error_ft'])} ft (median {f(fs['confirmed_median_error_ft'])}), "
-               f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.0f} %")
+               f"inside 2 sigma {100 * (fs['confirmed_inside_2sigma'] or 0):.1f} %")
     if result.config.consider:
         out.append(f"  (inside 2 sigma of the consider covariance ({result.config.consider}); of "
                    f"the filter's own: {100 * (fs['filter_inside_2sigma'] or 0):.0f} %)")
+    if result.config.variance_factor:
+        out.append(f"  (covariances scaled by the variance factor: global {fs['variance_factor_global']:.3f}, "
+                   f"median per vertex {fs['variance_factor_median'] or 0:.3f}, never below 1)")
+    if result.config.confirm is not None:
+        out.append(f"  track-confirmed ({result.config.confirm} consistent looks or more): "
+                   f"{fs['track_confirmed']}, RMS error {f(fs['track_confirmed_rms_error_ft'])} ft, "
+                   f"inside 2 sigma {100 * (fs['track_confirmed_inside_2sigma'] or 0):.1f} %; "
+                   f"tentative: {fs['tentative']}, inside 2 sigma "
+                   f"{100 * (fs['tentative_inside_2sigma'] or 0):.1f} %")
     if result.config.feature_gate or result.config.retire_unseen:
         out.append(f"  {fs['retired']} vertices retired (contradicted by later looks, or unseen "
                    "where they should have been seen)")
@@ -177,6 +186,12 @@ def summary_text(result, rows) -> str:
 
 
 # --- JSON --------------------------------------------------------------------------
+
+# the "model" fields of the variance factor (--variance-factor) and of track confirmation
+# (--confirm), present only with those options (docs/model.md)
+TRACK_FIELDS = ("variance_factor_global", "variance_factor_median", "track_confirmed",
+                "track_confirmed_inside_2sigma", "track_confirmed_rms_error_ft", "tentative",
+                "tentative_inside_2sigma", "tentative_rms_error_ft")
 
 def walk_json(result, label: str, rows) -> dict:
     """The ``--json`` document (the schema docs/model.md gives, plus more fields)."""
@@ -214,6 +229,8 @@ def walk_json(result, label: str, rows) -> dict:
         "pose_sigma_floor": result.config.pose_sigma_floor,
         "feature_gate": result.config.feature_gate, "consider": result.config.consider,
         "retire_unseen": result.config.retire_unseen,
+        "variance_factor": result.config.variance_factor, "confirm": result.config.confirm,
+        "tilt_floor": result.config.tilt_floor,
         "match": result.config.match,
         "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
                          if m == "dead_reckoning" or m in result.records[0].estimates},
@@ -227,6 +244,7 @@ def walk_json(result, label: str, rows) -> dict:
                   "confirmed_inside_2sigma": fs["confirmed_inside_2sigma"],
                   "filter_inside_2sigma": fs["filter_inside_2sigma"],
                   "retired": fs["retired"],
+                  **{k: fs[k] for k in TRACK_FIELDS if k in fs},
                   "lines": len(result.model.lines),
                   "rms_by_looks": [{"looks": n, "features": c, "rms_error_ft": e}
                                    for n, c, e in result.rms_by_looks(20)]},
@@ -256,6 +274,10 @@ def cmd_walk(args) -> int:
     if args.line_step < 1:
         print(f"rig walk: --line-step {args.line_step}: must be at least 1", file=sys.stderr)
         return 2
+    if args.tilt_floor is not None and args.consider is None:
+        print("rig walk: --tilt-floor widens the consider covariance: use it with --consider",
+              file=sys.stderr)
+        return 2
     if args.consider is not None and args.kalman == "ci":
         print("rig walk: --consider follows the Kalman gain: use it with --kalman a30 or a29, "
               "not ci", file=sys.stderr)
@@ -266,7 +288,9 @@ def cmd_walk(args) -> int:
                         shape_max_bits=None if args.shape_bits < 0 else args.shape_bits,
                         column_error_px=args.column_error, pose_sigma_floor=args.pose_floor,
                         feature_gate=args.feature_gate, consider=args.consider,
-                        retire_unseen=args.retire_unseen)
+                        retire_unseen=args.retire_unseen,
+                        variance_factor=args.variance_factor, confirm=args.confirm,
+                        tilt_floor=args.tilt_floor)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -277,7 +301,11 @@ def cmd_walk(args) -> int:
              if args.pose_floor else "")
           + (f", feature gate {args.feature_gate:g}" if args.feature_gate else "")
           + (f", consider covariance {args.consider}" if args.consider else "")
-          + (f", retire unseen {args.retire_unseen}" if args.retire_unseen else ""))
+          + (f", retire unseen {args.retire_unseen}" if args.retire_unseen else "")
+          + (f", tilt floor {args.tilt_floor[0]:g} ft {args.tilt_floor[1]:g} deg"
+             if args.tilt_floor else "")
+          + (", variance factor" if args.variance_factor else "")
+          + (f", confirm {args.confirm}" if args.confirm else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -354,6 +382,20 @@ def _pose_floor(text: str) -> tuple[float, float]:
     return (ft, deg)
 
 
+def _tilt_floor(text: str) -> tuple[float, float]:
+    """--tilt-floor: 'measured' or two positive numbers FT,DEG."""
+    from model.mapping import MEASURED_TILT_SIGMA_FLOOR
+    if text == "measured":
+        return MEASURED_TILT_SIGMA_FLOOR
+    try:
+        ft, deg = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: 'measured' or FT,DEG (two numbers)")
+    if not (np.isfinite(ft) and np.isfinite(deg) and ft >= 0 and deg >= 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: FT and DEG must be finite and not negative")
+    return (ft, deg)
+
+
 FEATURE_GATE_DEFAULT = FEATURE_GATE_CHI2
 
 
@@ -375,6 +417,17 @@ def _positive_int(text: str) -> int:
         value = 0
     if value < 1:
         raise argparse.ArgumentTypeError(f"{text!r}: a whole number of looks, at least 1")
+    return value
+
+
+def _confirm_looks(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"{text!r}: a whole number of consistent looks, at "
+                                         "least 2 (one look confirms nothing)")
     return value
 
 
@@ -430,6 +483,22 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "error, measured pose floor), reported and scored but not used for "
                         "matching or the pose; bound: holds whatever the looks' correlation; "
                         "joseph: for independent looks (off by default)")
+    w.add_argument("--tilt-floor", type=_tilt_floor, default=None, metavar="FT,DEG",
+                   help="with --consider: the least sigma of the camera's height (ft) and tilt "
+                        "(degrees about each horizontal axis) in the consider covariance's "
+                        "camera term; 'measured' = 0.32,3.2, the driving pose's measured error "
+                        "(docs/model.md); default: the pose's own covariance")
+    w.add_argument("--variance-factor", action="store_true",
+                   help="scale every feature's reported covariance (the consider covariance "
+                        "where kept) by the a-posteriori variance factor of its innovations, "
+                        "pooled with a robust global one, never below 1; scoring and reports "
+                        "only: the means, the matcher and the pose are untouched (off by default)")
+    w.add_argument("--confirm", type=_confirm_looks, nargs="?", const=2, default=None,
+                   metavar="M",
+                   help="track confirmation: a feature with M consistent looks (its first "
+                        "included; innovation inside chi-square 99 %%) and no more looks that "
+                        "missed it is CONFIRMED, the others TENTATIVE: both kept and matched, "
+                        "scored and reported apart (M default 2; off by default)")
     w.add_argument("--match", choices=("1985", "improved"), default="1985",
                    help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
                         "improved (the matching package's, where installed)")

@@ -62,7 +62,10 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
         if not (0 <= ctr[0] < W and 0 <= ctr[1] < H):
             continue
         axes = (int(min(max(w[1], 1), 4 * W)), int(min(max(w[0], 1), 4 * W)))
-        cv2.ellipse(img, ctr, axes, ang, 0, 360, (215, 190, 230), 1, cv2.LINE_AA)
+        # with --confirm the tentative features' ellipses are grey (they are reported apart)
+        tentative = result.config.confirm is not None and not result.confirmed_by_track(v)
+        cv2.ellipse(img, ctr, axes, ang, 0, 360, (205, 205, 205) if tentative else (215, 190, 230),
+                    1, cv2.LINE_AA)
     for v in result.model.vertices.values():
         ctr = P(v.mean[0], v.mean[2])
         if 0 <= ctr[0] < W and 0 <= ctr[1] < H:
@@ -87,8 +90,13 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
         cv2.arrowedLine(img, p, tip, TRUE_C, 1, cv2.LINE_AA, tipLength=0.35)
     _text(img, "rig walk: the model from above (x across, z up, ft)", (left, 28), 0.6)
     if result.config.consider:
-        _text(img, f"{len(result.model.vertices)} vertices, consider covariance at 2 sigma (x-z); "
-                   f"grey: the room", (left, 52), 0.45)
+        if result.config.confirm is not None:
+            n = sum(not result.confirmed_by_track(v) for v in result.model.vertices.values())
+            _text(img, f"{len(result.model.vertices)} vertices ({n} tentative: grey), consider "
+                       "cov. at 2 sigma (x-z)", (left, 52), 0.45)
+        else:
+            _text(img, f"{len(result.model.vertices)} vertices, consider covariance at 2 sigma "
+                       "(x-z); grey: the room", (left, 52), 0.45)
     else:
         _text(img, f"{len(result.model.vertices)} vertices, ellipses at 2 sigma (x-z); "
                    f"grey: true walls and obstacles", (left, 52), 0.45)

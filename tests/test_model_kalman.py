@@ -2,6 +2,7 @@
 3-D example computed by hand."""
 
 import numpy as np
+import pytest
 
 from model.kalman import measurement_covariance_a29, measurement_covariance_a30, static_update
 
@@ -121,3 +122,66 @@ def test_consider_bound_covers_correlated_looks_monte_carlo():
     assert inside["bound"] / trials >= 0.95
     assert inside["joseph"] / trials < 0.8
     assert inside["filter"] / trials < 0.3
+
+
+# --- the a-posteriori variance factor ------------------------------------------------
+
+def test_variance_of_unit_weight_hand_examples():
+    from model.kalman import (feature_variance_factors, normalised_innovation,
+                              robust_variance_factor, variance_of_unit_weight)
+    # r = (2, 0, 0) against P + R = diag(2, 1, 1) + diag(2, 1, 1): 4 / 4 = 1
+    assert normalised_innovation([0, 0, 0], np.diag([2.0, 1, 1]), [2, 0, 0],
+                                 np.diag([2.0, 1, 1])) == pytest.approx(1.0)
+    # NIS 3, 6, 9 over 3 degrees of freedom each: 18 / 9 = 2
+    assert variance_of_unit_weight([3.0, 6.0, 9.0]) == pytest.approx(2.0)
+    assert np.isnan(variance_of_unit_weight([]))
+    # the median of chi-square(3) is 2.365974: NIS whose median is that give factor 1
+    assert robust_variance_factor([0.1, 2.365974, 50.0]) == pytest.approx(1.0)
+    # pooling (prior 3 dof at the global factor g = 1): a feature with NIS 12, 12 gives
+    # (3 * 1 + 24) / (3 + 6) = 3; none gives g; one tiny NIS gives (3 + 0.3) / 6 = 0.55,
+    # floored at 1 unless the floor is off
+    f = feature_variance_factors([[12.0, 12.0], [], [0.3]], 1.0)
+    np.testing.assert_allclose(f, [3.0, 1.0, 1.0])
+    f = feature_variance_factors([[12.0, 12.0], [], [0.3]], 1.0, floor=None)
+    np.testing.assert_allclose(f, [3.0, 1.0, 0.55])
+
+
+def test_variance_factor_is_four_when_errors_are_twice_the_claimed_sigma_monte_carlo():
+    # 2000 static features seen in 6 looks each; the filter claims R (anisotropic, range
+    # 10x the lateral), the observations are drawn with twice its sigma.  Every
+    # innovation's true covariance is then 4 (P + R): the variance of unit weight of the
+    # innovations is 4 (honest sigma: 1), the robust one too, and a feature's pooled factor
+    # is near 4 once it has several looks
+    from model.kalman import (feature_variance_factors, normalised_innovation,
+                              robust_variance_factor, static_update, variance_of_unit_weight)
+    rng = np.random.default_rng(42)
+    R = np.diag([0.25, 0.0025, 0.0025])
+    L = np.linalg.cholesky(R)
+    for scale, want in ((2.0, 4.0), (1.0, 1.0)):
+        nis_lists = []
+        for _ in range(2000):
+            truth = rng.uniform(-5, 5, 3)
+            m, P = truth + scale * L @ rng.normal(size=3), R.copy()
+            nis = []
+            for _ in range(5):
+                z = truth + scale * L @ rng.normal(size=3)
+                nis.append(normalised_innovation(m, P, z, R))
+                m, P = static_update(m, P, z, R)
+            nis_lists.append(nis)
+        every = [x for n in nis_lists for x in n]
+        assert variance_of_unit_weight(every) == pytest.approx(want, rel=0.05)
+        assert robust_variance_factor(every) == pytest.approx(want, rel=0.08)
+        f = feature_variance_factors(nis_lists, robust_variance_factor(every), floor=None)
+        assert np.median(f) == pytest.approx(want, rel=0.15)
+
+
+def test_robust_variance_factor_is_not_moved_by_phantoms():
+    # 10 % of the innovations are phantoms 100x out: the plain variance of unit weight
+    # follows them (about 10.9), the robust one stays near the honest 1 (the median moves
+    # to the clean share's 55.6 % point, chi-square(3) 2.62: factor 1.11)
+    from model.kalman import robust_variance_factor, variance_of_unit_weight
+    rng = np.random.default_rng(7)
+    nis = rng.chisquare(3, 5000)
+    nis[:500] *= 100
+    assert variance_of_unit_weight(nis) > 5
+    assert 1.0 < robust_variance_factor(nis) < 1.2

@@ -218,3 +218,96 @@ def test_retire_unseen_takes_out_what_a_fixed_pose_should_have_seen():
     new = model.add_vertex(est.left + [0, 0, 9.0], C, "top", (3, 9), 3)
     _retire_unseen(model, [], est, 3, (8, 113), config)
     assert new.id in model.vertices and new.missed == 0
+
+
+def test_floored_pose_raises_height_and_tilt():
+    # the height and tilt floor (the consider covariance's --tilt-floor): y and the rotations
+    # about the two horizontal room axes (x, z) raised where smaller; a point 10 ft straight
+    # ahead (room z) moves vertically by 10 ft * the tilt about x, plus the height
+    from model.mapping import floored_pose
+    C6 = np.diag([0.04 ** 2, 1e-4, 0.3 ** 2, 1e-6, np.radians(0.4) ** 2, np.radians(5) ** 2])
+    f = floored_pose(fix_at(1.0, 3.0, 0.0, C6), 0.0, 0.0, 0.32, 3.2)
+    t = np.radians(3.2) ** 2
+    np.testing.assert_allclose(np.diag(f.covariance6),
+                               [0.04 ** 2, 0.32 ** 2, 0.3 ** 2, t, np.radians(0.4) ** 2,
+                                np.radians(5) ** 2])
+    C = f.pose_covariance_at(np.array([[10.0, 0.0, 0.0]]))[0]
+    assert C[1, 1] == pytest.approx(0.32 ** 2 + 100 * t, rel=1e-9)
+
+
+def _scored_result(vertices, **config):
+    from model.mapping import WalkConfig, WalkResult
+    from model.symbolic import SymbolicModel
+    model = SymbolicModel()
+    for mean, cov, truth, nis, missed in vertices:
+        v = model.add_vertex(mean, cov, "top", (3, 9), 0)
+        v.truth, v.nis, v.missed, v.looks = np.asarray(truth, float), list(nis), missed, 1 + len(nis)
+    return WalkResult(WalkConfig(**config), [], model)
+
+
+def test_track_confirmation_scores_confirmed_and_tentative_apart():
+    # four vertices, unit covariance; truths at distance 1 (inside 2 sigma) or 5 (outside):
+    #   a: seen 3 times, both later looks consistent (NIS 1, 2)          -> confirmed, inside
+    #   b: seen twice, the second look inconsistent (NIS 20 > 11.345)    -> tentative, inside
+    #   c: seen once                                                     -> tentative, outside
+    #   d: seen twice, consistent, but missed 3 times where it should have been seen
+    #      (2 consistent looks < 3 misses)                               -> tentative, outside
+    I = np.eye(3)
+    res = _scored_result([([0, 0, 0], I, [1, 0, 0], [1.0, 2.0], 0),
+                          ([5, 0, 0], I, [6, 0, 0], [20.0], 0),
+                          ([9, 0, 0], I, [14, 0, 0], [], 0),
+                          ([20, 0, 0], I, [25, 0, 0], [0.5], 3)], confirm=2)
+    fs = res.feature_scores()
+    assert fs["track_confirmed"] == 1 and fs["tentative"] == 3
+    assert fs["track_confirmed_inside_2sigma"] == 1.0
+    assert fs["tentative_inside_2sigma"] == pytest.approx(1 / 3)
+    assert fs["track_confirmed_rms_error_ft"] == pytest.approx(1.0)
+    assert fs["inside_2sigma"] == 0.5                      # all four: still reported
+    # M = 3: a has exactly three consistent looks; nothing else changes
+    assert _scored_result([([0, 0, 0], I, [1, 0, 0], [1.0, 2.0], 0)],
+                          confirm=3).feature_scores()["track_confirmed"] == 1
+    assert _scored_result([([0, 0, 0], I, [1, 0, 0], [1.0], 0)],
+                          confirm=3).feature_scores()["track_confirmed"] == 0
+    # without the option no such fields
+    assert "track_confirmed" not in _scored_result([([0, 0, 0], I, [1, 0, 0], [1.0], 0)]
+                                                   ).feature_scores()
+
+
+def test_variance_factor_widens_only_the_reported_covariance():
+    # ten vertices with unit reported covariance and their truths at distance 2.5
+    # (Mahalanobis^2 6.25: inside the 8.02 of 2 sigma) ... and one at distance 4 (16:
+    # outside) whose own innovations say its errors are 3x the claimed variance: NIS 9, 9,
+    # 9 pooled with the global factor (the median of all NIS over 2.366, floored at 1):
+    # (3 g + 27) / 12 with g = 9 / 2.366 = 3.8 -> 3.2; Mahalanobis^2 16 / 3.2 = 5: inside.  The
+    # means and the filter's covariances are untouched
+    I = np.eye(3)
+    verts = [([0, 0, 0], I, [2.5, 0, 0], [], 0)] * 10 + [([0, 0, 0], I, [4, 0, 0], [9.0] * 3, 0)]
+    plain = _scored_result(verts).feature_scores()
+    res = _scored_result(verts, variance_factor=True)
+    scaled = res.feature_scores()
+    g, f = res.variance_factors()
+    assert g == pytest.approx(9 / 2.365974, rel=1e-6)
+    last_id = max(res.model.vertices)
+    assert f[last_id] == pytest.approx((3 * g + 27) / 12, rel=1e-9)
+    # the vertices without innovations take the global factor
+    assert all(f[i] == pytest.approx(g) for i in res.model.vertices if i != last_id)
+    assert plain["inside_2sigma"] == pytest.approx(10 / 11)
+    assert scaled["inside_2sigma"] == 1.0
+    assert scaled["rms_error_ft"] == plain["rms_error_ft"]
+    assert scaled["filter_inside_2sigma"] == plain["filter_inside_2sigma"]
+    for v in res.model.vertices.values():
+        np.testing.assert_array_equal(v.cov, I)
+
+
+def test_confirmation_counts_misses_without_retiring():
+    # with --confirm alone the looks that should have seen a vertex are counted (the
+    # evidence against it), and nothing leaves the model
+    from model.mapping import WalkConfig, _retire_unseen
+    from model.symbolic import SymbolicModel
+    est = _given_pose()
+    est = PoseEstimate("fused", est.left, est.M, est.inliers, covariance6=est.covariance6)
+    model = SymbolicModel()
+    ahead = model.add_vertex(est.left + [0, 0, 10.0], np.eye(3) * 0.01, "top", (3, 9), 0)
+    for look in (1, 2, 3):
+        _retire_unseen(model, [], est, look, (8, 113), WalkConfig(confirm=2))
+    assert ahead.id in model.vertices and ahead.missed == 3

@@ -165,3 +165,59 @@ def test_consider_with_covariance_intersection_is_refused(tmp_path, capsys):
                "--out", str(tmp_path / "o"), "--quiet"])
     assert rc == 2 and "--consider" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_rig_walk_variance_factor_tilt_floor_and_confirmation_keep_a29(tmp_path):
+    # the reporting options end to end: the poses, the means and the filter's covariances
+    # are plain A-29's to the digit (they only widen or sort what is reported); the settings
+    # and the new shares are in the JSON, every vertex carries its innovations
+    rc = main(["walk", "--looks", "4", "--kalman", "a29", "--consider", "bound",
+               "--tilt-floor", "measured", "--variance-factor", "--confirm", "--out",
+               str(tmp_path / "v"), "--json", str(tmp_path / "v.json"), "--quiet"])
+    rc2 = main(["walk", "--looks", "4", "--kalman", "a29", "--out", str(tmp_path / "p"),
+                "--json", str(tmp_path / "p.json"), "--quiet"])
+    rc3 = main(["walk", "--looks", "4", "--kalman", "a29", "--consider", "bound", "--out",
+                str(tmp_path / "c"), "--json", str(tmp_path / "c.json"), "--quiet"])
+    assert rc == rc2 == rc3 == 0
+    v, p, c = (json.loads((tmp_path / n).read_text()) for n in ("v.json", "p.json", "c.json"))
+    assert v["tilt_floor"] == [0.32, 3.2] and v["variance_factor"] is True and v["confirm"] == 2
+    assert p["tilt_floor"] is None and p["variance_factor"] is False and p["confirm"] is None
+    assert [lk["methods"]["fused"] for lk in v["looks"]] == [lk["methods"]["fused"]
+                                                             for lk in p["looks"]]
+    vm = json.loads((tmp_path / "v" / "model.json").read_text())["model_tables"]["vertices"]
+    pm = json.loads((tmp_path / "p" / "model.json").read_text())["model_tables"]["vertices"]
+    cm = json.loads((tmp_path / "c" / "model.json").read_text())["model_tables"]["vertices"]
+    assert [x["mean"] for x in vm] == [x["mean"] for x in pm]
+    assert [x["cov"] for x in vm] == [x["cov"] for x in pm]
+    # the same looks fused (their NIS are against the wider covariances: smaller)
+    assert [len(x["nis"]) for x in vm] == [len(x["nis"]) for x in cm] == [x["looks"] - 1
+                                                                         for x in vm]
+    assert any(x["nis"] for x in vm)
+    assert sum(map(sum, (x["nis"] for x in vm))) < sum(map(sum, (x["nis"] for x in cm)))
+    # the tilt floor only widens the consider covariance (the bound's weight is chosen by the
+    # trace, so the trace is what grows; the vertical most)
+    for a, b in zip(vm, cm):
+        assert np.trace(a["report_cov"]) >= np.trace(b["report_cov"]) - 1e-6
+    assert sum(a["report_cov"][1][1] for a in vm) > sum(b["report_cov"][1][1] for b in cm)
+    m = v["model"]
+    assert m["track_confirmed"] + m["tentative"] == m["scored"]
+    assert m["variance_factor_global"] > 0
+    assert m["inside_2sigma"] >= c["model"]["inside_2sigma"]
+    assert m["rms_error_ft"] == p["model"]["rms_error_ft"]
+    assert "track_confirmed" not in p["model"]
+
+
+@pytest.mark.parametrize("opt", [["--confirm", "1"], ["--confirm", "x"],
+                                 ["--tilt-floor", "0.3"], ["--tilt-floor", "x,1"]])
+def test_bad_confirm_and_tilt_floor_values_are_refused(opt, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["walk", *opt, "--quiet"])
+    assert exc.value.code == 2
+    assert opt[0] in capsys.readouterr().err
+
+
+def test_tilt_floor_without_the_consider_covariance_is_refused(tmp_path, capsys):
+    rc = main(["walk", "--looks", "2", "--kalman", "a29", "--tilt-floor", "measured",
+               "--out", str(tmp_path / "o"), "--quiet"])
+    assert rc == 2 and "--tilt-floor" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
