@@ -412,11 +412,13 @@ VARIANTS = [
     ("the four + confirm, neighbours from IY-2..IY+2", (CONFIRMED, {"neighbour_reach": 2})),
     ("the four, region strict", (BEFORE, {"region_penalty": None})),
     ("the four + sub-pixel", replace(BEFORE, subpixel=True)),
+    ("the four + confirm, the farther of disagreeing ends dropped",
+     (CONFIRMED, {"drop_farther_end": True})),
     (WITH_ALL, ALL),
 ]
 DIAGNOSED = (TARGET, WITH_CONFIRM)
 REASONS = ("matched", "confirmed", "readmitted", "occluded", "not mutual", "no region partner",
-           "not on a vertical line", "ambiguous", "no candidate")
+           "not on a vertical line", "ambiguous", "ends disagree", "no candidate")
 
 
 def diagnosis(scene: Scene, verdicts, datas, params: Params) -> dict[str, tuple[int, int, int]]:
@@ -500,8 +502,8 @@ def pct(x: float) -> str:
 def table(results, faithful) -> str:
     head = ("| scene | matcher | located (of 1985's) | bad-1.0 % | bad-2.0 % | median px | "
             "within ep % | StereoBM bad-2.0 % there (n) | StereoSGBM bad-2.0 % there (n) | "
-            "no match: precision % / recall % |")
-    out = [head, "|" + "---|" * 10]
+            "no match: precision % / recall % | at the step: bad-2.0 % / StereoBM |")
+    out = [head, "|" + "---|" * 11]
     for scene, rows in results.items():
         for name, s in rows:
             keep = f"{s.located} ({100 * s.located / max(1, faithful[scene]):.0f} %)"
@@ -509,7 +511,9 @@ def table(results, faithful) -> str:
                   else f"{pct(s.nm_precision)} / {pct(s.nm_recall)}")
             out.append(f"| {scene} | {name} | {keep} | {pct(s.bad1)} | {pct(s.bad2)} | "
                        f"{s.median:.2f} | {pct(s.within)} | {pct(s.bm_bad2)} ({s.bm_n}) | "
-                       f"{pct(s.sgbm_bad2)} ({s.sgbm_n}) | {nm} |")
+                       f"{pct(s.sgbm_bad2)} ({s.sgbm_n}) | {nm} | "
+                       + ("-" if not np.isfinite(s.step_bad2)
+                          else f"{pct(s.step_bad2)} / {pct(s.step_bm_bad2)}") + " |")
     return "\n".join(out)
 
 
