@@ -103,7 +103,8 @@ class ImprovedMatcher:
             verdicts = self._readmitted(eclipse, iyloc, rounds)
             if profiles is not None:
                 from .subpixel import refine_verdicts
-                verdicts = refine_verdicts(verdicts, data, profiles)
+                verdicts = refine_verdicts(verdicts, data, profiles,
+                                           self.params.subpixel_max_change)
         if getattr(eclipse, "debug", 0) & 4:
             eclipse.listing.records(verdict_listing(verdicts, self.constraints))
         return VerdictTables(verdicts), verdicts

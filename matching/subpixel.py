@@ -56,9 +56,17 @@ def step_position(profile: np.ndarray, start: int, stop: int, lgrey: float,
     return None if best is None else best / 2.0 + 0.5
 
 
-def refine_verdicts(verdicts, data, profiles) -> list:
+def refine_verdicts(verdicts, data, profiles, max_change: float | None = None) -> list:
     """Each matched verdict with ``loc1_sub``/``loc2_sub`` set from the step
-    positions of its two features (the integer location where none is found)."""
+    positions of its two features (the integer location where none is found).
+
+    ``max_change`` (``Params.subpixel_max_change``; None: no limit): where the
+    refined disparity differs from the integer one by more than this, the
+    integer locations are kept.  The crossing is one per feature, so where one
+    picture's ramp holds a second step (a box's side face only the right
+    camera sees, generated room 4) the two crossings name different steps and
+    the refined disparity moves by several pixels, off the integer one that
+    was right."""
     prof1, prof2 = profiles
     out = []
     for v in verdicts:
@@ -69,7 +77,8 @@ def refine_verdicts(verdicts, data, profiles) -> list:
         f2 = data.features2[(v.partner - 1) % 50]
         s1 = step_position(prof1, *f1)
         s2 = step_position(prof2, *f2)
-        if s1 is None or s2 is None:
+        if (s1 is None or s2 is None
+                or (max_change is not None and abs((s1 - s2) - v.disparity) > max_change)):
             out.append(replace(v, loc1_sub=float(v.loc1), loc2_sub=float(v.loc2)))
         else:
             out.append(replace(v, loc1_sub=s1, loc2_sub=s2))

@@ -135,9 +135,16 @@ class Params:
     confirm_support: int = 3       # ... at least this many of them
     confirm_dd: float = 1.0        # px: ... with a match at a disparity this close
     confirm_rounds: int = 3        # passes, each seeing the confirmations of the one before
+    drop_farther_end: bool = False   # a feature matched at both ends to one right feature
+    #                                  at disparities more than region_tolerance apart: the end
+    #                                  with the smaller disparity is "no match (ends disagree)"
+    #                                  (a face only one camera sees inside the ramp; off)
     rematch_bonus: float = 0.0     # > 0: before re-admission, assign every line again with
     #                                this much off a candidate's cost per neighbouring line
     #                                whose verdicts agree (inter-scanline support; off)
+    subpixel_max_change: float | None = 1.0    # subpixel: a refined disparity further than
+    #                                            this (px) from the integer one keeps the
+    #                                            integer locations (None: no limit)
     use_shift: bool = True         # loc2 = x2 - MARF's best shift (the geometric sign)
 
 
@@ -165,7 +172,8 @@ class Verdict:
     ``reason`` says why: "no candidate" (nothing passes the grey rule with a
     disparity above 1), "not mutual" (lr), "no region partner" (region),
     "occluded" (the order-keeping assignment leaves it out), "not on a
-    vertical line" (neighbours), "ambiguous" (confidence below the minimum).
+    vertical line" (neighbours), "ambiguous" (confidence below the minimum),
+    "ends disagree" (``Params.drop_farther_end``, off by default).
     A match the re-admission pass made has ``reason`` "readmitted"; one
     dropped afterwards keeps the partner and locations it had."""
     iyloc: int
@@ -313,6 +321,8 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
         out[i] = Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), True, "matched",
                          int(c.right.edge[c.j[k]]), float(c.loc1[k]), float(c.loc2[k]),
                          float(evidence[k]), conf)
+    if p.drop_farther_end:
+        out = dict(zip(out, farther_ends_dropped(list(out.values()), p.region_tolerance)))
     if constraints.neighbours:
         lines = [[(n.edge > 50, n.x, n.disparity) for n in line if n.matched]
                  for line in neighbours or ()]
@@ -322,10 +332,37 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
             out[i] = replace(v, matched=False, reason="ambiguous")
     if constraints.subpixel and profiles is not None:
         from .subpixel import refine_verdicts
-        out = dict(zip(out, refine_verdicts(list(out.values()), data, profiles)))
+        out = dict(zip(out, refine_verdicts(list(out.values()), data, profiles,
+                                            p.subpixel_max_change)))
     verdicts = [out.get(i) or Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), False,
                                       reason[i]) for i in range(len(left))]
     return sorted(verdicts, key=lambda v: v.edge)
+
+
+def farther_ends_dropped(verdicts: list[Verdict], tolerance: float) -> list[Verdict]:
+    """``Params.drop_farther_end``: where both ends of a left feature are
+    matched to the two ends of one right feature and their disparities differ
+    by more than ``tolerance``, the end with the smaller disparity becomes "no
+    match (ends disagree)".
+
+    Why (generated room 4, docs/matching.md): the two ends of a feature name
+    one grey step, so they should agree.  They do not when one picture's ramp
+    holds a face the other camera does not see, typically a box's side face
+    next to its outline: the right camera sees a box's right side, so the
+    right picture's interval is wider and its far end is the side face's
+    back corner, not the front edge the left picture's step is.  That face
+    lies behind the front one, so the end that names it has the smaller
+    disparity; the other end names the same front edge in both pictures."""
+    ends = {((v.edge - 1) % 50, (v.partner - 1) % 50, v.edge > 50): v
+            for v in verdicts if v.matched}
+    out = []
+    for v in verdicts:
+        if v.matched:
+            other = ends.get(((v.edge - 1) % 50, (v.partner - 1) % 50, v.edge <= 50))
+            if other is not None and other.disparity - v.disparity > tolerance:
+                v = replace(v, matched=False, reason="ends disagree")
+        out.append(v)
+    return out
 
 
 def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
@@ -551,7 +588,8 @@ def match_lines(lines, constraints: Constraints = Constraints(), params: Params 
                    for y, v in out.items()}
     if later:
         from .subpixel import refine_verdicts
-        out = {y: refine_verdicts(v, datas[y], profiles(y)) for y, v in out.items()}
+        out = {y: refine_verdicts(v, datas[y], profiles(y), params.subpixel_max_change)
+               for y, v in out.items()}
     return out
 
 

@@ -612,3 +612,72 @@ def test_modes_and_flags():
     A.match, A.constraints = "1985", "order"
     with pytest.raises(ValueError, match="--match improved"):
         constraints_from_args(A())
+
+
+def side_face_line() -> LineData:
+    """A box's right outline: the left picture's step from the box's grey 2 to
+    the wall's 13 is two pixels wide (40..42); the right camera also sees the
+    box's right side face, so its interval runs from the front edge to the
+    side face's back corner, five pixels (30..35).  Both ends look alike in
+    both pictures.  The left ends (front edge in both) give the box's
+    disparity 10; the right ends (front edge against back corner) give 7.
+    A feature elsewhere (60..62 against 50..52) agrees at both ends."""
+    line = Line()
+    line.add(0, 40, 2, 13, random_map(1), random_map(2))
+    line.add(1, 30, 2, 13, random_map(1), random_map(2), width=5)
+    line.add(0, 60, 13, 6, random_map(3), random_map(4))
+    line.add(1, 50, 13, 6, random_map(3), random_map(4))
+    return line.data()
+
+
+def test_drop_farther_end_keeps_the_front_edge_of_a_side_face():
+    data = side_face_line()
+    stack = [replace(data, iyloc=y) for y in (59, 60, 61)]
+    before = matched(match_lines(stack, Constraints())[60])
+    assert before[1].disparity == 10 and before[51].disparity == 7     # 7 is wrong
+    assert before[2].disparity == before[52].disparity == 10
+    p = Params(drop_farther_end=True)
+    after = {v.edge: v for v in match_lines(stack, Constraints(), p)[60]}
+    assert after[1].matched and after[1].disparity == 10
+    assert not after[51].matched and after[51].reason == "ends disagree"
+    assert after[2].matched and after[52].matched                      # agreeing ends stay
+    # within the region tolerance the ends agree: nothing is dropped
+    loose = {v.edge: v for v in match_lines(stack, Constraints(),
+                                            replace(p, region_tolerance=3.0))[60]}
+    assert loose[51].matched and loose[51].disparity == 7
+    assert Params().drop_farther_end is False                          # named, off
+
+
+def test_subpixel_keeps_the_integer_disparity_when_the_crossings_name_different_steps():
+    """The side face of side_face_line() in grey profiles: the left picture's
+    step 2 -> 13 crosses halfway at .VD 131.5 (128-px 66.25); the right one has
+    the front edge 2 -> 4 at .VD 81 and the side face's back corner 4 -> 13 at
+    .VD 88.9, where its only halfway crossing is.  The refined disparity of the
+    front edge's match (integer 66 - 41 = 25) would be 66.25 - 44.9 = 21.3, the
+    back corner's: more than a pixel off, so the integer locations stay
+    (Params.subpixel_max_change = 1, the default; None refines anyway).  A
+    feature whose ramps agree is refined."""
+    from matching import Verdict
+    from matching.subpixel import refine_verdicts
+    def profile(*runs):                # (first .VD column, grey) ... in order
+        out = np.empty(256)
+        for (a, g), (b, _) in zip(runs, runs[1:] + ((256, 0),)):
+            out[a:b] = g
+        return out
+    left = profile((0, 6.0), (40, 13.0), (100, 2.0), (131, 7.5), (132, 13.0))
+    right = profile((0, 6.0), (20, 13.0), (60, 2.0), (81, 4.0), (89, 13.0))
+    data = LineData(60, [(20, 22, 6, 13), (66, 68, 2, 13)], [(10, 12, 6, 13), (41, 46, 2, 13)],
+                    np.zeros((100, 17), dtype=np.int64), np.zeros((100, 17), dtype=np.int64))
+    front = Verdict(60, 2, 66, True, "matched", 2, 66.0, 41.0, 10.0, 0.9)
+    plain = Verdict(60, 1, 20, True, "matched", 1, 20.0, 10.0, 10.0, 0.9)
+    s1 = step_position(left, 66, 68, 2, 13)
+    s2 = step_position(right, 41, 46, 2, 13)
+    assert s1 == pytest.approx(66.25) and s2 - 0.5 == pytest.approx((88.5 + 3.5 / 9) / 2)
+    kept, refined = refine_verdicts([front, plain], data, (left, right), Params().subpixel_max_change)
+    assert Params().subpixel_max_change == 1.0
+    assert (kept.loc1_sub, kept.loc2_sub) == (66.0, 41.0)
+    assert refined.disparity_sub == pytest.approx(step_position(left, 20, 22, 6, 13)
+                                                  - step_position(right, 10, 12, 6, 13))
+    assert abs(refined.disparity_sub - 10) <= 1 and refined.loc1_sub != 20.0
+    anyway = refine_verdicts([front], data, (left, right), None)[0]
+    assert anyway.disparity_sub == pytest.approx(s1 - s2) and anyway.disparity_sub < 22

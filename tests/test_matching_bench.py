@@ -98,3 +98,30 @@ def test_diagnosis_counts_reasons_against_the_truth():
     confirmed = bm.diagnosis(scene, match_lines(stack, dc_replace(Constraints(), confirm=True),
                                                 p), datas, p)
     assert confirmed["confirmed"] == (2, 2, 2) and "occluded" not in confirmed
+
+
+def test_truth_at_the_step_sees_the_box_whose_outline_the_edge_is():
+    """The box's right side (x = 0.5 ft at Z = 4) falls at 128-px column
+    (0.5 + 0.375) / 4 * 180 + 64 = 103.375: pixel 103 is mixed and its centre
+    sees the wall.  EXQVFL's feature there runs from the last box pixel (1-based
+    103) to the first wall pixel (105); its right end LOC1 = 105 is scored by
+    bench/accuracy.py's rule over columns 103..105, all wall (135/12 = 11.25),
+    though the step it names is the box's outline (135/4 = 33.75).  The truth
+    at the step finds the box; an edge inside the wall's flat grey, far from
+    the box, gets the wall either way; a scene without geometry gets NaN."""
+    quads = box_before_wall()
+    left = sc.quantise(sc.render_view(sc.LEFT_X, quads))
+    truth = bm.DCONS / sc.true_range_128(sc.LEFT_X, quads)
+    scene = bm.Scene("box", None, None, left, None, truth, None, quads)
+    row = 60
+    assert truth[row, 102] == 135 / BOX_Z and truth[row, 103] == 135 / WALL_Z
+    assert bm.acc.true_disparity_at(truth, row, 105 - 1, 1) == 135 / WALL_Z
+    feature = (103, 105, 9, 4)
+    x = bm.step_columns(scene, [row], [feature])
+    assert abs(x[0] - 103.375) < 0.25
+    at_step = bm.truth_at_step(scene, [row], [feature, ])
+    assert at_step[0] == 135 / BOX_Z
+    far = bm.truth_at_step(scene, np.array([row, row]), np.array([feature, (20, 22, 4, 4)]))
+    assert far[0] == 135 / BOX_Z and far[1] == 135 / WALL_Z   # no step: the ramp's middle
+    blind = bm.Scene("box", None, None, left, None, truth, None)
+    assert np.isnan(bm.truth_at_step(blind, [row], [feature])).all()
