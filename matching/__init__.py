@@ -6,7 +6,7 @@ Never the default: ``estar --match improved`` and ``rig scan --match improved``
 is).  From Python::
 
     from matching import Constraints, match_lines
-    verdicts = match_lines(scan_result.results, Constraints())    # the default four
+    verdicts = match_lines(scan_result.results, Constraints())    # the default five
     verdicts = match_lines(scan_result.results, Constraints.parse("all"))  # + readmit
 
 or hand ESTAR a matcher: ``Eclipse(..., matcher=ImprovedMatcher())``.

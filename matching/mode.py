@@ -6,9 +6,11 @@ LCLN asks it for the line's tables: one entry per matched edge (its partner,
 cost, LOC1, LOC2) and none for a "no match", so LCSL writes POS(1,k) = -1
 there and POSIT.DT carries only the edges the matcher vouches for.  With the
 ``neighbours`` constraint it also asks NSTAR for the slices and edge maps of
-lines IY-1 and IY+1 (remembered, so a scan of consecutive lines asks for
-each line about once more than 1985 did).  ``--match 1985`` (the default)
-hands ESTAR no matcher: the 1985 lists, byte for byte.
+lines IY-1 and IY+1, with ``confirm`` (in the default five since 2026-12-01)
+those of lines IY-22..IY+22 (three passes looking seven lines up and down,
+each line's own verdict one more); all remembered, so a scan of consecutive
+lines asks for each line about once more than 1985 did.  ``--match 1985``
+(the default) hands ESTAR no matcher: the 1985 lists, byte for byte.
 
 For other commands (``rig walk``): :func:`add_arguments` registers the same
 flags; ``make_matcher(args.match, constraints_from_args(args))`` turns them
@@ -29,7 +31,9 @@ from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, confi
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
-DEFAULT_CONSTRAINTS = "order,lr,neighbours,region"    # confirm, readmit: named, off (verdict.py)
+# The default five: the four + confirm (since 2026-12-01; "order,lr,neighbours,region" before).
+# readmit and subpixel: named, off (verdict.py).
+DEFAULT_CONSTRAINTS = "order,lr,neighbours,region,confirm"
 
 
 class VerdictTables:
@@ -134,6 +138,8 @@ class ImprovedMatcher:
     def _line(self, eclipse, y: int) -> LineData:
         if y not in self._lines:
             self._remember(y, fetch_line(eclipse, y))
+        else:                                     # least recently used leaves first
+            self._lines[y] = self._lines.pop(y)
         return self._lines[y]
 
     def _candidates(self, eclipse, y: int):
@@ -179,14 +185,17 @@ class ImprovedMatcher:
         key = (y, rounds)
         if key not in self._confirms:
             p = self.params
-            if y not in self._judged:
-                self._judged[y] = judged_candidates(self._candidates(eclipse, y),
-                                                    self.constraints, p)
-            self._confirms[key] = confirm(
-                self._line(eclipse, y), self._confirmed(eclipse, y, rounds - 1),
-                [self._confirmed(eclipse, n, rounds - 1)
-                 for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119],
-                p, self._judged[y])
+            # Held here, not looked up after the recursion below: fetching the
+            # lines IY-22..IY+22 may push line y's entries out of the caches.
+            data = self._line(eclipse, y)
+            judged = self._judged.get(y)
+            if judged is None:
+                judged = judged_candidates(self._candidates(eclipse, y), self.constraints, p)
+                self._judged[y] = judged
+            before = self._confirmed(eclipse, y, rounds - 1)
+            around = [self._confirmed(eclipse, n, rounds - 1)
+                      for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
+            self._confirms[key] = confirm(data, before, around, p, judged)
         return self._confirms[key]
 
     def _base(self, eclipse, y: int) -> list[Verdict]:

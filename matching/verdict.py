@@ -35,9 +35,11 @@ verdict, under constraints that are each switched on their own
     their final verdicts, match an edge of the same side within 2 px at a
     disparity within 1 px; three passes.  Unlike ``readmit`` it never switches
     an edge to a dearer partner because the neighbours like it better: the
-    neighbours only vouch for the edge's own evidence.  Off by default
-    (docs/matching.md: with it the motorcycle meets its target, narrowly,
-    but the walk is mixed: a better pose, more wrong correspondences).
+    neighbours only vouch for the edge's own evidence.  On by default since
+    2026-12-01 (before, the default was the four above): it is the neighbours
+    constraint's other half, the neighbouring lines vouching for an edge's own
+    choice; with it the motorcycle meets its target (docs/matching.md), the
+    walk's pose is better and its correspondences a little worse.
 ``readmit``
     a second pass once every line has its verdicts (:func:`readmit`): an edge
     left with "no match" takes a partner its line left unused, keeping the
@@ -73,7 +75,7 @@ class Constraints:
     lr: bool = True
     neighbours: bool = True
     region: bool = True
-    confirm: bool = False          # named, off: it keeps more, the walk's looks worse
+    confirm: bool = True           # on since 2026-12-01: the neighbours' other half
     readmit: bool = False          # named, off: it hurts the walk (module docstring)
     subpixel: bool = False
 

@@ -16,7 +16,8 @@ from estar.masl import MatchTables, masl
 from masl_wrappers import marf_shift
 from matching import Constraints, LineData, Params, match_line, match_lines
 from matching.candidates import candidates, shape_cost, slice_edges
-from matching.mode import VerdictTables, locate_float, make_matcher, constraints_from_args
+from matching.mode import (DEFAULT_CONSTRAINTS, VerdictTables, constraints_from_args,
+                           locate_float, make_matcher)
 from matching.order import assign, order_dp
 from matching.subpixel import step_position
 
@@ -265,7 +266,7 @@ def test_neighbour_bonus_lets_the_supported_partner_win():
     (see jump_line); with lines 59 and 61 matching it at its disparity, the
     bonus taken off its cost makes the assignment take it."""
     stack = jump_line()
-    cons = replace(Constraints(), readmit=False)
+    cons = FOUR
     plain = {v.edge: v for v in match_lines(stack, cons)[60]}
     assert not plain[2].matched and plain[2].reason == "occluded"
     bonus = {v.edge: v for v in match_lines(stack, cons, Params(neighbour_bonus=32))[60]}
@@ -302,27 +303,30 @@ def plain_cost(data: LineData, edge: int) -> float:
     return float(c.cost[k[0]])
 
 
-FIVE = replace(Constraints(), readmit=True)    # the default four + readmit (named, off by default)
+FOUR = replace(Constraints(), confirm=False)   # the four: the default before 2026-12-01
+READMIT = replace(FOUR, readmit=True)          # the four + readmit (named, off by default)
 
 
 def test_readmit_is_named_and_off_by_default():
     """Re-admission puts wrong matches into the walk's looks (docs/matching.md),
     so it is off unless asked for: not in Constraints(), not in the streaming
     matcher make_matcher("improved") gives (rig walk's), in "all"."""
-    assert not Constraints().readmit and FIVE.readmit
-    assert Constraints.parse("all") == replace(FIVE, confirm=True)
+    assert not Constraints().readmit and READMIT.readmit
+    assert Constraints.parse("all") == replace(READMIT, confirm=True)
     assert make_matcher("improved").constraints == Constraints()
     stack = jump_line()
-    assert match_lines(stack) == match_lines(stack, replace(FIVE, readmit=False))
-    assert not {v.edge: v for v in match_lines(stack)[60]}[2].matched
+    assert match_lines(stack, FOUR) == match_lines(stack, replace(READMIT, readmit=False))
+    assert not {v.edge: v for v in match_lines(stack, FOUR)[60]}[2].matched
+    assert match_lines(stack) == match_lines(stack, replace(READMIT, readmit=False,
+                                                            confirm=True))
 
 
 def test_readmit_takes_the_unused_partner_the_neighbours_agree_on():
     stack = jump_line()
     assert 96 < plain_cost(stack[3], 2) < 128
-    before = {v.edge: v for v in match_lines(stack, replace(Constraints(), readmit=False))[60]}
+    before = {v.edge: v for v in match_lines(stack, FOUR)[60]}
     assert not before[2].matched and not before[52].matched
-    after = {v.edge: v for v in match_lines(stack, FIVE)[60]}
+    after = {v.edge: v for v in match_lines(stack, READMIT)[60]}
     for e in (2, 52):
         assert after[e].matched and after[e].reason == "readmitted", after[e]
         assert after[e].partner == e and after[e].disparity == 12
@@ -335,7 +339,7 @@ def test_readmit_wants_the_neighbours_disparity():
     """The same line with E's partner on line 60 two pixels off the
     neighbours' disparity (14, not 12): no neighbour agrees, no re-admission."""
     stack = jump_line(right_e=36)
-    after = {v.edge: v for v in match_lines(stack, FIVE)[60]}
+    after = {v.edge: v for v in match_lines(stack, READMIT)[60]}
     assert not after[2].matched and not after[52].matched
 
 
@@ -344,7 +348,7 @@ def test_rematch_assigns_the_line_again_with_the_neighbours_in_its_costs():
     cost for each of lines 58..62 whose verdicts have E at its disparity; the
     assignment itself then takes E (no re-admission needed)."""
     stack = jump_line()
-    cons = replace(Constraints(), readmit=False)
+    cons = FOUR
     assert not {v.edge: v for v in match_lines(stack, cons)[60]}[2].matched
     again = {v.edge: v for v in match_lines(stack, cons, Params(rematch_bonus=64))[60]}
     for e in (2, 52):
@@ -359,19 +363,19 @@ def test_a_second_readmit_pass_grows_the_vertical_line():
     and 62 (clean lines 56, 57, 63, 64 within reach), line 60 only sees
     damaged lines until the second pass, which sees their re-admissions."""
     stack = jump_line(hurt=range(58, 63), lines=range(55, 66))
-    one = {v.edge: v for v in match_lines(stack, FIVE, Params(readmit_rounds=1))[60]}
+    one = {v.edge: v for v in match_lines(stack, READMIT, Params(readmit_rounds=1))[60]}
     assert not one[2].matched
     for y in (59, 61):
-        assert {v.edge: v for v in match_lines(stack, FIVE,
+        assert {v.edge: v for v in match_lines(stack, READMIT,
                                                Params(readmit_rounds=1))[y]}[2].matched
-    two = {v.edge: v for v in match_lines(stack, FIVE)[60]}
+    two = {v.edge: v for v in match_lines(stack, READMIT)[60]}
     assert two[2].matched and two[2].reason == "readmitted" and two[2].disparity == 12
 
 
 def test_readmit_keeps_the_order_and_uses_no_partner_twice():
     """Every line of the bundled-like stack: re-admitted matches keep the
     left-to-right order of the line's matches and take unused partners."""
-    for y, vs in match_lines(jump_line(), FIVE).items():
+    for y, vs in match_lines(jump_line(), READMIT).items():
         m = sorted((v.x, v.partner) for v in vs if v.matched)
         partners = [pt for _, pt in m]
         assert len(set(partners)) == len(partners)
@@ -379,13 +383,25 @@ def test_readmit_keeps_the_order_and_uses_no_partner_twice():
         assert [b for _, b in locs] == sorted(b for _, b in locs), y
 
 
-CONFIRM = replace(Constraints(), confirm=True)   # the default four + confirm (named, off)
+CONFIRM = Constraints()       # the default five: the four + confirm (since 2026-12-01)
 
 
-def test_confirm_is_named_and_off_by_default():
-    assert not Constraints().confirm and Constraints.parse("all").confirm
-    assert Constraints.parse("order,lr,neighbours,region,confirm") == CONFIRM
+def test_confirm_is_in_the_default_five():
+    """The lead's decision of 2026-12-01: confirm (the neighbours constraint's
+    other half) is a default constraint; the four without it are still one
+    --constraints list away, and "all" still has it."""
+    assert Constraints().confirm and Constraints.parse("all").confirm
+    assert Constraints().names() == ["order", "lr", "neighbours", "region", "confirm"]
+    assert Constraints.parse("order,lr,neighbours,region,confirm") == Constraints()
+    assert Constraints.parse(DEFAULT_CONSTRAINTS) == Constraints()
     assert make_matcher("improved").constraints == Constraints()
+    four = Constraints.parse("order,lr,neighbours,region")
+    assert four == FOUR and not four.confirm and four.names() == ["order", "lr",
+                                                                  "neighbours", "region"]
+    assert make_matcher("improved", "order,lr,neighbours,region").constraints == FOUR
+    stack = jump_line()                      # the four leave E out, the default keeps it
+    assert not {v.edge: v for v in match_lines(stack, FOUR)[60]}[2].matched
+    assert {v.edge: v for v in match_lines(stack)[60]}[2].reason == "confirmed"
 
 
 def test_confirm_keeps_the_match_the_assignment_left_out():
@@ -394,7 +410,7 @@ def test_confirm_keeps_the_match_the_assignment_left_out():
     disparity jumps, though its one candidate is its true partner.  Lines
     57..59 and 61..63 match E at that disparity (12): confirm keeps it."""
     stack = jump_line()
-    before = {v.edge: v for v in match_lines(stack)[60]}
+    before = {v.edge: v for v in match_lines(stack, FOUR)[60]}
     assert not before[2].matched and before[2].reason == "occluded"
     after = {v.edge: v for v in match_lines(stack, CONFIRM)[60]}
     for e in (2, 52):
@@ -412,7 +428,7 @@ def test_confirm_keeps_the_match_the_neighbour_rule_dropped():
     of lines 59 and 61 (where E was left out), drops it as "not on a
     vertical line".  Lines 57, 58, 62 and 63 match E at 12: kept."""
     stack = jump_line(hurt=(59, 61))
-    before = {v.edge: v for v in match_lines(stack)[60]}
+    before = {v.edge: v for v in match_lines(stack, FOUR)[60]}
     assert not before[2].matched and before[2].reason == "not on a vertical line"
     assert before[2].partner == 2 and before[2].disparity == 12
     after = {v.edge: v for v in match_lines(stack, CONFIRM)[60]}

@@ -85,18 +85,17 @@ def test_diagnosis_counts_reasons_against_the_truth():
     truth[:, 45:53] = 12.0                  # E's columns (x 50 -> column 49, +-1)
     scene = bm.Scene("hand-made", None, None, None, None, truth, None)
     p = bm.Params()
-    before = bm.diagnosis(scene, match_lines(stack, dc_replace(Constraints(), readmit=False), p),
-                          datas, p)
+    four = Constraints(confirm=False)       # the default before 2026-12-01
+    before = bm.diagnosis(scene, match_lines(stack, four, p), datas, p)
     assert before["occluded"] == (2, 2, 2)              # edges 2 and 52 of line 60
     assert before["matched"][0] == before["matched"][1] == 6 * 7 - 2
-    five = dc_replace(Constraints(), readmit=True)
+    five = dc_replace(four, readmit=True)
     now = bm.diagnosis(scene, match_lines(stack, five, p), datas, p)
     assert now["readmitted"] == (2, 2, 2) and "occluded" not in now
     flat = bm.Scene("hand-made", None, None, None, None, np.full((120, 128), 8.0), None)
     wrong = bm.diagnosis(flat, match_lines(stack, five, p), datas, p)
     assert wrong["readmitted"] == (2, 0, 0)
-    confirmed = bm.diagnosis(scene, match_lines(stack, dc_replace(Constraints(), confirm=True),
-                                                p), datas, p)
+    confirmed = bm.diagnosis(scene, match_lines(stack, Constraints(), p), datas, p)   # default
     assert confirmed["confirmed"] == (2, 2, 2) and "occluded" not in confirmed
 
 
