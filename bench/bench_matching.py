@@ -379,14 +379,14 @@ def score(scene: Scene, e: Edges, bm: np.ndarray, sgbm: np.ndarray) -> Score:
                  out[1][0], out[1][1], prec, rec, err, e.conf[ok], own_at_bm, *step, rescued)
 
 
-BEFORE = Constraints()                         # the defaults: confirm, re-admission named, off
-FIVE = replace(BEFORE, readmit=True)           # ... with re-admission
-CONFIRMED = replace(BEFORE, confirm=True)      # ... with confirm
-TARGET = "the default four (no re-admission)"
-WITH_READMIT = "all five (re-admission on)"
-WITH_CONFIRM = "the four + confirm"
+DEFAULT = Constraints()                        # the default five: the four + confirm
+BEFORE = replace(DEFAULT, confirm=False)       # the four: the default before 2026-12-01 14:10
+FIVE = replace(BEFORE, readmit=True)           # the four + re-admission (no confirm)
+TARGET = "the default five: the four + confirm"
+FOUR = "the four (no confirm, the default before 2026-12-01 14:10)"
+WITH_READMIT = "the four + re-admission (no confirm)"
 ALL = Constraints(confirm=True, readmit=True, subpixel=True)   # rig scan --constraints all
-WITH_ALL = "all seven (--constraints all: + confirm, readmit, sub-pixel)"
+WITH_ALL = "all seven (--constraints all: the default five + readmit, sub-pixel)"
 VARIANTS = [
     ("1985 (default)", None),
     ("improved, no constraint, no minimum confidence", (Constraints.none(),
@@ -400,23 +400,25 @@ VARIANTS = [
     ("confirm alone", Constraints.only("confirm")),
     ("sub-pixel alone", Constraints.only("subpixel")),
     ("the four, no width term (as before re-admission)", (BEFORE, {"width_penalty": 0.0})),
-    (TARGET, BEFORE),
-    ("all five, no width term", (FIVE, {"width_penalty": 0.0})),
+    (FOUR, BEFORE),
+    (TARGET, DEFAULT),
+    ("the four + re-admission, no width term", (FIVE, {"width_penalty": 0.0})),
     (WITH_READMIT, FIVE),
     ("the four, neighbours from IY-2..IY+2", (BEFORE, {"neighbour_reach": 2})),
-    ("all five, lines assigned again with the neighbours' support (rematch_bonus 64)",
+    ("the four + re-admission, lines assigned again with the neighbours' support "
+     "(rematch_bonus 64)",
      (FIVE, {"rematch_bonus": 64.0})),
-    (WITH_CONFIRM, CONFIRMED),
-    ("the four + confirm, two lines of IY-5..IY+5 in two passes",
-     (CONFIRMED, {"confirm_support": 2, "confirm_reach": 5, "confirm_rounds": 2})),
-    ("the four + confirm, neighbours from IY-2..IY+2", (CONFIRMED, {"neighbour_reach": 2})),
+    ("the default five, confirm from two lines of IY-5..IY+5 in two passes",
+     (DEFAULT, {"confirm_support": 2, "confirm_reach": 5, "confirm_rounds": 2})),
+    ("the default five, neighbours from IY-2..IY+2", (DEFAULT, {"neighbour_reach": 2})),
     ("the four, region strict", (BEFORE, {"region_penalty": None})),
     ("the four + sub-pixel", replace(BEFORE, subpixel=True)),
-    ("the four + confirm, the farther of disagreeing ends dropped",
-     (CONFIRMED, {"drop_farther_end": True})),
+    ("the default five + sub-pixel", replace(DEFAULT, subpixel=True)),
+    ("the default five, the farther of disagreeing ends dropped",
+     (DEFAULT, {"drop_farther_end": True})),
     (WITH_ALL, ALL),
 ]
-DIAGNOSED = (TARGET, WITH_CONFIRM)
+DIAGNOSED = (FOUR, TARGET)
 REASONS = ("matched", "confirmed", "readmitted", "occluded", "not mutual", "no region partner",
            "not on a vertical line", "ambiguous", "ends disagree", "no candidate")
 
@@ -513,7 +515,7 @@ def run(n_generated: int, params: Params, progress: bool = True):
     results = {}          # scene name -> [(variant, Score)]
     faithful_counts = {}
     diagnoses = {}        # scene name -> {variant: diagnosis}
-    evidence = {}         # scene name -> wrong_edges() of the four + confirm
+    evidence = {}         # scene name -> wrong_edges() of the default five
     for scene in all_scenes(n_generated):
         if progress:
             print(f"  {scene.name} ...", file=sys.stderr, flush=True)
@@ -534,7 +536,7 @@ def run(n_generated: int, params: Params, progress: bool = True):
                 datas = {r.iyloc: LineData.of(r) for r in scan.results}
                 diagnoses.setdefault(scene.name, {})[name] = diagnosis(scene, e.verdicts,
                                                                        datas, p)
-            if name == WITH_CONFIRM and scene.quads is not None:
+            if name == TARGET and scene.quads is not None:
                 evidence[scene.name] = wrong_edges(
                     scene, e.verdicts, {r.iyloc: r.features1 for r in scan.results})
         faithful_counts[scene.name] = rows[0][1].located
@@ -601,7 +603,7 @@ def diagnosis_table(diagnoses) -> str:
     for scene, by_variant in diagnoses.items():
         for name, d in by_variant.items():
             cells = [f"{d[r][0]} ({d[r][1]}; {d[r][2]})" if r in d else "-" for r in REASONS]
-            short = "the four" if name == DIAGNOSED[0] else "+ confirm"
+            short = "the four" if name == DIAGNOSED[0] else "the default five"
             out.append(f"| {scene} | {short} | " + " | ".join(cells) + " |")
     return "\n".join(out)
 
@@ -670,7 +672,8 @@ def reliability_picture(series, title: str, reference: float | None = None) -> n
 def scan_times(repeat: int = 5) -> dict[str, float]:
     """Median seconds of a whole scan of the bundled pair (lines 8..112, direct
     link, NSTAR included) with ESTAR's 1985 lists and with the improved
-    matcher (its default constraints), measured in this run."""
+    matcher (its default five constraints, and the four without confirm),
+    measured in this run."""
     import statistics
     import time
     from matching.mode import ImprovedMatcher
@@ -678,7 +681,7 @@ def scan_times(repeat: int = 5) -> dict[str, float]:
     s = bundled()
     out = {}
     for name, make in (("1985", lambda: None), ("improved", ImprovedMatcher),
-                       ("confirm", lambda: ImprovedMatcher(CONFIRMED))):
+                       ("four", lambda: ImprovedMatcher(BEFORE))):
         scan_pair(s.left_bi, s.right_bi, matcher=make())            # warm (numba, caches)
         times = []
         for _ in range(repeat):
@@ -771,31 +774,35 @@ def main(argv=None) -> int:
     have_moto = any("motorcycle" in k for k in results)
     block = "\n\n".join([
         table(results, faithful),
-        "Targets, the default four constraints.  *At the step*: a second truth, taken "
+        "Targets, the default five (the four + confirm: `--match improved` with no "
+        "`--constraints`).  *At the step*: a second truth, taken "
         "where the edge's grey step is (the left .VD profile's halfway crossing, the "
         "nearest surface within half a pixel of it, from the scene's geometry; "
         "`truth_at_step` in the script), beside bench/accuracy.py's LOC1-1 +- 1; the last "
         "column counts the edges the first calls more than 2 px wrong and the second "
         "within 2 px:\n\n" + targets(results, faithful),
-        "Targets, the four + confirm (`--constraints order,lr,neighbours,region,confirm`):\n\n"
-        + targets(results, faithful, WITH_CONFIRM),
-        "Targets, all seven constraints (`--constraints all`: the four + confirm, readmit, "
+        "Targets, the four (no confirm, the default before 2026-12-01 14:10: "
+        "`--constraints order,lr,neighbours,region`):\n\n"
+        + targets(results, faithful, FOUR),
+        "Targets, all seven constraints (`--constraints all`: the default five + readmit, "
         "sub-pixel):\n\n" + targets(results, faithful, WITH_ALL),
-        "Why the located edges of the four + confirm are more than 2 px off bench/accuracy.py's "
+        "Why the located edges of the default five are more than 2 px off bench/accuracy.py's "
         "truth (`wrong_edges` in the script; scenes with geometry):\n\n" + evidence_table(evidence),
         "Why edges get no match, and how many of them were in fact right: edges per "
         "verdict, n (right; some), where right = the partner (for a match, or one dropped "
         "afterwards by the neighbour or ambiguity rule) or else the cheapest candidate "
         "within 2 px of the truth, some = a right one among all its candidates; the four = "
-        "the default four, + confirm = with the confirm pass:\n\n" + diagnosis_table(diagnoses),
-        "Reliability, the default four constraints, all scenes pooled:\n\n" + rel_text,
+        "without confirm (the default before 2026-12-01), the default five = with the "
+        "confirm pass:\n\n" + diagnosis_table(diagnoses),
+        "Reliability, the default five constraints (the four + confirm), all scenes "
+        "pooled:\n\n" + rel_text,
         ("" if have_moto else "The motorcycle pair was left out: scikit-image is not "
                               "installed (`pip install -e .[bench]`).\n\n")
         + f"Whole scan of the bundled pair (lines 8..112, direct link, median of 5): "
-          f"1985 {1000 * times['1985']:.0f} ms, improved (the default four) "
+          f"1985 {1000 * times['1985']:.0f} ms, improved (the default five) "
           f"{1000 * times['improved']:.0f} ms ({times['improved'] / times['1985']:.1f} x), "
-          f"the four + confirm {1000 * times['confirm']:.0f} ms "
-          f"({times['confirm'] / times['1985']:.1f} x).\n\n"
+          f"the four (no confirm) {1000 * times['four']:.0f} ms "
+          f"({times['four'] / times['1985']:.1f} x).\n\n"
         + f"Parameters: {params}.\n\nMade by `{cmd}`."])
     print(block)
     if args.out:
@@ -806,7 +813,8 @@ def main(argv=None) -> int:
         save_png(args.picture, reliability_picture(
             [(" + ".join(n.split()[-1] if "motorcycle" in n else "bundled pair" for n in real),
               rel_real), ("generated rooms", rel_gen)],
-            "Improved matcher, the default four constraints", float(np.mean(base > 1))))
+            "Improved matcher, the default five constraints (the four + confirm)",
+            float(np.mean(base > 1))))
     return 0
 
 

@@ -124,3 +124,17 @@ def test_truth_at_the_step_sees_the_box_whose_outline_the_edge_is():
     assert far[0] == 135 / BOX_Z and far[1] == 135 / WALL_Z   # no step: the ramp's middle
     blind = bm.Scene("box", None, None, left, None, truth, None)
     assert np.isnan(bm.truth_at_step(blind, [row], [feature])).all()
+
+
+def test_the_first_targets_row_is_the_default_matcher():
+    """The tables' "default" rows are what --match improved runs: the default
+    five (the four + confirm since 2026-12-01); "the four" is the old default
+    without confirm."""
+    from dataclasses import replace as dc_replace
+    from matching import Constraints
+    from matching.mode import make_matcher
+    variants = dict(bm.VARIANTS)
+    assert variants[bm.TARGET] == Constraints() == make_matcher("improved").constraints
+    assert variants[bm.FOUR] == dc_replace(Constraints(), confirm=False)
+    assert bm.DIAGNOSED == (bm.FOUR, bm.TARGET)
+    assert "default five" in bm.TARGET and "no confirm" in bm.FOUR
