@@ -17,8 +17,9 @@ with the honest-covariance options: the calibrated column error
 (``--column-error calibrated``) and the measured pose floor (``--pose-floor
 measured``) under A-29 and covariance intersection, the consider covariance
 (``--consider``), with the measured height and tilt floor (``--tilt-floor``), the
-variance factor (``--variance-factor``) and track confirmation (``--confirm``:
-the track-confirmed and the tentative features' shares inside 2 sigma apart).
+variance factor (``--variance-factor``), track confirmation (``--confirm``:
+the track-confirmed and the tentative features' shares inside 2 sigma apart) and
+the ambiguity gate (``--ambiguity-gate drop|track``).
 
 ``--calibrate`` measures instead the rig's pixel errors at the true corners
 (every 3rd look of the bundled walk and of the rooms' walks): the vertex
@@ -30,7 +31,12 @@ on the bundled walk against its own covariance, the numbers behind
 ``--breakdown`` runs only the configuration measured against the issue's targets
 and groups its truths' Mahalanobis distances (by looks seen, range, confirmation).
 
-Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE] [--calibrate | --breakdown]
+``--outside`` reads every truth outside 2 sigma of that configuration (and of it with the
+ambiguity gate) against the world's exact geometry: a wrong stereo match or the scorer's
+truth (``outside_evidence``).
+
+Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
+                           [--calibrate | --breakdown | --outside]
 """
 
 from __future__ import annotations
@@ -47,7 +53,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from model.edges import CALIBRATED_COLUMN_ERROR_PX, E_LR  # noqa: E402
 from model.geometry import wrap_deg  # noqa: E402
-from model.mapping import (FEATURE_GATE_CHI2, MEASURED_POSE_SIGMA_FLOOR,  # noqa: E402
+from model.mapping import (CHI2_3DOF_2SIGMA, FEATURE_GATE_CHI2, MEASURED_POSE_SIGMA_FLOOR,  # noqa: E402
                            MEASURED_TILT_SIGMA_FLOOR, WalkConfig, run_walk)
 from rig.walk import ALL_METHODS  # noqa: E402
 from world.odometry import OdometryNoise, dead_reckon  # noqa: E402
@@ -57,12 +63,18 @@ from world.walk import bundled_walk, generate_walk  # noqa: E402
 
 
 def one_walk(room, poses, kalman="a30", seed=1985, line_step=2, max_range=15.0, shape=64,
-             column_error=E_LR, pose_floor=None, **named):
+             column_error=E_LR, pose_floor=None, keep_looks=None, **named):
     """One walk; ``named``: more WalkConfig options (consider, feature_gate, retire_unseen,
-    match)."""
+    match).  ``keep_looks``: a list that receives every rendered look (its truth)."""
     dr = dead_reckon(poses, OdometryNoise(seed=seed))
+
+    def render(r, p, k):
+        look = render_look(r, p, seed=seed + k)
+        if keep_looks is not None:
+            keep_looks.append(look)
+        return look
     t0 = time.perf_counter()
-    res = run_walk(room, poses, dr, lambda r, p, k: render_look(r, p, seed=seed + k),
+    res = run_walk(room, poses, dr, render,
                    WalkConfig(kalman=kalman, lines=tuple(range(8, 113, line_step)),
                               max_range_ft=max_range, shape_max_bits=shape,
                               column_error_px=column_error, pose_sigma_floor=pose_floor,
@@ -343,6 +355,104 @@ def breakdown(rooms: int, looks: int) -> str:
     return "\n".join(out)
 
 
+def _on_surface(origin, R, col, row, quad):
+    """The point of ``quad``'s plane seen through continuous pixel (col, row) of a camera at
+    ``origin`` with rotation R (world.render's pinhole: principal point (64, 60), 180 px)."""
+    d = R @ np.array([(col - 64.0) / 180.0, (row - 60.0) / 180.0, 1.0])
+    return origin + (quad.c - origin[quad.axis]) / d[quad.axis] * d
+
+
+def outside_evidence(res, looks) -> list[dict]:
+    """Every feature whose truth is outside its 2-sigma ellipsoid, read against the world's
+    exact geometry at its first observation: the true disparity at the pixel the rig named
+    (the renderer's range) against the rig's, whether the scorer's window (the named column
+    and one either side, on the line that saw it) straddles an occluding edge (a range jump of
+    more than 0.5 ft) and if so which side the feature lies on, and, for a wrong stereo match,
+    how far along the named surface the right camera's partner pixel looks from the left's
+    (a whole period of the surface's texture: the "picket fence")."""
+    out = []
+    for v in res.model.vertices.values():
+        if v.truth is None or v.seen_at is None:
+            continue
+        d = v.mean - v.truth
+        m = float(np.sqrt(d @ np.linalg.solve(res.reported_covariance(v), d)))
+        if m <= np.sqrt(CHI2_3DOF_2SIGMA):
+            continue
+        look = looks[v.first_look]
+        col, row, line, disp = v.seen_at
+        h, w = look.range_left.shape
+        r = int(np.clip(line if line >= 0 else np.floor(row), 0, h - 1))
+        c = int(np.clip(np.floor(col), 0, w - 1))
+        window = look.range_left[r, max(c - 1, 0):c + 2].astype(float)
+        quad = look.room.quads[int(look.surface_left[r, c])]
+        R = look.pose.rotation()
+        left = look.pose.camera_centre("left")
+        true_disp = 0.75 * 180.0 / float(look.range_left[r, c])
+        z_feature = float((R.T @ (v.mean - left))[2])
+        occluding = float(window.max() - window.min()) > 0.5
+        side = None
+        if occluding:
+            side = ("far" if abs(z_feature - window.max()) < abs(z_feature - window.min())
+                    else "near")
+        pl = _on_surface(left, R, col, row, quad)
+        pr = _on_surface(look.pose.camera_centre("right"), R, col - disp, row, quad)
+        t = res.records[v.first_look].true_pose
+        out.append({"vertex": v.id, "look": v.first_look, "looks": v.looks, "surface": quad.name,
+                    "mahalanobis": m, "disparity": disp, "true_disparity": true_disp,
+                    "wrong_match": abs(disp - true_disp) > 1.5, "occluding": occluding,
+                    "side": side, "feature_range": z_feature,
+                    "truth_z": float((R.T @ (v.truth - left))[2]),
+                    "truth_range": float(np.hypot(v.truth[0] - t.x, v.truth[2] - t.z)),
+                    "shift_ft": float(np.linalg.norm(pr - pl))})
+    return out
+
+
+def outside_tables(sets, near=None) -> str:
+    """``--outside``: the census of every set, and the rows of the features whose truth was
+    within 5 ft of the camera in the sets named in ``near`` (default: all)."""
+    out = ["| set | outside 2 sigma | wrong stereo match (disparity off by > 1.5 px) | "
+           "right match | scorer window on an occluding edge | of those, the feature on the "
+           "far side |", "|---|---|---|---|---|---|"]
+    for name, ev in sets:
+        wrong = sum(e["wrong_match"] for e in ev)
+        occl = [e for e in ev if e["occluding"]]
+        out.append(f"| {name} | {len(ev)} | {wrong} | {len(ev) - wrong} | {len(occl)} | "
+                   f"{sum(e['side'] == 'far' for e in occl)} |")
+    out += ["", "| set | vertex | first look | looks | surface | disparity rig / true px | "
+            "feature / truth range ft (along the camera's axis) | right partner's shift along the surface ft | "
+            "occluding edge in the window |", "|---|---|---|---|---|---|---|---|---|"]
+    for name, ev in sets:
+        if near is not None and name not in near:
+            continue
+        for e in sorted(ev, key=lambda e: e["vertex"]):
+            if e["truth_range"] < 5:
+                out.append(f"| {name} | {e['vertex']} | {e['look']} | {e['looks']} | "
+                           f"{e['surface']} | {e['disparity']:.1f} / {e['true_disparity']:.1f} | "
+                           f"{e['feature_range']:.2f} / {e['truth_z']:.2f} | "
+                           f"{e['shift_ft']:.2f} | {'yes' if e['occluding'] else 'no'} |")
+    return "\n".join(out)
+
+
+def outside(rooms: int, looks: int) -> str:
+    """The named configuration, and it with the ambiguity gate ("track"), on the bundled walk
+    and the rooms."""
+    sets = []
+    for label, named in (("", NAMED), (", ambiguity gate track",
+                                       dict(NAMED, ambiguity_gate="track"))):
+        seen: list = []
+        res, _ = one_walk(bundled_lab(), bundled_walk(), keep_looks=seen, **named)
+        sets.append((f"bundled{label}", outside_evidence(res, seen)))
+        ev = []
+        for s in range(1, rooms + 1):
+            seen = []
+            room = generate_room(s)
+            r, _ = one_walk(room, generate_walk(room, s, looks), keep_looks=seen, **named)
+            ev += outside_evidence(r, seen)
+        if rooms:
+            sets.append((f"{rooms} rooms{label}", ev))
+    return outside_tables(sets, near=("bundled", f"{rooms} rooms"))
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
@@ -354,8 +464,15 @@ def main(argv=None) -> int:
     ap.add_argument("--breakdown", action="store_true",
                     help="only the named configuration (A-29, consider bound, tilt floor, "
                          "confirm 2): where its truths outside 2 sigma are")
+    ap.add_argument("--outside", action="store_true",
+                    help="only the named configuration: its truths outside 2 sigma read "
+                         "against the world's geometry (wrong stereo match or scorer)")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.outside:
+        print(outside(args.rooms, args.looks))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     if args.breakdown:
         print(breakdown(args.rooms, args.looks))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")
@@ -402,6 +519,12 @@ def main(argv=None) -> int:
               "A-29, consider (bound), tilt floor, variance factor, confirm 2":
                   dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
                        variance_factor=True, confirm=2),
+              "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate drop":
+                  dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
+                       confirm=2, ambiguity_gate="drop"),
+              "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate track":
+                  dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
+                       confirm=2, ambiguity_gate="track"),
               "A-29, improved stereo matcher, consider (bound)":
                   dict(kalman="a29", consider="bound", match="improved"),
               "A-29, improved stereo matcher, consider (bound), retire unseen 1":
@@ -413,7 +536,9 @@ def main(argv=None) -> int:
     rooms_honest_sets = ("A-29", "covariance intersection, calibrated column error and pose floor",
                          "A-29, consider covariance (bound)",
                          "A-29, consider (bound), retire unseen 1",
-                         "A-29, consider (bound), tilt floor, confirm 2")
+                         "A-29, consider (bound), tilt floor, confirm 2",
+                         "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate drop",
+                         "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate track")
     rooms, rooms_honest = [], {name: [] for name in rooms_honest_sets}
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)

@@ -360,3 +360,59 @@ def surface_observations(edges: list[EdgeObservation], left_picture=None,
 def vertex_observations(edges: list[EdgeObservation]) -> list[VertexObservation]:
     """All vertex observations of a look, edge by edge."""
     return [v for e in edges for v in e.vertices]
+
+
+# the stereo ambiguity test's fixed rule (chosen before it was measured, not tuned): another
+# disparity fits "as well" when its mean absolute grey difference over the edge's patch is
+# within half a grey level (half of PRE's 4-bit step) of the rig's own disparity's; offsets of
+# up to AMBIGUITY_SAME_PX from the rig's disparity are the same match
+AMBIGUITY_MARGIN_GREY = 0.5
+AMBIGUITY_SAME_PX = 2
+AMBIGUITY_HALF_WIDTH_PX = 3
+
+
+def stereo_ambiguity(left, right, edge: EdgeObservation, disparity_range: tuple[float, float],
+                     half_width: int = AMBIGUITY_HALF_WIDTH_PX,
+                     same_px: int = AMBIGUITY_SAME_PX) -> tuple[float, float, float] | None:
+    """How uniquely the pair of pictures fixes an edge's disparity (the dissertation's "picket
+    fence": a periodic texture — checks, stripes, binders — matches itself a whole period
+    away, and MASL/MARF may take the wrong period, look after look).
+
+    The left picture's patch of the edge (its scanned lines, ``half_width`` pixels either
+    side of its column on each) is compared with the right picture's patch at every whole
+    disparity in ``disparity_range`` (px; each line offset from its own disparity), by the
+    mean absolute grey difference.  Returns (difference at the rig's disparity, the best
+    difference at a disparity more than ``same_px`` away, that disparity), or None when no
+    other disparity fits inside the picture."""
+    L = np.asarray(left, dtype=np.int64)
+    Rp = np.asarray(right, dtype=np.int64)
+    h, w = L.shape
+    ys = np.clip(np.asarray(edge.lines, dtype=np.int64), 0, h - 1)
+    c = np.floor(np.asarray(edge.cols)).astype(np.int64)
+    d = np.rint(np.asarray(edge.disparities)).astype(np.int64)
+    d0 = int(np.rint(np.median(edge.disparities)))
+    k = np.arange(-half_width, half_width + 1)
+    lc = c[:, None] + k[None, :]
+    if lc.min() < 0 or lc.max() >= w:
+        return None
+    patch = L[ys[:, None], lc]
+    lo, hi = int(np.ceil(disparity_range[0])), int(np.floor(disparity_range[1]))
+    offsets = np.arange(lo - d0, hi - d0 + 1)
+    if offsets.size == 0:
+        return None
+    rc = lc[None, :, :] - d[None, :, None] - offsets[:, None, None]
+    valid = (rc >= 0).all(axis=(1, 2)) & (rc < w).all(axis=(1, 2))
+    diff = np.abs(Rp[ys[None, :, None], np.clip(rc, 0, w - 1)] - patch[None]).mean(axis=(1, 2))
+    diff = np.where(valid, diff, np.inf)
+    own = np.abs(offsets) <= 1
+    other = np.abs(offsets) > same_px
+    if not own.any() or not np.isfinite(diff[own]).any() or not np.isfinite(diff[other]).any():
+        return None
+    j = int(np.flatnonzero(other)[np.argmin(diff[other])])
+    return float(diff[own].min()), float(diff[j]), float(d0 + offsets[j])
+
+
+def is_ambiguous(score, margin: float = AMBIGUITY_MARGIN_GREY) -> bool:
+    """A :func:`stereo_ambiguity` score: another disparity fits within ``margin`` grey levels
+    of the rig's own."""
+    return score is not None and score[1] <= score[0] + margin

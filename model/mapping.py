@@ -36,8 +36,8 @@ from typing import Callable
 import numpy as np
 
 from .edges import (CALIBRATED_COLUMN_ERROR_PX, E_LR, MEASURED_DISPARITY_ERROR_PX,
-                    MEASURED_ROW_ERROR_PX, Camera, group_vertical_edges, locate,
-                    surface_observations, vertex_observations)
+                    MEASURED_ROW_ERROR_PX, Camera, group_vertical_edges, is_ambiguous, locate,
+                    stereo_ambiguity, surface_observations, vertex_observations)
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .kalman import (consider_update, covariance_intersection, kalman_gain,
                      measurement_covariance_a29, measurement_covariance_a30,
@@ -66,6 +66,7 @@ TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS t
 WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
 FEATURE_GATE_CHI2 = 16.27     # the feature gate's default: chi-square 99.9 %, 3 degrees of freedom
 CONSIDER_MODES = ("bound", "joseph")
+AMBIGUITY_NEAREST_FT = 1.0   # the ambiguity gate searches disparities from max_range_ft to this
 CONSISTENT_CHI2 = 11.345      # a look consistent with its feature: chi-square 99 %, 3 degrees of freedom
 
 
@@ -130,6 +131,13 @@ class WalkConfig:
     # the feature's own innovations, pooled with a robust global one (model.kalman.
     # feature_variance_factors); scoring and reporting only
     variance_factor: bool = False
+    # the ambiguity gate (named alternative; None: off, every vertex the rig located is
+    # used): a vertical edge whose picture patch fits another disparity as well as the rig's
+    # (model.edges.stereo_ambiguity, is_ambiguous: a periodic texture matched a period off,
+    # the dissertation's "picket fence") is AMBIGUOUS.  "drop": its vertices are not used in
+    # that look at all; "track": they may match features the model already holds (the
+    # prediction from the prior pose picks the period) but start no feature
+    ambiguity_gate: str | None = None
 
 
 @dataclass
@@ -153,6 +161,7 @@ class LookRecord:
     driver_refused: str | None = None
     pose_covariance: np.ndarray | None = None      # the robot's (x, z, heading rad) covariance
     pose: PoseEstimate | None = None               # the pose the model was updated with (all six)
+    ambiguous: int = 0                             # vertices the ambiguity gate found ambiguous
 
     def errors(self, name: str) -> tuple[float, float] | None:
         est = self.estimates.get(name)
@@ -420,9 +429,25 @@ class Walker:
         edges = group_vertical_edges(scan.points, lines, look.left_bi, config.camera,
                                      right_picture=look.right_bi,
                                      column_error=config.column_error_px)
+        ambiguous_ids: set[int] = set()
+        if config.ambiguity_gate is not None:
+            d_range = (config.camera.ds * config.camera.dv / config.max_range_ft,
+                       config.camera.ds * config.camera.dv / AMBIGUITY_NEAREST_FT)
+            for e in edges:
+                if e.vertices and is_ambiguous(stereo_ambiguity(look.left_bi, look.right_bi,
+                                                                e, d_range)):
+                    if config.ambiguity_gate == "drop":
+                        ambiguous_ids.update(id(o) for o in e.vertices)
+                        e.vertices[:] = []
+                    else:
+                        ambiguous_ids.update(id(o) for o in e.vertices)
         obs = [o for o in vertex_observations(edges) if o.q[0] <= config.max_range_ft]
         for e in edges:
             e.vertices[:] = [o for o in e.vertices if o.q[0] <= config.max_range_ft]
+        # "track": an ambiguous vertex may match a feature the model holds (the prediction
+        # gate picks the period) but starts none
+        no_new = {i for i, o in enumerate(obs) if id(o) in ambiguous_ids}
+        ambiguous = len(ambiguous_ids)
         t_group = time.perf_counter()
         R_true = np.asarray(true_pose.rotation(), float)
         true_left = left_centre((true_pose.x, getattr(true_pose, "y", 0.0), true_pose.z), R_true)
@@ -500,7 +525,7 @@ class Walker:
                               surface_observations(edges, look.left_bi),
                               pose_floor=config.pose_sigma_floor if k > 0 else None,
                               honest=honest, consider=config.consider,
-                              feature_gate=config.feature_gate)
+                              feature_gate=config.feature_gate, no_new=no_new)
         if ((config.retire_unseen is not None or config.confirm is not None) and k > 0
                 and pose_est.method == "fused"):
             _retire_unseen(model, match.pairs, pose_est, k, rows, config)
@@ -517,7 +542,7 @@ class Walker:
             k, true_pose, dr, tuple(float(v) for v in prior_xzh), estimates, refusals,
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
             len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov,
-            pose_est)
+            pose_est, ambiguous)
         self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
         self.records.append(rec)
         return rec
@@ -671,7 +696,7 @@ def _wrong(model, pairs, obs_truth) -> int:
 def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
                   look: int, obs_truth, obs_truth_id, history, surfaces=(), pose_floor=None,
                   honest=None, consider: str | None = None,
-                  feature_gate: float | None = None) -> int:
+                  feature_gate: float | None = None, no_new=frozenset()) -> int:
     """Kalman-update the vertices the driving pose kept, add the observations
     no model vertex claimed, link boundary lines.  Returns how many were added.
     ``pose_floor`` (ft, degrees): the least sigma of the pose's floor position
@@ -722,7 +747,7 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
             history.setdefault(vid, []).append(float(np.linalg.norm(v.mean - v.truth)))
     added = 0
     for i, o in enumerate(obs):
-        if i in claimed:
+        if i in claimed or i in no_new:
             continue
         v = model.add_vertex(z[i], Rm[i], o.kind, o.grey, look)
         if honest is not None:
@@ -730,6 +755,7 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         v.shape = o.shape
         v.truth = obs_truth[i].copy()
         v.truth_id = int(obs_truth_id[i])
+        v.seen_at = (float(o.col), float(o.row), int(o.line), float(o.disparity))
         history[v.id] = [float(np.linalg.norm(v.mean - v.truth))]
         vertex_of[i] = v.id
         added += 1

@@ -43,6 +43,9 @@ class Vertex:
     last_look: int = 0
     truth: np.ndarray | None = None  # the world's true location (scoring only)
     truth_id: int = -1               # index of the true corner, -1 none
+    # where its first observation was: (col, row, scanned line, disparity) in the left picture
+    # of its first look (scoring only: what the scorer's truth and bench/walk.py --outside read)
+    seen_at: tuple | None = None
     shape: tuple | None = None       # Appendix B rectangular map of the corner, last seen
     # the consider covariance (model.kalman.consider_update): the covariance of ``mean`` under
     # the measured errors, reported and scored but never used for matching or the pose; None

@@ -172,6 +172,9 @@ def summary_text(result, rows) -> str:
                    f"inside 2 sigma {100 * (fs['track_confirmed_inside_2sigma'] or 0):.1f} %; "
                    f"tentative: {fs['tentative']}, inside 2 sigma "
                    f"{100 * (fs['tentative_inside_2sigma'] or 0):.1f} %")
+    if result.config.ambiguity_gate is not None:
+        out.append(f"  ambiguous stereo matches (ambiguity gate {result.config.ambiguity_gate}): "
+                   f"{sum(r.ambiguous for r in result.records)} vertex observations")
     if result.config.feature_gate or result.config.retire_unseen:
         out.append(f"  {fs['retired']} vertices retired (contradicted by later looks, or unseen "
                    "where they should have been seen)")
@@ -217,6 +220,7 @@ def walk_json(result, label: str, rows) -> dict:
             "used": r.used, "used_wrong": r.used_wrong, "added": r.added,
             "model_size": r.model_size, "time_ms": {k: round(x, 3) for k, x in r.times_ms.items()},
             "driver_refused": r.driver_refused if r.look else None,
+            **({"ambiguous": r.ambiguous} if result.config.ambiguity_gate else {}),
             "velocity": None if v is None else {
                 "vx_ft_s": v.vx, "vz_ft_s": v.vz, "turn_deg_s": v.turn_deg_s,
                 "cov": np.round(v.cov, 8).tolist()},
@@ -230,7 +234,7 @@ def walk_json(result, label: str, rows) -> dict:
         "feature_gate": result.config.feature_gate, "consider": result.config.consider,
         "retire_unseen": result.config.retire_unseen,
         "variance_factor": result.config.variance_factor, "confirm": result.config.confirm,
-        "tilt_floor": result.config.tilt_floor,
+        "tilt_floor": result.config.tilt_floor, "ambiguity_gate": result.config.ambiguity_gate,
         "match": result.config.match,
         "method_names": {m: METHOD_NOTES[m] for m in ALL_METHODS
                          if m == "dead_reckoning" or m in result.records[0].estimates},
@@ -290,7 +294,7 @@ def cmd_walk(args) -> int:
                         feature_gate=args.feature_gate, consider=args.consider,
                         retire_unseen=args.retire_unseen,
                         variance_factor=args.variance_factor, confirm=args.confirm,
-                        tilt_floor=args.tilt_floor)
+                        tilt_floor=args.tilt_floor, ambiguity_gate=args.ambiguity_gate)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -305,7 +309,8 @@ def cmd_walk(args) -> int:
           + (f", tilt floor {args.tilt_floor[0]:g} ft {args.tilt_floor[1]:g} deg"
              if args.tilt_floor else "")
           + (", variance factor" if args.variance_factor else "")
-          + (f", confirm {args.confirm}" if args.confirm else ""))
+          + (f", confirm {args.confirm}" if args.confirm else "")
+          + (f", ambiguity gate {args.ambiguity_gate}" if args.ambiguity_gate else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -499,6 +504,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "included; innovation inside chi-square 99 %%) and no more looks that "
                         "missed it is CONFIRMED, the others TENTATIVE: both kept and matched, "
                         "scored and reported apart (M default 2; off by default)")
+    w.add_argument("--ambiguity-gate", choices=("drop", "track"), default=None,
+                   help="a vertical edge whose picture patch fits another disparity as well as "
+                        "the rig's (a periodic texture matched a period off: checks, stripes) "
+                        "is ambiguous: 'drop' leaves its vertices out of that look; 'track' "
+                        "lets them match features the model holds (the prediction picks the "
+                        "period) but start none (off by default)")
     w.add_argument("--match", choices=("1985", "improved"), default="1985",
                    help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
                         "improved (the matching package's, where installed)")

@@ -132,3 +132,33 @@ def test_calibrated_bound_covers_the_measured_column_error_monte_carlo():
         share[e_col] = inside / 2000
     assert 0.15 < share[0.5] < 0.45
     assert share[2.0] == 1.0
+
+
+def _edge_at(col, disparity, lines=(40, 42, 44, 46)):
+    from model.edges import EdgeObservation
+    n = len(lines)
+    return EdgeObservation(tuple(lines), (col + 0.5,) * n, (float(disparity),) * n,
+                           np.zeros(3), np.eye(3), (3, 12), False, False)
+
+
+def test_stereo_ambiguity_flags_a_picket_fence_and_not_a_lone_edge():
+    """Hand-made pairs, the right picture the left one moved by a true disparity of 20 px
+    (right[x] = left[x + 20]).  Worked out by hand: comparing the left patch (3 px either
+    side of the edge, 4 lines) with the right one at disparity d compares the left picture
+    with itself moved by 20 - d."""
+    from model.edges import is_ambiguous, stereo_ambiguity
+    x = np.arange(128 + 20)
+    # stripes 4 px wide (period 8): the rig took disparity 28, one period off; the true 20
+    # and every other period fit as well (0 grey levels off): the first of them is d = 12
+    stripes = np.where((x // 4) % 2 == 0, 3, 12)
+    left, right = np.tile(stripes[:128], (120, 1)), np.tile(stripes[20:], (120, 1))
+    score = stereo_ambiguity(left, right, _edge_at(72, 28), (9.0, 135.0))
+    assert score == (0.0, 0.0, 12.0) and is_ambiguous(score)
+    # one step (5 | 12 at column 70), matched right: any other disparity misses the step by
+    # 3 px at least, 3 of the 7 px wrong by 7 levels = 3.0 on average, first at d = 9
+    step = np.where(x >= 70, 12, 5)
+    left, right = np.tile(step[:128], (120, 1)), np.tile(step[20:], (120, 1))
+    score = stereo_ambiguity(left, right, _edge_at(70, 20), (9.0, 135.0))
+    assert score == (0.0, 3.0, 9.0) and not is_ambiguous(score)
+    # a patch hanging over the picture's side has no score
+    assert stereo_ambiguity(left, right, _edge_at(1, 20), (9.0, 135.0)) is None

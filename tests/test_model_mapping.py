@@ -311,3 +311,28 @@ def test_confirmation_counts_misses_without_retiring():
     for look in (1, 2, 3):
         _retire_unseen(model, [], est, look, (8, 113), WalkConfig(confirm=2))
     assert ahead.id in model.vertices and ahead.missed == 3
+
+
+def test_observed_truth_at_an_occluding_edge_is_the_occluding_surface():
+    """The scorer's rule at an occluding edge, against the world's exact geometry: from the
+    start pose the crate's right edge (X = 0, Z = 5 ft, a true vertical edge of the room)
+    stands before the back wall (19 ft).  A located edge named on either side of it within a
+    pixel is the crate's: the boundary belongs to the nearer surface (the far one only
+    disappears behind it), and the truth is the crate's edge, not the wall 14 ft beyond."""
+    from world.render import range_128
+    from world.room import bundled_lab
+    room, pose = bundled_lab(), Pose(0.0, 0.0, 0.0)
+    assert any(np.allclose(e[:, [0, 2]], [[0.0, 5.0], [0.0, 5.0]]) for e in room.vertical_edges)
+    z, which = range_128(room.quads, pose.camera_centre("left"), pose.rotation())
+    assert room.quads[which[80, 77]].name == "crate front"
+    assert room.quads[which[80, 78]].name == "back wall" and z[80, 78] == pytest.approx(19.0)
+    R, left = pose.rotation(), pose.camera_centre("left")
+    obs = [VertexObservation(np.zeros(3), np.eye(3), "top", col, 80.5, 10.0, (1, 2), 0, 80)
+           for col in (76.8, 78.2, 79.6)]
+    pts, idx = observed_truth(obs, z, left, R, np.zeros((0, 3)), Camera())
+    for p in pts[:2]:                     # the crate side and the wall side of the edge
+        assert p[2] == pytest.approx(5.0) and abs(p[0]) < 0.04
+        assert p[1] == pytest.approx(5.0 * 20.5 / 180)
+    # two columns off the edge the scorer's window (the named column and one either side) is
+    # all wall: that observation is scored against the wall
+    assert pts[2][2] == pytest.approx(19.0)

@@ -221,3 +221,31 @@ def test_tilt_floor_without_the_consider_covariance_is_refused(tmp_path, capsys)
                "--out", str(tmp_path / "o"), "--quiet"])
     assert rc == 2 and "--tilt-floor" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_rig_walk_ambiguity_gate_drop_and_track(tmp_path):
+    # the ambiguity gate end to end on the first looks of the bundled walk (the bookcase's
+    # binders and the left wall's chart are periodic): "drop" takes the ambiguous vertices
+    # out of the looks, "track" keeps them for matching but starts no feature with them
+    runs = {}
+    for name, extra in (("p", []), ("d", ["--ambiguity-gate", "drop"]),
+                        ("t", ["--ambiguity-gate", "track"])):
+        rc = main(["walk", "--looks", "6", "--kalman", "a29", *extra, "--out",
+                   str(tmp_path / name), "--json", str(tmp_path / f"{name}.json"), "--quiet"])
+        assert rc == 0
+        runs[name] = json.loads((tmp_path / f"{name}.json").read_text())
+    p, d, t = runs["p"], runs["d"], runs["t"]
+    assert p["ambiguity_gate"] is None and "ambiguous" not in p["looks"][0]
+    assert d["ambiguity_gate"] == "drop" and t["ambiguity_gate"] == "track"
+    amb = [lk["ambiguous"] for lk in t["looks"]]
+    assert amb == [lk["ambiguous"] for lk in d["looks"]] and amb[0] > 0
+    # the scan does not depend on the pose: "track" sees every vertex the plain walk
+    # sees, "drop" fewer wherever there was an ambiguous one
+    assert [lk["seen"] for lk in t["looks"]] == [lk["seen"] for lk in p["looks"]]
+    for lp, ld, a in zip(p["looks"], d["looks"], amb):
+        assert ld["seen"] <= lp["seen"] - (1 if a else 0)
+    # the first look matches nothing: the plain walk adds every vertex, "track" all but the
+    # ambiguous, "drop" exactly what it saw
+    assert p["looks"][0]["added"] == p["looks"][0]["seen"]
+    assert t["looks"][0]["added"] == d["looks"][0]["added"] == d["looks"][0]["seen"]
+    assert t["looks"][0]["added"] < p["looks"][0]["added"]

@@ -7,6 +7,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 _PATH = Path(__file__).resolve().parent.parent / "bench" / "walk.py"
 _spec = importlib.util.spec_from_file_location("bench_walk", _PATH)
@@ -40,3 +41,81 @@ def test_mahalanobis_rows_group_by_looks_range_and_confirmation():
     assert rows["track-confirmed"][:2] == ["2", "50.0 %"]      # the twice and five-times seen
     assert rows["tentative"][:3] == ["2", "50.0 %", "50.0 %"]
     assert rows["all"][3].strip(" |") == "2.50"                # median of 1, 20, 2, 3
+
+
+def _chart_look():
+    """Look 7 of the bundled walk: the left wall's chequered chart (0.5 ft checks: the same
+    grey pattern again every 1.0 ft along the wall) close on the right of the picture."""
+    from world.render import range_128
+    from world.room import bundled_lab
+    from world.walk import bundled_walk
+    room, pose = bundled_lab(), bundled_walk()[7]
+    z, which = range_128(room.quads, pose.camera_centre("left"), pose.rotation())
+    return SimpleNamespace(room=room, pose=pose, range_left=z, surface_left=which)
+
+
+def _feature_at(model, look, col, row, disparity, truth):
+    """A vertex placed by the rig's triangulation of (col, row, disparity) in ``look``'s
+    left camera, with a tight covariance, scored against ``truth``."""
+    R, left = look.pose.rotation(), look.pose.camera_centre("left")
+    z = 0.75 * 180.0 / disparity
+    mean = left + R @ np.array([z * (col - 64) / 180, z * (row - 60) / 180, z])
+    v = model.add_vertex(mean, np.eye(3) * 0.01, "top", (2, 11), 0)
+    v.truth, v.seen_at = np.asarray(truth, float), (col, row, int(np.floor(row)), disparity)
+    return v
+
+
+def test_outside_evidence_finds_a_chart_matched_one_period_off():
+    from model.mapping import WalkConfig, WalkResult
+    from model.symbolic import SymbolicModel
+    from world.render import project
+    look = _chart_look()
+    col, row = 118.3, 60.5
+    R, left = look.pose.rotation(), look.pose.camera_centre("left")
+    quad = look.room.quads[int(look.surface_left[60, 118])]
+    assert quad.name == "left chart"
+    # the chart point the left pixel sees, and the right camera's view of the same grey
+    # pattern one period (two 0.5 ft checks) further along the wall: the picket fence
+    d = R @ np.array([(col - 64) / 180, (row - 60) / 180, 1.0])
+    on_chart = left + (-4.0 - left[0]) / d[0] * d
+    period_off = on_chart + np.array([0.0, 0.0, 1.0])
+    col_r = float(project(period_off, look.pose, "right")[0])
+    wrong_disp = col - col_r
+    true_disp = 0.75 * 180.0 / float(look.range_left[60, 118])
+    model = SymbolicModel()
+    v_wrong = _feature_at(model, look, col, row, wrong_disp, on_chart)
+    v_right = _feature_at(model, look, col, row, true_disp, on_chart)
+    res = WalkResult(WalkConfig(), [SimpleNamespace(true_pose=look.pose)], model)
+    ev = {e["vertex"]: e for e in bw.outside_evidence(res, [look])}
+    assert v_right.id not in ev                       # on its truth: inside 2 sigma
+    e = ev[v_wrong.id]
+    assert e["surface"] == "left chart" and e["wrong_match"] and not e["occluding"]
+    assert e["shift_ft"] == pytest.approx(1.0, abs=1e-4)
+    assert e["true_disparity"] == pytest.approx(true_disp)
+    assert wrong_disp < true_disp - 10                 # a period off is placed far beyond
+    assert e["feature_range"] > float(look.range_left[60, 118]) + 2
+    table = bw.outside_tables([("t", list(ev.values()))])
+    assert "| t | 1 | 1 | 0 | 0 | 0 |" in table and "| left chart |" in table
+
+
+def test_outside_evidence_names_the_side_of_an_occluding_edge():
+    """From the start pose the crate's right edge (X = 0, Z = 5 ft) stands before the back
+    wall 19 ft away: a feature there at the wall's range lies on the far side of the
+    scorer's window."""
+    from model.mapping import WalkConfig, WalkResult
+    from model.symbolic import SymbolicModel
+    from world.pose import Pose
+    from world.render import range_128
+    from world.room import bundled_lab
+    room, pose = bundled_lab(), Pose(0.0, 0.0, 0.0)
+    z, which = range_128(room.quads, pose.camera_centre("left"), pose.rotation())
+    look = SimpleNamespace(room=room, pose=pose, range_left=z, surface_left=which)
+    assert room.quads[which[80, 77]].name == "crate front" and z[80, 77] == pytest.approx(5.0)
+    assert room.quads[which[80, 78]].name == "back wall" and z[80, 78] == pytest.approx(19.0)
+    model = SymbolicModel()
+    crate_edge = np.array([0.0, 5.0 * 20.5 / 180, 5.0])
+    v = _feature_at(model, look, 78.2, 80.5, 0.75 * 180 / float(z[80, 78]), crate_edge)
+    res = WalkResult(WalkConfig(), [SimpleNamespace(true_pose=pose)], model)
+    (e,) = bw.outside_evidence(res, [look])
+    assert e["vertex"] == v.id and e["occluding"] and e["side"] == "far"
+    assert e["surface"] == "back wall" and not e["wrong_match"]
