@@ -222,7 +222,7 @@ def main(argv=None) -> int:
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "occupied": args.occupied, "hit_at": args.hit_at,
-        "feature_pose": args.feature_pose,
+        "feature_pose": args.feature_pose, "goal_region": args.goal_region,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),

@@ -95,6 +95,9 @@ TRACK_FREES = ("poses", "swept")
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
+GOALS = ("point", "disc")             # what the planner plans to: the goal point, or the
+                                      # standable cells of the tolerance disc (goal_target)
+GOAL_SLACK_FT = 0.1                   # a target cell's centre this far inside the disc
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -179,6 +182,13 @@ class DriveConfig:
                                           # along the pitched optical axis (short by up to
                                           # its cosine); "point": the located point's own
                                           # horizontal position
+    goal_region: str = "point"            # what the planner plans to: "point": the goal
+                                          # itself (refused when the map puts an obstacle
+                                          # within the planning radius of it); "disc": the
+                                          # standable cell reachable from the estimate inside
+                                          # the tolerance disc that is nearest the goal
+                                          # (goal_target); the loop's success test is the
+                                          # disc either way
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -905,6 +915,36 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
             return _plan(fm, est, goal, cfg, prev, "blocked")
 
 
+def goal_target(p: Passable, start, goal, radius: float):
+    """The point the planner plans to under ``goal_region="disc"``: the goal
+    itself when the vehicle may stand there and reach it from ``start``;
+    otherwise, of the cells within ``radius`` of the goal (centre distance)
+    that are passable and connected to the start's cell (4-connected: a
+    region both searches can grow through), the one nearest the goal; the
+    goal itself when there is none (the point planning then says why not).
+    A cell passable on ``p`` has the vehicle's planning radius to every
+    blocked cell, so the target is never in or against an obstacle."""
+    fm = p.fmap
+    gi, gj = fm.index(*goal)
+    si, sj = fm.index(*start)
+    if not fm.inside(si, sj) or not p.ok[si, sj]:
+        return tuple(map(float, goal))
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=4)
+    here = comp[si, sj]
+    if fm.inside(gi, gj) and p.ok[gi, gj] and comp[gi, gj] == here:
+        return tuple(map(float, goal))
+    n = int(math.ceil(radius / fm.cell)) + 1
+    ii, jj = np.mgrid[max(gi - n, 0):min(gi + n + 1, fm.shape[0]),
+                      max(gj - n, 0):min(gj + n + 1, fm.shape[1])]
+    cx, cz = fm.centre(ii, jj)
+    d = np.hypot(cx - goal[0], cz - goal[1])
+    cand = (d <= radius) & p.ok[ii, jj] & (comp[ii, jj] == here)
+    if not cand.any():
+        return tuple(map(float, goal))
+    k = np.flatnonzero(cand.ravel())[np.argmin(d[cand])]
+    return float(cx.ravel()[k]), float(cz.ravel()[k])
+
+
 def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
           nearest: bool = True):
     search = SEARCHES[cfg.search]
@@ -912,10 +952,19 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
                                     at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
+    aim = tuple(map(float, goal))
+    if cfg.goal_region == "disc":
+        aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
+
+    def to_goal(q) -> bool:
+        if cfg.goal_region == "disc":
+            return math.hypot(q[0] - goal[0], q[1] - goal[1]) <= cfg.tolerance_ft
+        return tuple(q) == tuple(goal)
     try:
-        pts = shorten(p, search(p, start, goal))
-        note = "path to the goal"
-        old = _still_good(p, prev, start) if prev and tuple(prev[-1]) == tuple(goal) else None
+        pts = shorten(p, search(p, start, aim))
+        note = "path to the goal" if aim == tuple(map(float, goal)) else \
+            f"path to the goal's disc at ({aim[0]:.2f}, {aim[1]:.2f})"
+        old = _still_good(p, prev, start) if prev and to_goal(prev[-1]) else None
         if old is not None and path_length(old) <= path_length(pts) + cfg.keep_ft:
             pts, note = old, "path to the goal (kept)"
         elif prev:
@@ -946,7 +995,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
-                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES)):
+                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
+                          ("goal_region", GOALS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
