@@ -193,6 +193,8 @@ def main(argv=None) -> int:
             row.update(features=len(res.features), features_fused=res.features.fused,
                        features_started=res.features.started,
                        honest_2sigma=share, honest_features=n)
+        if res.floor:
+            row.update(res.floor)
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
         rows.append(row)
@@ -223,6 +225,7 @@ def main(argv=None) -> int:
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "occupied": args.occupied, "hit_at": args.hit_at,
         "feature_pose": args.feature_pose, "goal_region": args.goal_region,
+        "floor_eyes": args.floor_eyes,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
@@ -259,6 +262,9 @@ def main(argv=None) -> int:
         summary["honest_2sigma"] = sum(r["honest_2sigma"] * r["honest_features"]
                                        for r in honest) / n
         summary["honest_features"] = n
+    if any("vetoed_points" in r for r in rows):
+        summary["vetoed_points"] = sum(r.get("vetoed_points", 0) for r in rows)
+        summary["floor_cells"] = sum(r.get("floor_cells", 0) for r in rows)
     kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])
