@@ -15,10 +15,16 @@ taut, and time).
     python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
     python bench/drive.py --rooms 20 --first 21 --blank-carve unknown --carve error
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
+    python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
+    python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
 whose 2-sigma ellipse reaches the true outline.
+
+``--floor-eyes carve|veto`` (planner.appearance) adds per room the floor's learned greys,
+the cells the floor in view proved free and the located points it vetoed; the summary sums
+the last two (``floor_cells``, ``vetoed_points``).
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
