@@ -1027,9 +1027,10 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
         aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
 
     def to_goal(q) -> bool:
-        if cfg.goal_region == "disc":
-            return math.hypot(q[0] - goal[0], q[1] - goal[1]) <= cfg.tolerance_ft
-        return tuple(q) == tuple(goal)
+        # a previous path is kept only when it ends at the goal point itself,
+        # as without the disc (keeping paths to a disc cell took the bundled
+        # lab's drive round the far side of the table, and lost it)
+        return tuple(map(float, q)) == tuple(map(float, goal))
     try:
         pts = shorten(p, search(p, start, aim))
         note = "path to the goal" if aim == tuple(map(float, goal)) else \
