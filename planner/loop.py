@@ -283,7 +283,7 @@ class DriveResult:
             "final_true_error_ft": round(self.final_true_error_ft, 3),
             "start": [self.start.x, self.start.z, self.start.heading_deg],
             "goal": list(self.goal), "unknown": self.unknown, "search": self.search,
-            "pose": self.pose,
+            "pose": self.pose, **({"floor": self.floor} if self.floor else {}),
             "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
             "dead_reckoning_error_ft_final":
                 round(float(self.track_errors(self.dead_track)[-1]), 3),

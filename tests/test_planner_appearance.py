@@ -175,6 +175,7 @@ def test_the_loop_with_the_floor_in_view_reaches_the_tiny_rooms_goal(how):
     assert res.floor["floor_cells"] > 0
     if how == "carve":
         assert res.floor["vetoed_points"] == 0
+    assert res.as_json()["floor"] == res.floor
 
 
 def test_floor_eyes_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
