@@ -22,10 +22,11 @@ carving (docs/planner.md, "Carving by assumption"): never past a cell any look
 has hit, and no farther than the floor scan's own bound of that column (its
 hit, the near end of its neighbours' error bound, or the blank-column reach).
 
-``veto`` (:func:`vetoed`): a located point whose column and both neighbours
-show the floor to beyond it is contradicted by the picture (nothing 0.8 ft
-tall stands there, or the floor behind it would be hidden) and is left out of
-the floor scan: most such points are the 1985 matcher's false matches.
+``veto`` (:func:`vetoed`): a located point whose floor point just behind it
+shows inside the floor runs of its column and both neighbours is contradicted
+by the picture (an obstacle standing there would hide that floor) and is left
+out of the floor scan.  Measured (docs/planner.md): it also leaves out true
+points on faces of the floor's grey, and it is not safe.
 """
 
 from __future__ import annotations
