@@ -99,7 +99,7 @@ OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 GOALS = ("point", "disc")             # what the planner plans to: the goal point, or the
                                       # standable cells of the tolerance disc (goal_target)
-FLOOR_EYES = ("off", "carve", "veto")   # planner.appearance in the loop (Perception.update)
+FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop (Perception.update)
 GOAL_SLACK_FT = 0.1                   # a target cell's centre this far inside the disc
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
@@ -196,8 +196,10 @@ class DriveConfig:
                                           # (planner.appearance, not 1985): "off"; "carve":
                                           # once the floor's grey is learned, each column's
                                           # floor in view carved as a proof in place of the
-                                          # blank-column assumption; "veto": also leave out
-                                          # the located points the floor in view contradicts
+                                          # blank-column assumption; "add": the floor's
+                                          # proof and the assumption (under its own rules)
+                                          # both; "veto": "carve" and leave out the located
+                                          # points the floor in view contradicts
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -362,7 +364,7 @@ class Perception:
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
-        self.floor_eyes = "off"           # or "carve", "veto" (DriveConfig.floor_eyes)
+        self.floor_eyes = "off"           # or "carve", "add", "veto" (DriveConfig.floor_eyes)
         self.lowest_ft = 0.8              # DriveConfig.lowest_obstacle_ft
         self.floor_hist = np.zeros(16)    # greys of the pixels known to show floor, all looks
         self.vetoed = 0                   # located points the floor in view contradicted
@@ -418,9 +420,10 @@ class Perception:
         once the floor's grey is learned from pixels that show floor the
         ``known`` map has free, each column's floor in view is carved as a
         proof (never past a cell any look has hit, no farther than the floor
-        scan's bound of that column) in place of the blank-column assumption;
-        ``"veto"`` also leaves out the located points the floor in view
-        contradicts."""
+        scan's bound of that column) in place of the blank-column assumption
+        (``"carve"``, ``"veto"``) or beside it (``"add"``: the assumption still
+        carves under its own rules); ``"veto"`` also leaves out the located
+        points the floor in view contradicts."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -456,7 +459,8 @@ class Perception:
                 self._carve_floor(fs, rays, top, left, res)
                 assumed = fs.assumed if fs.assumed is not None else assumed
                 proven = fs.free_ends[~assumed]
-                ends = fs.free_ends[:0]
+                # "add": the assumption carves as well, under its own rules
+                ends = fs.free_ends[assumed] if self.floor_eyes == "add" else fs.free_ends[:0]
             else:
                 proven = fs.free_ends[~assumed]
                 ends = fs.free_ends[assumed]

@@ -200,11 +200,12 @@ def add_loop_options(p) -> None:
                    help="what the planner plans to: the goal point (default; refused when the "
                         "map puts an obstacle within the vehicle's radius of it) or the "
                         "standable cell nearest it inside the goal tolerance (0.75 ft)")
-    p.add_argument("--floor-eyes", choices=("off", "carve", "veto"), default=C.floor_eyes,
+    p.add_argument("--floor-eyes", choices=("off", "carve", "add", "veto"), default=C.floor_eyes,
                    help="free floor from what the picture shows (not 1985; planner.appearance): "
                         "off (default); carve: once the floor's grey is learned, each column's "
                         "floor in view carved free in place of the blank-column assumption; "
-                        "veto: also leave out located points the floor in view contradicts")
+                        "add: carved beside the assumption; veto: carve, and leave out located "
+                        "points the floor in view contradicts")
     p.add_argument("--cell-ft", type=float, default=None, metavar="FT",
                    help="the octree's finest cell: the fewest levels over the 32 ft volume of "
                         "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "

@@ -160,7 +160,7 @@ def test_veto_leaves_out_a_point_on_floor_in_view_and_keeps_the_box():
     assert mask.tolist() == [True, False]
 
 
-@pytest.mark.parametrize("how", ["carve", "veto"])
+@pytest.mark.parametrize("how", ["carve", "add", "veto"])
 def test_the_loop_with_the_floor_in_view_reaches_the_tiny_rooms_goal(how):
     from planner.loop import DriveConfig, run
     from planner.tiny import GOAL
@@ -173,7 +173,7 @@ def test_the_loop_with_the_floor_in_view_reaches_the_tiny_rooms_goal(how):
     assert res.collisions == 0
     assert res.floor["floor_greys"] == [6]             # the tiny room's floor, learned
     assert res.floor["floor_cells"] > 0
-    if how == "carve":
+    if how != "veto":
         assert res.floor["vetoed_points"] == 0
     assert res.as_json()["floor"] == res.floor
 
@@ -187,3 +187,25 @@ def test_floor_eyes_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, floor_eyes="on"))
     assert drive_config(monkeypatch, tmp_path, "--floor-eyes", "veto").floor_eyes == "veto"
     assert drive_config(monkeypatch, tmp_path).floor_eyes == "off"
+
+
+def test_add_carves_both_the_floor_in_view_and_the_assumption():
+    from eyes import scan_pair
+    from planner.loop import DriveConfig, Perception, near_visible_ft, true_range_points
+    from planner.octree import FREE as F
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    room, pose, look = _look()
+    pts = true_range_points(scan_pair(look.left_bi, look.right_bi,
+                                      lines=tuple(range(8, 113, 2))).points, look)
+    free = {}
+    for how in ("off", "carve", "add"):
+        m = Perception(DriveConfig.voi, DriveConfig.band, 12.0, 2, 1,
+                       near_visible_ft(DEFAULT, 0.8), 8.0)
+        m.blank_carve, m.carve, m.floor_eyes = "unknown", "error", how
+        m.floor_hist[6] = 1000.0                     # the floor's grey, as if learned
+        m.update(pts, State(0.0, 0.0, 0.0), Pose, PITCH, None, None, look.left_bi)
+        free[how] = m.floor_map([(0.0, 0.0), (0.0, 9.0)]).cells == F
+    assert free["carve"].sum() > 0 and free["off"].sum() > 0
+    assert (free["add"] >= free["carve"]).all() and (free["add"] >= free["off"]).all()
+    assert free["add"].sum() > max(free["carve"].sum(), free["off"].sum())
