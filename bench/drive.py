@@ -15,10 +15,16 @@ taut, and time).
     python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
     python bench/drive.py --rooms 20 --first 21 --blank-carve unknown --carve error
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
+    python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
+    python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
 whose 2-sigma ellipse reaches the true outline.
+
+``--floor-eyes carve|veto`` (planner.appearance) adds per room the floor's learned greys,
+the cells the floor in view proved free and the located points it vetoed; the summary sums
+the last two (``floor_cells``, ``vetoed_points``).
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
@@ -193,6 +199,8 @@ def main(argv=None) -> int:
             row.update(features=len(res.features), features_fused=res.features.fused,
                        features_started=res.features.started,
                        honest_2sigma=share, honest_features=n)
+        if res.floor:
+            row.update(res.floor)
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
         rows.append(row)
@@ -222,7 +230,8 @@ def main(argv=None) -> int:
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "occupied": args.occupied, "hit_at": args.hit_at,
-        "feature_pose": args.feature_pose,
+        "feature_pose": args.feature_pose, "goal_region": args.goal_region,
+        "floor_eyes": args.floor_eyes,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
@@ -259,6 +268,9 @@ def main(argv=None) -> int:
         summary["honest_2sigma"] = sum(r["honest_2sigma"] * r["honest_features"]
                                        for r in honest) / n
         summary["honest_features"] = n
+    if any("vetoed_points" in r for r in rows):
+        summary["vetoed_points"] = sum(r.get("vetoed_points", 0) for r in rows)
+        summary["floor_cells"] = sum(r.get("floor_cells", 0) for r in rows)
     kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])

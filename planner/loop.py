@@ -80,8 +80,10 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     cell_keys, features_cells, mark_assumed_free, mark_free_rays, mark_occupied, memory_bytes, \
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
-from .octree import free_below, logodds_at
+from .octree import free_below, key_centres, logodds_at
 from .perception import MAX_RANGE_FT, PLACES, floor_scan
+from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
+    training_mask, vetoed
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
     line_of_sight, path_length, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
@@ -95,6 +97,10 @@ TRACK_FREES = ("poses", "swept")
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
+GOALS = ("point", "disc")             # what the planner plans to: the goal point, or the
+                                      # standable cells of the tolerance disc (goal_target)
+FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop (Perception.update)
+GOAL_SLACK_FT = 0.1                   # a target cell's centre this far inside the disc
 PENDING_LOOKS = 6            # how long a located point waits for confirmation
 
 
@@ -179,6 +185,21 @@ class DriveConfig:
                                           # along the pitched optical axis (short by up to
                                           # its cosine); "point": the located point's own
                                           # horizontal position
+    goal_region: str = "point"            # what the planner plans to: "point": the goal
+                                          # itself (refused when the map puts an obstacle
+                                          # within the planning radius of it); "disc": the
+                                          # standable cell reachable from the estimate inside
+                                          # the tolerance disc that is nearest the goal
+                                          # (goal_target); the loop's success test is the
+                                          # disc either way
+    floor_eyes: str = "off"               # free floor from what the picture shows
+                                          # (planner.appearance, not 1985): "off"; "carve":
+                                          # once the floor's grey is learned, each column's
+                                          # floor in view carved as a proof in place of the
+                                          # blank-column assumption; "add": the floor's
+                                          # proof and the assumption (under its own rules)
+                                          # both; "veto": "carve" and leave out the located
+                                          # points the floor in view contradicts
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -225,6 +246,7 @@ class DriveResult:
     pose: str = "dead_reckoning"
     match: str = "1985"
     features: FloorFeatures | None = None     # the floor features under occupied="model"
+    floor: dict = field(default_factory=dict)  # under floor_eyes: what the floor in view did
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -263,7 +285,7 @@ class DriveResult:
             "final_true_error_ft": round(self.final_true_error_ft, 3),
             "start": [self.start.x, self.start.z, self.start.heading_deg],
             "goal": list(self.goal), "unknown": self.unknown, "search": self.search,
-            "pose": self.pose,
+            "pose": self.pose, **({"floor": self.floor} if self.floor else {}),
             "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
             "dead_reckoning_error_ft_final":
                 round(float(self.track_errors(self.dead_track)[-1]), 3),
@@ -342,6 +364,11 @@ class Perception:
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
+        self.floor_eyes = "off"           # or "carve", "add", "veto" (DriveConfig.floor_eyes)
+        self.lowest_ft = 0.8              # DriveConfig.lowest_obstacle_ft
+        self.floor_hist = np.zeros(16)    # greys of the pixels known to show floor, all looks
+        self.vetoed = 0                   # located points the floor in view contradicted
+        self.floor_cells = 0              # cells the floor in view proved free
         self.confirm_looks = confirm_looks
         self.features = FloorFeatures()
         self.retired = 0
@@ -362,7 +389,7 @@ class Perception:
         return dead
 
     def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
-               known: FloorMap | None = None, pose_cov=None) -> int:
+               known: FloorMap | None = None, pose_cov=None, picture=None) -> int:
         """One look into the model as a floor range scan
         (:func:`~planner.perception.floor_scan`): each column's nearest
         supported point hit (grown by its covariance; surface spans between
@@ -386,13 +413,37 @@ class Perception:
         features instead, their covariance with the pose's share added
         (``pose_cov``: the estimate's (x, z, heading) covariance), and the map's
         occupied and uncertain cells are drawn from the features
-        (:meth:`floor_map`)."""
+        (:meth:`floor_map`).
+
+        ``floor_eyes`` (a named option, :mod:`planner.appearance`) reads the
+        look's left ``picture`` (the condensed 128x120 one the eyes scan):
+        once the floor's grey is learned from pixels that show floor the
+        ``known`` map has free, each column's floor in view is carved as a
+        proof (never past a cell any look has hit, no farther than the floor
+        scan's bound of that column) in place of the blank-column assumption
+        (``"carve"``, ``"veto"``) or beside it (``"add"``: the assumption still
+        carves under its own rules); ``"veto"`` also leaves out the located
+        points the floor in view contradicts."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
+        res = self.tree.getResolution()
+        rays = top = None
+        if self.floor_eyes != "off" and picture is not None:
+            rays = floor_rays(R, left)
+            pic = np.asarray(picture)
+            if known is not None:
+                m = training_mask(rays, known, self.lowest_ft, self.max_range_ft)
+                self.floor_hist += np.bincount(pic[m].astype(int), minlength=16)[:16]
+            greys = floor_greys(self.floor_hist)
+            if greys is not None:
+                top = floor_run(pic, greys)
+                if self.floor_eyes == "veto" and len(scan_points):
+                    bad = vetoed(scan_points, rays, top, res)
+                    self.vetoed += int(bad.sum())
+                    scan_points = [q for q, b in zip(scan_points, bad) if not b]
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                         blank_ft=self.blank_ft, carve=self.carve, place=self.place)
-        res = self.tree.getResolution()
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -403,10 +454,18 @@ class Perception:
             self.hit_keys = np.union1d(self.hit_keys, cell_keys(grown, res))
             assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
                 else np.zeros(len(fs.free_ends), bool)
-            mark_free_rays(self.tree, left, np.vstack([fs.hits, fs.free_ends[~assumed]]),
-                           start_ft=self.near_ft)
+            if top is not None:
+                # the floor in view replaces the blank-column assumption
+                self._carve_floor(fs, rays, top, left, res)
+                assumed = fs.assumed if fs.assumed is not None else assumed
+                proven = fs.free_ends[~assumed]
+                # "add": the assumption carves as well, under its own rules
+                ends = fs.free_ends[assumed] if self.floor_eyes == "add" else fs.free_ends[:0]
+            else:
+                proven = fs.free_ends[~assumed]
+                ends = fs.free_ends[assumed]
+            mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]), start_ft=self.near_ft)
             # by assumption only into unknown cells, never past a cell hit (this look too)
-            ends = fs.free_ends[assumed]
             if known is not None and len(ends):
                 ends = ends[_near_free(known, left, ends, self.near_ft)]
             mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
@@ -428,6 +487,31 @@ class Perception:
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
+
+    def _carve_floor(self, fs, rays, top, left, res: float) -> int:
+        """Carve each column's floor in view (:func:`planner.appearance.floor_proof`),
+        cut at the floor scan's own bound of that column (its hit, or the end
+        of its free sight line: the near end of its neighbours' error bound,
+        or the blank-column reach), never past a cell any look has hit."""
+        clip = np.zeros(128)
+        for pts, cols in ((fs.hits, fs.hit_cols), (fs.free_ends, fs.free_cols)):
+            if cols is None or not len(pts):
+                continue
+            d = np.hypot(pts[:, 0] - left[0], pts[:, 2] - left[2])
+            c = np.asarray(cols, int) - 1
+            ok = (c >= 0) & (c < 128)
+            np.maximum.at(clip, c[ok], d[ok])
+        proof = floor_proof(rays, top, clip, self.lowest_ft, res)
+        if proof is None:
+            return 0
+        pts, ray, _ = proof
+        keys = cell_keys(pts, res)
+        keys = np.unique(keys[keep_before_hit(keys, ray, self.hit_keys)])
+        if not len(keys):
+            return 0
+        self.tree.updateNodes(np.ascontiguousarray(key_centres(keys, res)), False)
+        self.floor_cells += len(keys)
+        return len(keys)
 
     def retire(self, origin, within_ft: float) -> int:
         """Retire the floor features within ``within_ft`` of ``origin`` whose
@@ -905,6 +989,36 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
             return _plan(fm, est, goal, cfg, prev, "blocked")
 
 
+def goal_target(p: Passable, start, goal, radius: float):
+    """The point the planner plans to under ``goal_region="disc"``: the goal
+    itself when the vehicle may stand there and reach it from ``start``;
+    otherwise, of the cells within ``radius`` of the goal (centre distance)
+    that are passable and connected to the start's cell (4-connected: a
+    region both searches can grow through), the one nearest the goal; the
+    goal itself when there is none (the point planning then says why not).
+    A cell passable on ``p`` has the vehicle's planning radius to every
+    blocked cell, so the target is never in or against an obstacle."""
+    fm = p.fmap
+    gi, gj = fm.index(*goal)
+    si, sj = fm.index(*start)
+    if not fm.inside(si, sj) or not p.ok[si, sj]:
+        return tuple(map(float, goal))
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=4)
+    here = comp[si, sj]
+    if fm.inside(gi, gj) and p.ok[gi, gj] and comp[gi, gj] == here:
+        return tuple(map(float, goal))
+    n = int(math.ceil(radius / fm.cell)) + 1
+    ii, jj = np.mgrid[max(gi - n, 0):min(gi + n + 1, fm.shape[0]),
+                      max(gj - n, 0):min(gj + n + 1, fm.shape[1])]
+    cx, cz = fm.centre(ii, jj)
+    d = np.hypot(cx - goal[0], cz - goal[1])
+    cand = (d <= radius) & p.ok[ii, jj] & (comp[ii, jj] == here)
+    if not cand.any():
+        return tuple(map(float, goal))
+    k = np.flatnonzero(cand.ravel())[np.argmin(d[cand])]
+    return float(cx.ravel()[k]), float(cz.ravel()[k])
+
+
 def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
           nearest: bool = True):
     search = SEARCHES[cfg.search]
@@ -912,10 +1026,20 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
                                     at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
+    aim = tuple(map(float, goal))
+    if cfg.goal_region == "disc":
+        aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
+
+    def to_goal(q) -> bool:
+        # a previous path is kept only when it ends at the goal point itself,
+        # as without the disc (keeping paths to a disc cell took the bundled
+        # lab's drive round the far side of the table, and lost it)
+        return tuple(map(float, q)) == tuple(map(float, goal))
     try:
-        pts = shorten(p, search(p, start, goal))
-        note = "path to the goal"
-        old = _still_good(p, prev, start) if prev and tuple(prev[-1]) == tuple(goal) else None
+        pts = shorten(p, search(p, start, aim))
+        note = "path to the goal" if aim == tuple(map(float, goal)) else \
+            f"path to the goal's disc at ({aim[0]:.2f}, {aim[1]:.2f})"
+        old = _still_good(p, prev, start) if prev and to_goal(prev[-1]) else None
         if old is not None and path_length(old) <= path_length(pts) + cfg.keep_ft:
             pts, note = old, "path to the goal (kept)"
         elif prev:
@@ -946,7 +1070,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
-                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES)):
+                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
+                          ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
@@ -983,6 +1108,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"unknown feature pose error {cfg.feature_pose!r}; one of "
                          f"{', '.join(FEATURE_POSES)}")
     model.feature_pose = cfg.feature_pose
+    model.floor_eyes = cfg.floor_eyes
+    model.lowest_ft = cfg.lowest_obstacle_ft
     # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
     dead_cov = np.zeros((3, 3))
     odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
@@ -1025,7 +1152,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
                                   cfg.start_clear_ft + 1.0)
                 _mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
-            model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov)
+            model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov,
+                         look.left_bi if cfg.floor_eyes != "off" else None)
             fm = model.floor_map([(est.x, est.z), goal])
             _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                              prof.margin_ft if cfg.track_free == "swept" else None)
@@ -1132,7 +1260,17 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
                        cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match,
-                       model.features if cfg.occupied == "model" else None)
+                       model.features if cfg.occupied == "model" else None,
+                       _floor_stats(model) if cfg.floor_eyes != "off" else {})
+
+
+def _floor_stats(model: "Perception") -> dict:
+    """What the floor in view did in one drive (planner.appearance)."""
+    from .appearance import floor_greys
+    g = floor_greys(model.floor_hist)
+    return {"floor_greys": [] if g is None else np.flatnonzero(g).tolist(),
+            "floor_samples": int(model.floor_hist.sum()), "floor_cells": int(model.floor_cells),
+            "vetoed_points": int(model.vetoed)}
 
 
 def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,

@@ -401,6 +401,11 @@ def cell_keys(points, res: float) -> np.ndarray:
     return _pack(np.floor(pts / res)) if len(pts) else np.zeros(0, np.int64)
 
 
+def key_centres(packed_keys: np.ndarray, res: float) -> np.ndarray:
+    """The centres of the cells of packed keys (:func:`cell_keys`)."""
+    return (_unpack(np.asarray(packed_keys, np.int64)) + 0.5) * res
+
+
 def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: float = 0.0,
                       stop_short: float | None = None, only_unknown: bool = True) -> int:
     """Sight lines free by ASSUMPTION (a column that shows nothing, see

@@ -134,6 +134,8 @@ class FloorScan:
     spans: list              # index pairs into hits: one surface between two boundary lines
     assumed: np.ndarray | None = None   # (F,) bool: free end carved by the blank-column
                                         # assumption (``blank_ft``), not bounded by hits
+    hit_cols: np.ndarray | None = None  # (H,) picture column (1-based) of each hit
+    free_cols: np.ndarray | None = None # (F,) picture column (1-based) of each free end
 
 
 CARVE = ("range", "error")
@@ -268,8 +270,9 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                                         if len(cols) else float(blank_ft)))
                 assumed.append(np.ones(len(side), bool))
     if free_cols:
-        free_ends = to_room(np.concatenate(free_cols).astype(float), np.concatenate(free_rng))
+        fcols = np.concatenate(free_cols).astype(int)
+        free_ends = to_room(fcols.astype(float), np.concatenate(free_rng))
         assumed = np.concatenate(assumed)
     else:
-        free_ends, assumed = empty, np.zeros(0, bool)
-    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed)
+        free_ends, assumed, fcols = empty, np.zeros(0, bool), np.zeros(0, int)
+    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols)

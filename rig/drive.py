@@ -196,6 +196,16 @@ def add_loop_options(p) -> None:
                         "covariance (default), or regenerated each cycle from the floor "
                         "features fused look by look (Chapter IV's octree regenerated from "
                         "the symbolic model)")
+    p.add_argument("--goal-region", choices=("point", "disc"), default=C.goal_region,
+                   help="what the planner plans to: the goal point (default; refused when the "
+                        "map puts an obstacle within the vehicle's radius of it) or the "
+                        "standable cell nearest it inside the goal tolerance (0.75 ft)")
+    p.add_argument("--floor-eyes", choices=("off", "carve", "add", "veto"), default=C.floor_eyes,
+                   help="free floor from what the picture shows (not 1985; planner.appearance): "
+                        "off (default); carve: once the floor's grey is learned, each column's "
+                        "floor in view carved free in place of the blank-column assumption; "
+                        "add: carved beside the assumption; veto: carve, and leave out located "
+                        "points the floor in view contradicts")
     p.add_argument("--cell-ft", type=float, default=None, metavar="FT",
                    help="the octree's finest cell: the fewest levels over the 32 ft volume of "
                         "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
@@ -251,6 +261,7 @@ def loop_config(args, goal, fail):
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,
                        uncertain=args.uncertain, track_free=args.track_free,
+                       goal_region=args.goal_region, floor_eyes=args.floor_eyes,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 

@@ -1,0 +1,218 @@
+"""Free floor from what the picture shows: appearance-based obstacle detection
+(Ulrich and Nourbakhsh, AAAI 2000; Horswill's Polly, 1993), a named option of
+the closed loop (``DriveConfig.floor_eyes``), not the dissertation's method.
+
+Edge-based eyes see nothing on a blank floor, but the floor is IN the picture:
+the rig looks 25 deg down from 3 ft, so the bottom row of the 128x120 picture
+meets the floor 3.2 ft ahead and the top row 25 ft ahead.  The floor's grey is
+learned from the pixels whose rays end on floor the map already shows free
+(:func:`training_mask`, accumulated look by look in a histogram,
+:func:`floor_greys`).  A picture column whose greys, from the bottom row up to
+row r, are all the floor's (:func:`floor_run`) shows the floor to that row's
+distance d.  The ray to a floor point d away passes height H (1 - x / d) at
+distance x, so an obstacle at least h tall anywhere on its floor trace from
+d (1 - h / H) to d would have hidden that point; the column thus proves its
+floor trace free from d_bottom (1 - h / H) — 2.33 ft for h = 0.8 ft, H = 3 ft,
+the near limit of every look — to the run's far end (:func:`floor_proof`).
+
+The hazard is a surface of the floor's grey: a box face of that grey shows as
+floor, its run goes on up the face, and the proof runs into the box.  The
+loop therefore carves such a proof only under the safety rules of its other
+carving (docs/planner.md, "Carving by assumption"): never past a cell any look
+has hit, and no farther than the floor scan's own bound of that column (its
+hit, the near end of its neighbours' error bound, or the blank-column reach).
+
+``veto`` (:func:`vetoed`): a located point whose floor point just behind it
+shows inside the floor runs of its column and both neighbours is contradicted
+by the picture (an obstacle standing there would hide that floor) and is left
+out of the floor scan.  Measured (docs/planner.md): it also leaves out true
+points on faces of the floor's grey, and it is not safe.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .floormap import FREE, FLOOR_Y, FloorMap
+
+ROWS, COLS = 120, 128
+FOCAL, CX, CY = 180.0, 64.0, 60.0          # the 128x120 picture (planner.perception)
+GREYS = 16
+MIN_SAMPLES = 200                          # floor pixels before the floor's grey is believed
+MIN_SHARE = 0.1                            # a grey level is the floor's with this share of them
+
+
+@dataclass
+class FloorRays:
+    """Where each pixel's ray meets the floor plane."""
+    x: np.ndarray              # (120, 128) room X of the floor point (NaN: the ray does not go down)
+    z: np.ndarray              # (120, 128) room Z
+    dist: np.ndarray           # (120, 128) horizontal distance from the camera, ft (inf: none)
+    origin: np.ndarray         # (3,) the camera centre
+    height: float              # the camera above the floor, ft
+    R: np.ndarray              # (3, 3) the camera's axes in room coordinates
+
+
+def floor_rays(R, origin, floor_y: float = FLOOR_Y) -> FloorRays:
+    """The floor point of every pixel's ray through its centre (room Y down,
+    the floor at ``floor_y``; ``R`` the camera's axes in room coordinates)."""
+    R = np.asarray(R, float)
+    origin = np.asarray(origin, float)
+    u = (np.arange(COLS) + 0.5 - CX) / FOCAL
+    v = (np.arange(ROWS) + 0.5 - CY) / FOCAL
+    d = R[:, 0, None, None] * u[None, None, :] + R[:, 1, None, None] * v[None, :, None] \
+        + R[:, 2, None, None]
+    h = floor_y - origin[1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(d[1] > 1e-9, h / d[1], np.nan)
+    x = origin[0] + t * d[0]
+    z = origin[2] + t * d[2]
+    dist = np.hypot(x - origin[0], z - origin[2])
+    dist = np.where(np.isfinite(dist), dist, np.inf)
+    return FloorRays(x, z, dist, origin, float(h), R)
+
+
+def _cells_free(fm: FloorMap, x, z) -> np.ndarray:
+    i = np.floor((z - fm.z0) / fm.cell)
+    j = np.floor((x - fm.x0) / fm.cell)
+    ok = np.isfinite(i) & np.isfinite(j)
+    i = np.where(ok, i, -1).astype(int)
+    j = np.where(ok, j, -1).astype(int)
+    inside = ok & (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    out = np.zeros(np.shape(x), bool)
+    out[inside] = fm.cells[i[inside], j[inside]] == FREE
+    return out
+
+
+def training_mask(rays: FloorRays, known: FloorMap, lowest_ft: float,
+                  max_ft: float = 12.0) -> np.ndarray:
+    """The pixels whose ray ends on floor the map shows free AND whose whole
+    stretch that an obstacle ``lowest_ft`` tall could stand on and hide it
+    (from d (1 - h / H) to d) is free too: such a pixel shows the floor."""
+    frac = 1.0 - lowest_ft / rays.height
+    ok = np.isfinite(rays.dist) & (rays.dist <= max_ft)
+    for s in (frac, (1 + frac) / 2, 1.0):
+        x = rays.origin[0] + s * (rays.x - rays.origin[0])
+        z = rays.origin[2] + s * (rays.z - rays.origin[2])
+        ok &= _cells_free(known, x, z)
+    return ok
+
+
+def floor_greys(hist, min_samples: int = MIN_SAMPLES, min_share: float = MIN_SHARE):
+    """(16,) bool: the grey levels of the floor, from a histogram of the greys
+    of pixels known to show floor; None until ``min_samples`` were seen."""
+    hist = np.asarray(hist, float)
+    total = hist.sum()
+    if total < min_samples:
+        return None
+    return hist >= min_share * total
+
+
+def floor_run(picture, greys) -> np.ndarray:
+    """(128,) int: per column the topmost row r such that rows r - 1..119
+    all show a floor grey (120: fewer than two rows do).  The run's own top
+    pixel is left out: the condensed picture averages 2x2 pixels, so the
+    pixel where the floor meets what stands on it may round to the floor's
+    grey while its centre shows the other surface."""
+    pic = np.asarray(picture)
+    is_floor = np.asarray(greys, bool)[np.clip(pic, 0, GREYS - 1)]
+    below = np.cumprod(is_floor[::-1], axis=0)[::-1]          # rows r..119 all floor
+    return np.minimum(ROWS - below.sum(0) + 1, ROWS)
+
+
+def run_reach(rays: FloorRays, top: np.ndarray) -> np.ndarray:
+    """(128,) horizontal distance (ft) each column shows the floor to: its
+    run's top row's floor point (0 where the run is empty)."""
+    cols = np.arange(COLS)
+    out = np.zeros(COLS)
+    has = top < ROWS
+    out[has] = rays.dist[top[has], cols[has]]
+    return np.where(np.isfinite(out), out, 0.0)
+
+
+def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft: float,
+                res: float, row_step: int = 4):
+    """The proven floor of a look as sight-line samples: for every column's
+    run (rows ``top[c]``..119) the rays of every ``row_step``-th row and the
+    top one, each from d (1 - h / H) to d, cut at ``clip_ft[c]`` (horizontal
+    ft from the camera).  Returns (samples (N, 3) at the camera's height, the
+    ray of each sample, its distance from the camera) or None."""
+    frac = 1.0 - lowest_ft / rays.height
+    rr, cc = [], []
+    for c in np.flatnonzero(top < ROWS):
+        rows = np.unique(np.concatenate([np.arange(top[c], ROWS, row_step), [top[c], ROWS - 1]]))
+        rr.append(rows)
+        cc.append(np.full(len(rows), c))
+    if not rr:
+        return None
+    rr, cc = np.concatenate(rr), np.concatenate(cc)
+    d = rays.dist[rr, cc]
+    far = np.minimum(d, clip_ft[cc]) - res          # stop a cell short, as a sight line
+    near = frac * d
+    n = np.where(far > near, np.floor((far - near) / (res / 2)).astype(int) + 1, 0)
+    n[~np.isfinite(d)] = 0
+    if n.sum() == 0:
+        return None
+    ray = np.repeat(np.arange(len(rr)), n)
+    step = np.concatenate([np.arange(m) for m in n]) * (res / 2)
+    dist = near[ray] + step
+    o = rays.origin
+    ux = (rays.x[rr, cc] - o[0]) / d
+    uz = (rays.z[rr, cc] - o[2]) / d
+    pts = np.column_stack([o[0] + dist * ux[ray], np.full(len(dist), o[1]),
+                           o[2] + dist * uz[ray]])
+    return pts, ray, dist
+
+
+def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,
+           floor_y: float = FLOOR_Y) -> np.ndarray:
+    """Mask of located points (rig.scan Points) the picture contradicts.  An
+    obstacle standing where a point says, d ft away, hides the floor just
+    behind it (from d to d H / (H - h) at least); so when the floor point
+    ``margin_ft`` plus the point's range error behind it, on its bearing,
+    shows in the picture inside the floor runs of its column and of both
+    neighbours (one of those is the obstacle's own side at a silhouette
+    edge), nothing stands there: a false match (or a surface of the floor's
+    grey, the hazard)."""
+    n = len(points)
+    if not n:
+        return np.zeros(0, bool)
+    c = np.array([p.loc1 for p in points], int) - 1
+    line = np.array([p.line for p in points], float)
+    dp = np.array([p.dp for p in points], float)
+    ep = np.array([p.ep for p in points], float)
+    cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
+    w = cam @ rays.R.T                                    # from the camera, room axes
+    horiz = np.hypot(w[:, 0], w[:, 2])
+    behind = (horiz + ep + margin_ft) / np.maximum(horiz, 1e-9)
+    q = np.stack([w[:, 0] * behind, np.full(n, floor_y - rays.origin[1]),
+                  w[:, 2] * behind], 1)                   # the floor point behind, from the camera
+    qc = q @ rays.R                                       # in the camera's axes
+    out = np.zeros(n, bool)
+    ahead = qc[:, 2] > 1e-6
+    col = np.full(n, -1)
+    row = np.full(n, -1)
+    col[ahead] = np.floor(qc[ahead, 0] / qc[ahead, 2] * FOCAL + CX).astype(int)
+    row[ahead] = np.floor(qc[ahead, 1] / qc[ahead, 2] * FOCAL + CY).astype(int)
+    seen = ahead & (row >= 0) & (row < ROWS) & (col >= 1) & (col < COLS - 1)
+    k = np.flatnonzero(seen)
+    if len(k):
+        r, cc = row[k], col[k]
+        out[k] = (r >= top[cc - 1]) & (r >= top[cc]) & (r >= top[cc + 1])
+    return out
+
+
+def keep_before_hit(keys: np.ndarray, ray: np.ndarray, hit_keys) -> np.ndarray:
+    """Mask of the samples (packed cell keys, grouped by ``ray`` in order of
+    distance) that no sample at or before them on their ray puts in a cell of
+    ``hit_keys``: a proof never passes a cell any look has hit."""
+    hit = np.isin(keys, np.asarray(hit_keys, np.int64))
+    if not len(keys):
+        return np.zeros(0, bool)
+    run = np.cumsum(hit)
+    first = np.flatnonzero(np.r_[True, ray[1:] != ray[:-1]])
+    counts = np.diff(np.r_[first, len(ray)])
+    base = np.repeat(run[first] - hit[first], counts)
+    return run - base == 0

@@ -1,0 +1,211 @@
+"""Free floor from what the picture shows (planner.appearance): the floor
+point of each pixel by hand, the floor run of a column, the proven strip's
+geometry, and, on a rendered look of the tiny room, against the world's truth
+(which surface each pixel shows, where the box stands)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.appearance import (ROWS, floor_greys, floor_proof, floor_rays, floor_run,
+                                keep_before_hit, run_reach, training_mask, vetoed)
+from planner.floormap import FREE, OCCUPIED, empty_map
+from planner.tiny import BOX, tiny_room
+from rig.scan import Point
+from world.pose import Pose
+from world.render import render_look
+
+PITCH = -25.0
+H = 3.0
+
+
+def _look():
+    room = tiny_room()
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    return room, pose, render_look(room, pose, seed=7, supersample=2)
+
+
+def test_floor_point_of_a_pixel_by_hand():
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    # the bottom row's centre: 25 deg + atan(59.5 / 180) below the horizon, 3 ft up
+    down = math.radians(25.0) + math.atan(59.5 / 180.0)
+    assert rays.dist[119, 63:65].mean() == pytest.approx(H / math.tan(down), rel=2e-3)
+    # a row above the horizon's depression meets the floor farther on; the
+    # distance grows upward, row by row
+    assert (np.diff(rays.dist[:, 64]) < 0).all()
+    # the ray through the picture's centre: 25 deg down, along the heading (+Z)
+    c = pose.camera_centre("left")
+    assert rays.z[59:61, 63:65].mean() == pytest.approx(H / math.tan(math.radians(25.0)), rel=1e-2)
+    assert rays.x[59:61, 63:65].mean() == pytest.approx(c[0], abs=0.02)
+
+
+def test_floor_run_of_a_column():
+    pic = np.full((ROWS, 128), 9, np.uint8)
+    pic[70:, 10] = 6                       # floor from row 70 down
+    pic[:, 20] = 6                         # floor all the way up
+    pic[:, 30] = 6
+    pic[119, 30] = 2                       # the bottom row is not floor
+    greys = np.zeros(16, bool)
+    greys[6] = True
+    top = floor_run(pic, greys)
+    # the run's own top pixel is left out (it may straddle what stands on the floor)
+    assert top[10] == 71 and top[20] == 1 and top[30] == ROWS and top[0] == ROWS
+
+
+def test_floor_greys_need_enough_samples_and_a_share():
+    h = np.zeros(16)
+    h[5] = 150
+    assert floor_greys(h) is None                      # fewer than 200 samples
+    h[5], h[7], h[12] = 900, 300, 20
+    g = floor_greys(h)
+    assert np.flatnonzero(g).tolist() == [5, 7]        # 12 has 1.6 %, under the 10 % share
+
+
+def test_proof_runs_from_the_near_limit_to_the_run_and_the_clip():
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    top = np.full(128, ROWS)
+    top[64] = 60                                       # floor seen up to row 60 in one column
+    res, h = 0.25, 0.8
+    clip = np.full(128, 100.0)
+    pts, ray, dist = floor_proof(rays, top, clip, h, res)
+    # an obstacle h tall nearer than d (1 - h / H) would not hide the floor at
+    # d: from the bottom row's d_b (1 - h / H) = 2.33 ft on (the near limit)
+    d_b = rays.dist[119, 64]
+    assert dist.min() == pytest.approx(d_b * (1 - h / H), abs=1e-9)
+    assert dist.max() <= rays.dist[60, 64] - res + 1e-9
+    assert dist.max() >= rays.dist[60, 64] - res - res / 2
+    # cut at the column's clip
+    clip[64] = 4.0
+    _, _, dist = floor_proof(rays, top, clip, h, res)
+    assert dist.max() <= 4.0 - res + 1e-9
+    # no run, no proof
+    assert floor_proof(rays, np.full(128, ROWS), clip, h, res) is None
+
+
+def test_a_proof_stops_before_the_first_hit_cell_of_its_ray():
+    keys = np.array([1, 2, 3, 4, 10, 11, 12])
+    ray = np.array([0, 0, 0, 0, 1, 1, 1])
+    keep = keep_before_hit(keys, ray, [3, 10])
+    assert keep.tolist() == [True, True, False, False, False, False, False]
+    assert keep_before_hit(keys, ray, []).all()
+
+
+def test_training_pixels_need_their_whole_hiding_stretch_free():
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    fm = empty_map((-8.0, 8.0, -2.0, 14.0), 0.25, fill=FREE)
+    all_free = training_mask(rays, fm, 0.8)
+    assert all_free[119].all() and not all_free[0].any()     # the top row is 25 ft out
+    fm.cells[fm.index(0.0, 5.0)] = OCCUPIED
+    some = training_mask(rays, fm, 0.8)
+    lost = all_free & ~some
+    assert lost.any()
+    # every pixel lost has the occupied cell on its stretch d (1 - h/H) .. d
+    r, c = np.nonzero(lost)
+    d = rays.dist[r, c]
+    x, z = rays.x[r, c], rays.z[r, c]
+    o = rays.origin
+    to_cell = np.hypot(0.125 - o[0], 5.125 - o[2])
+    assert (d * (1 - 0.8 / H) <= to_cell + 0.4).all() and (d >= to_cell - 0.4).all()
+
+
+def test_the_floor_run_of_a_rendered_look_shows_only_floor():
+    """Against the world's truth: the tiny room's floor is grey 6 and nothing
+    else in the look shares it, so every pixel of every run shows the floor
+    quad, and the proof stays out of the box and inside the walls."""
+    room, pose, look = _look()
+    floor_q = [k for k, q in enumerate(room.quads) if q.name == "floor"]
+    greys = np.zeros(16, bool)
+    greys[6] = True
+    top = floor_run(look.left_bi, greys)
+    assert (top < ROWS).sum() > 100                   # most columns show floor
+    rows = np.arange(ROWS)[:, None]
+    in_run = rows >= top[None, :]
+    assert np.isin(look.surface_left[in_run], floor_q).all()
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    pts, _, _ = floor_proof(rays, top, np.full(128, 12.0), 0.8, 0.25)
+    (bx0, bx1), _, (bz0, bz1) = BOX
+    inside_box = (pts[:, 0] > bx0) & (pts[:, 0] < bx1) & (pts[:, 2] > bz0) & (pts[:, 2] < bz1)
+    assert not inside_box.any()
+    x0, x1, z0, z1 = room.bounds
+    assert ((pts[:, 0] > x0) & (pts[:, 0] < x1) & (pts[:, 2] > z0) & (pts[:, 2] < z1)).all()
+
+
+def _pt(line, loc1, dp, ep=0.05):
+    return Point(line, 1, loc1, loc1 - 10, dp, 0.0, 0.0, ep, 0.01, 0.01)
+
+
+def test_veto_leaves_out_a_point_on_floor_in_view_and_keeps_the_box():
+    room, pose, look = _look()
+    greys = np.zeros(16, bool)
+    greys[6] = True
+    top = floor_run(look.left_bi, greys)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    reach = run_reach(rays, top)
+    c = int(np.argmax(reach))                          # the column that shows floor farthest
+    far = reach[max(c - 1, 0):c + 2].min()
+    line = 60
+    # a false match 5 ft along the ray of line 60 (which meets the floor 6.4 ft
+    # out): 0.9 ft above the floor, 4.5 ft away, with the floor behind it in view
+    false_near = _pt(line, c + 1, 5.0)
+    # the box's true range at one of its pixels (the world's truth)
+    box_q = [k for k, q in enumerate(room.quads) if q.name.startswith("box")]
+    br, bc = np.argwhere(np.isin(look.surface_left, box_q))[len(box_q) * 40]
+    true_box = _pt(int(br), int(bc) + 1, float(look.range_left[br, bc]))
+    assert far > 6.5
+    mask = vetoed([false_near, true_box], rays, top, 0.25)
+    assert mask.tolist() == [True, False]
+
+
+@pytest.mark.parametrize("how", ["carve", "add", "veto"])
+def test_the_loop_with_the_floor_in_view_reaches_the_tiny_rooms_goal(how):
+    from planner.loop import DriveConfig, run
+    from planner.tiny import GOAL
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",
+                                                             floor_eyes=how),
+              noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert res.floor["floor_greys"] == [6]             # the tiny room's floor, learned
+    assert res.floor["floor_cells"] > 0
+    if how != "veto":
+        assert res.floor["vetoed_points"] == 0
+    assert res.as_json()["floor"] == res.floor
+
+
+def test_floor_eyes_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
+    from planner.loop import DriveConfig, run
+    from planner.tiny import GOAL
+    from rigtools import drive_config
+    from vehicle.sim import State
+    with pytest.raises(ValueError, match="floor_eyes"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, floor_eyes="on"))
+    assert drive_config(monkeypatch, tmp_path, "--floor-eyes", "veto").floor_eyes == "veto"
+    assert drive_config(monkeypatch, tmp_path).floor_eyes == "off"
+
+
+def test_add_carves_both_the_floor_in_view_and_the_assumption():
+    from eyes import scan_pair
+    from planner.loop import DriveConfig, Perception, near_visible_ft, true_range_points
+    from planner.octree import FREE as F
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    room, pose, look = _look()
+    pts = true_range_points(scan_pair(look.left_bi, look.right_bi,
+                                      lines=tuple(range(8, 113, 2))).points, look)
+    free = {}
+    for how in ("off", "carve", "add"):
+        m = Perception(DriveConfig.voi, DriveConfig.band, 12.0, 2, 1,
+                       near_visible_ft(DEFAULT, 0.8), 8.0)
+        m.blank_carve, m.carve, m.floor_eyes = "unknown", "error", how
+        m.floor_hist[6] = 1000.0                     # the floor's grey, as if learned
+        m.update(pts, State(0.0, 0.0, 0.0), Pose, PITCH, None, None, look.left_bi)
+        free[how] = m.floor_map([(0.0, 0.0), (0.0, 9.0)]).cells == F
+    assert free["carve"].sum() > 0 and free["off"].sum() > 0
+    assert (free["add"] >= free["carve"]).all() and (free["add"] >= free["off"]).all()
+    assert free["add"].sum() > max(free["carve"].sum(), free["off"].sum())
