@@ -19,7 +19,7 @@ measured``) under A-29 and covariance intersection, the consider covariance
 (``--consider``), with the measured height and tilt floor (``--tilt-floor``), the
 variance factor (``--variance-factor``), track confirmation (``--confirm``:
 the track-confirmed and the tentative features' shares inside 2 sigma apart) and
-the ambiguity gate (``--ambiguity-gate drop|track``).
+the ambiguity gate (``--ambiguity-gate drop|track|resolve``).
 
 ``--calibrate`` measures instead the rig's pixel errors at the true corners
 (every 3rd look of the bundled walk and of the rooms' walks): the vertex
@@ -525,6 +525,9 @@ def main(argv=None) -> int:
               "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate track":
                   dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
                        confirm=2, ambiguity_gate="track"),
+              "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate resolve":
+                  dict(kalman="a29", consider="bound", tilt_floor=MEASURED_TILT_SIGMA_FLOOR,
+                       confirm=2, ambiguity_gate="resolve"),
               "A-29, improved stereo matcher, consider (bound)":
                   dict(kalman="a29", consider="bound", match="improved"),
               "A-29, improved stereo matcher, consider (bound), retire unseen 1":
@@ -538,7 +541,8 @@ def main(argv=None) -> int:
                          "A-29, consider (bound), retire unseen 1",
                          "A-29, consider (bound), tilt floor, confirm 2",
                          "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate drop",
-                         "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate track")
+                         "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate track",
+                         "A-29, consider (bound), tilt floor, confirm 2, ambiguity gate resolve")
     rooms, rooms_honest = [], {name: [] for name in rooms_honest_sets}
     for seed in range(1, args.rooms + 1):
         room = generate_room(seed)

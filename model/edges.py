@@ -416,3 +416,66 @@ def is_ambiguous(score, margin: float = AMBIGUITY_MARGIN_GREY) -> bool:
     """A :func:`stereo_ambiguity` score: another disparity fits within ``margin`` grey levels
     of the rig's own."""
     return score is not None and score[1] <= score[0] + margin
+
+
+def alternative_disparities(left, right, edge: EdgeObservation,
+                            disparity_range: tuple[float, float],
+                            margin: float = AMBIGUITY_MARGIN_GREY,
+                            half_width: int = AMBIGUITY_HALF_WIDTH_PX,
+                            same_px: int = AMBIGUITY_SAME_PX) -> list[int]:
+    """The whole-pixel offsets from an edge's disparity at which the right picture's patch
+    fits the left's within ``margin`` grey levels of the rig's own fit (the "picket
+    fence"'s other periods, :func:`stereo_ambiguity`'s profile): each run of such offsets
+    more than ``same_px`` from the rig's gives its best one, nearest first.  Each is a
+    candidate 3-D point for the edge (Chapter III: the model's relative geometry chooses).
+    Empty when the edge is not ambiguous."""
+    profile = _disparity_profile(left, right, edge, disparity_range, half_width)
+    if profile is None:
+        return []
+    offsets, diff = profile
+    own = np.abs(offsets) <= 1
+    if not own.any() or not np.isfinite(diff[own]).any():
+        return []
+    fits = (np.abs(offsets) > same_px) & (diff <= diff[own].min() + margin)
+    out = []
+    for run in np.split(np.flatnonzero(fits), np.flatnonzero(np.diff(np.flatnonzero(fits)) > 1) + 1):
+        if run.size:
+            out.append(int(offsets[run[np.argmin(diff[run])]]))
+    return sorted(out, key=abs)
+
+
+def _disparity_profile(left, right, edge: EdgeObservation, disparity_range, half_width):
+    """(offsets from the edge's median whole disparity, mean absolute grey difference at
+    each; inf where the patch leaves the picture), or None (as :func:`stereo_ambiguity`)."""
+    L = np.asarray(left, dtype=np.int64)
+    Rp = np.asarray(right, dtype=np.int64)
+    h, w = L.shape
+    ys = np.clip(np.asarray(edge.lines, dtype=np.int64), 0, h - 1)
+    c = np.floor(np.asarray(edge.cols)).astype(np.int64)
+    d = np.rint(np.asarray(edge.disparities)).astype(np.int64)
+    d0 = int(np.rint(np.median(edge.disparities)))
+    k = np.arange(-half_width, half_width + 1)
+    lc = c[:, None] + k[None, :]
+    if lc.min() < 0 or lc.max() >= w:
+        return None
+    patch = L[ys[:, None], lc]
+    lo, hi = int(np.ceil(disparity_range[0])), int(np.floor(disparity_range[1]))
+    offsets = np.arange(lo - d0, hi - d0 + 1)
+    if offsets.size == 0:
+        return None
+    rc = lc[None, :, :] - d[None, :, None] - offsets[:, None, None]
+    valid = (rc >= 0).all(axis=(1, 2)) & (rc < w).all(axis=(1, 2))
+    diff = np.abs(Rp[ys[None, :, None], np.clip(rc, 0, w - 1)] - patch[None]).mean(axis=(1, 2))
+    return offsets, np.where(valid, diff, np.inf)
+
+
+def shifted_vertex(v: VertexObservation, offset: float, camera: Camera = Camera(),
+                   e_d: float = E_D + 1.0, e_col: float = E_LR) -> VertexObservation | None:
+    """The same picture corner located at ``offset`` more pixels of disparity (another period
+    of a picket fence): A-6..A-20 again, or None where :func:`locate` refuses.  ``e_d``
+    and ``e_col`` as :func:`group_vertical_edges` gave them (every 2nd line: E_D + 1)."""
+    located = locate(v.col, v.row, v.disparity + offset, camera, e_d=e_d, e_col=e_col)
+    if located is None:
+        return None
+    return VertexObservation(located[0], located[1], v.kind, v.col, v.row,
+                             v.disparity + offset, v.grey, v.edge, v.line, v.shape)

@@ -35,9 +35,10 @@ from typing import Callable
 
 import numpy as np
 
-from .edges import (CALIBRATED_COLUMN_ERROR_PX, E_LR, MEASURED_DISPARITY_ERROR_PX,
+from .edges import (CALIBRATED_COLUMN_ERROR_PX, E_D, E_LR, MEASURED_DISPARITY_ERROR_PX,
                     MEASURED_ROW_ERROR_PX, Camera, group_vertical_edges, is_ambiguous, locate,
-                    stereo_ambiguity, surface_observations, vertex_observations)
+                    stereo_ambiguity, surface_observations, vertex_observations,
+                    alternative_disparities, shifted_vertex)
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .kalman import (consider_update, covariance_intersection, kalman_gain,
                      measurement_covariance_a29, measurement_covariance_a30,
@@ -162,6 +163,7 @@ class LookRecord:
     pose_covariance: np.ndarray | None = None      # the robot's (x, z, heading rad) covariance
     pose: PoseEstimate | None = None               # the pose the model was updated with (all six)
     ambiguous: int = 0                             # vertices the ambiguity gate found ambiguous
+    resolved: int = 0                              # ambiguous edges "resolve" moved to another period
 
     def errors(self, name: str) -> tuple[float, float] | None:
         est = self.estimates.get(name)
@@ -392,6 +394,8 @@ class Walker:
         self.prev_cov = None
         self.P = np.zeros((3, 3))         # covariance of the pose (x, z, heading rad) carried on
         self.last_dead = None             # the dead-reckoned pose at the last look
+        self.pending = SymbolicModel()    # --ambiguity-gate resolve: last look's unresolved candidates
+        self.resolved = 0                 # ambiguous edges moved to another period by the model
 
     def result(self) -> WalkResult:
         return WalkResult(self.config, self.records, self.model, self.history)
@@ -430,6 +434,9 @@ class Walker:
                                      right_picture=look.right_bi,
                                      column_error=config.column_error_px)
         ambiguous_ids: set[int] = set()
+        ambiguous_edges: list = []
+        resolved_before = self.resolved
+        unresolved: list = []
         if config.ambiguity_gate is not None:
             d_range = (config.camera.ds * config.camera.dv / config.max_range_ft,
                        config.camera.ds * config.camera.dv / AMBIGUITY_NEAREST_FT)
@@ -439,15 +446,22 @@ class Walker:
                     if config.ambiguity_gate == "drop":
                         ambiguous_ids.update(id(o) for o in e.vertices)
                         e.vertices[:] = []
+                    elif config.ambiguity_gate == "resolve":
+                        ambiguous_edges.append(e)
                     else:
                         ambiguous_ids.update(id(o) for o in e.vertices)
+        early_prior = None
+        if ambiguous_edges:
+            early_prior = _predict(prev_xzh, P, dr_prev, dr, config) if k > 0 else None
+            ambiguous_ids, unresolved = self._resolve(look, ambiguous_edges, early_prior)
         obs = [o for o in vertex_observations(edges) if o.q[0] <= config.max_range_ft]
         for e in edges:
             e.vertices[:] = [o for o in e.vertices if o.q[0] <= config.max_range_ft]
         # "track": an ambiguous vertex may match a feature the model holds (the prediction
         # gate picks the period) but starts none
         no_new = {i for i, o in enumerate(obs) if id(o) in ambiguous_ids}
-        ambiguous = len(ambiguous_ids)
+        ambiguous = (sum(len(e.vertices) for e in ambiguous_edges)
+                     if config.ambiguity_gate == "resolve" else len(ambiguous_ids))
         t_group = time.perf_counter()
         R_true = np.asarray(true_pose.rotation(), float)
         true_left = left_centre((true_pose.x, getattr(true_pose, "y", 0.0), true_pose.z), R_true)
@@ -468,7 +482,8 @@ class Walker:
                 estimates[m] = prior_xzh
             times["match"] = (time.perf_counter() - t_group) * 1e3
         else:
-            prior_xzh, P = _predict(prev_xzh, P, dr_prev, dr, config)
+            prior_xzh, P = early_prior if early_prior is not None else _predict(
+                prev_xzh, P, dr_prev, dr, config)
             prior_R = _rotation(prior_xzh[2], config.camera_pitch_deg)
             prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
             cov6 = _cov6(P)
@@ -529,6 +544,8 @@ class Walker:
         if ((config.retire_unseen is not None or config.confirm is not None) and k > 0
                 and pose_est.method == "fused"):
             _retire_unseen(model, match.pairs, pose_est, k, rows, config)
+        if config.ambiguity_gate == "resolve":
+            self._remember_unresolved(unresolved, pose_est)
         est_xzh = estimates["fused"]
         est_cov = P.copy()
         times["update"] = (time.perf_counter() - t_up) * 1e3
@@ -543,9 +560,83 @@ class Walker:
             len(obs), len(match.pairs), wrong, len(pairs_used), used_wrong, added,
             len(model.vertices), match.predicted_in_view, times, vel, driver_refused, est_cov,
             pose_est, ambiguous)
+        rec.resolved = self.resolved - resolved_before
         self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
         self.records.append(rec)
         return rec
+
+    def _resolve(self, look, edges, prior):
+        """``--ambiguity-gate resolve``: Chapter III's cure for the picket fence, "resolve
+        ambiguities by the relative geometric position".  Each ambiguous edge's other
+        whole disparities (:func:`model.edges.alternative_disparities`) are candidate 3-D
+        points; at the prior pose (``prior``: the odometry's (x, z, heading) and
+        covariance; None at the start) the candidate the model predicts (inside
+        :func:`model.matching.gated_distances`'s gate, the least distance over the edge's
+        vertices) replaces the rig's.  Where the model predicts none, a candidate that
+        agrees with one of the last look's unresolved candidates (the same corner seen
+        from two places: only the true period stays put as the robot moves) may start a
+        feature; an edge agreeing with neither starts none (model5's track rule) and its
+        candidates are remembered for the next look.  Returns (ids of the vertices that
+        start no feature, the unresolved edges' candidate vertices)."""
+        from .matching import gated_distances
+        config, cam = self.config, self.config.camera
+        d_range = (cam.ds * cam.dv / config.max_range_ft, cam.ds * cam.dv / AMBIGUITY_NEAREST_FT)
+        step = float(np.median(np.diff(self.lines))) if len(self.lines) > 1 else 1.0
+        no_new: set[int] = set()
+        unresolved: list = []
+        if prior is not None:
+            prior_xzh, P = prior
+            prior_R = _rotation(prior_xzh[2], config.camera_pitch_deg)
+            prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
+            cov6 = _cov6(P)
+        for e in edges:
+            offsets = [0, *alternative_disparities(look.left_bi, look.right_bi, e, d_range)]
+            variants = {}
+            for off in offsets:
+                vs = [shifted_vertex(v, off, cam, e_d=E_D + step / 2,
+                                     e_col=config.column_error_px) if off else v
+                      for v in e.vertices]
+                vs = [v for v in vs if v is not None and v.q[0] <= config.max_range_ft]
+                if vs:
+                    variants[off] = vs
+            chosen = None
+            if prior is not None and variants:
+                for store in (self.model, self.pending):
+                    best = (np.inf, None)
+                    for off, vs in variants.items():
+                        d2 = gated_distances(store, vs, prior_left, prior_R, cov6, rows=self.rows)
+                        if d2.min() < best[0]:
+                            best = (float(d2.min()), off)
+                        if off == 0 and np.isfinite(best[0]):
+                            break          # the rig's own period agrees with the model: kept
+                    if best[1] is not None:
+                        chosen = best[1]
+                        break
+            if chosen is not None:
+                self.resolved += chosen != 0
+                e.vertices[:] = variants[chosen]
+                if store is self.model:
+                    # matched to the model or nothing: letting the edge's unmatched end start
+                    # a feature (measured) pulled the bundled walk's pose to 0.40 ft
+                    no_new.update(id(v) for v in e.vertices)
+            else:
+                no_new.update(id(v) for v in e.vertices)
+                unresolved.extend(v for vs in variants.values() for v in vs)
+        return no_new, unresolved
+
+    def _remember_unresolved(self, candidates, est: PoseEstimate) -> None:
+        """The unresolved edges' candidate points in room axes (A-23, A-30), kept one look."""
+        self.pending = SymbolicModel()
+        if not candidates:
+            return
+        q = np.array([v.q for v in candidates])
+        z = est.transform(q)
+        Rm = measurement_covariance_a30(est.M, np.array([v.cov for v in candidates]))
+        if est.method != "given":
+            Rm = measurement_covariance_a29(est.M, np.array([v.cov for v in candidates]),
+                                            est.pose_covariance_at(q))
+        for i, v in enumerate(candidates):
+            self.pending.add_vertex(z[i], Rm[i], v.kind, v.grey, len(self.records))
 
 
 ODOMETRY_GATE_CHI2 = 16.27     # 99.9 %, 3 degrees of freedom

@@ -61,15 +61,13 @@ def in_view(X, left, R, first_row: float = 8, last_row: float = 113, dv: float =
             & (row >= first_row - margin) & (row <= last_row + margin))
 
 
-def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float = GATE_CHI2,
-               grey_tolerance: int = GREY_TOLERANCE, rows=(8, 113),
-               shape_max_bits: int | None = SHAPE_MAX_BITS, model_shapes=None) -> MatchResult:
-    """Match a look's vertex observations (``model.edges.VertexObservation``)
-    to the model's vertices (``model.symbolic.SymbolicModel``)."""
+def _gated(model, observations, prior_left, prior_R, prior_cov6, gate, grey_tolerance, rows):
+    """The covariance, kind and grey gates: (ids, visible, cand, d2, ok), or None when
+    nothing can match (then ``visible`` alone: an int)."""
     ids, means, covs, kinds, greys = model.vertex_arrays()
     n_obs = len(observations)
     if len(ids) == 0 or n_obs == 0:
-        return MatchResult([], 0, 0)
+        return 0
     R = np.asarray(prior_R, dtype=np.float64)
     left = np.asarray(prior_left, dtype=np.float64)
     visible = in_view(means, left, R, rows[0], rows[1])
@@ -77,7 +75,7 @@ def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float
     widened = in_view(means, left, R, rows[0], rows[1], margin=15.0)
     cand = np.flatnonzero(widened)
     if len(cand) == 0:
-        return MatchResult([], int(visible.sum()), 0)
+        return int(visible.sum())
     q = np.array([o.q for o in observations])
     Cq = np.array([o.cov for o in observations])
     M = np.column_stack([R[:, 2], R[:, 0], R[:, 1]])
@@ -98,6 +96,31 @@ def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float
     ok = (d2 <= gate) & (kind_obs[:, None] == kind_mod[None, :])
     if grey_tolerance is not None:
         ok &= np.all(np.abs(g_obs[:, None, :] - g_mod[None, :, :]) <= grey_tolerance, axis=2)
+    return ids, visible, cand, d2, ok
+
+
+def gated_distances(model, observations, prior_left, prior_R, prior_cov6,
+                    gate: float = GATE_CHI2, grey_tolerance: int = GREY_TOLERANCE,
+                    rows=(8, 113)) -> np.ndarray:
+    """Per observation, the least Mahalanobis distance (squared) to a model vertex that
+    :func:`match_look`'s covariance, kind and grey gates admit; inf where none does (the
+    model predicts no feature there).  For choosing among a picket fence's periods."""
+    g = _gated(model, observations, prior_left, prior_R, prior_cov6, gate, grey_tolerance, rows)
+    if not isinstance(g, tuple):
+        return np.full(len(observations), np.inf)
+    _, _, _, d2, ok = g
+    return np.where(ok, d2, np.inf).min(axis=1)
+
+
+def match_look(model, observations, prior_left, prior_R, prior_cov6, gate: float = GATE_CHI2,
+               grey_tolerance: int = GREY_TOLERANCE, rows=(8, 113),
+               shape_max_bits: int | None = SHAPE_MAX_BITS, model_shapes=None) -> MatchResult:
+    """Match a look's vertex observations (``model.edges.VertexObservation``)
+    to the model's vertices (``model.symbolic.SymbolicModel``)."""
+    g = _gated(model, observations, prior_left, prior_R, prior_cov6, gate, grey_tolerance, rows)
+    if not isinstance(g, tuple):
+        return MatchResult([], g, 0)
+    ids, visible, cand, d2, ok = g
     if shape_max_bits is not None:
         # Appendix B: the corner maps compared at horizontal offsets -2..2 (B-1's count)
         from .bitmaps import shifted_compare

@@ -174,7 +174,9 @@ def summary_text(result, rows) -> str:
                    f"{100 * (fs['tentative_inside_2sigma'] or 0):.1f} %")
     if result.config.ambiguity_gate is not None:
         out.append(f"  ambiguous stereo matches (ambiguity gate {result.config.ambiguity_gate}): "
-                   f"{sum(r.ambiguous for r in result.records)} vertex observations")
+                   f"{sum(r.ambiguous for r in result.records)} vertex observations"
+                   + (f", {sum(r.resolved for r in result.records)} edges moved to the period "
+                      "the model predicts" if result.config.ambiguity_gate == "resolve" else ""))
     if result.config.feature_gate or result.config.retire_unseen:
         out.append(f"  {fs['retired']} vertices retired (contradicted by later looks, or unseen "
                    "where they should have been seen)")
@@ -221,6 +223,7 @@ def walk_json(result, label: str, rows) -> dict:
             "model_size": r.model_size, "time_ms": {k: round(x, 3) for k, x in r.times_ms.items()},
             "driver_refused": r.driver_refused if r.look else None,
             **({"ambiguous": r.ambiguous} if result.config.ambiguity_gate else {}),
+            **({"resolved": r.resolved} if result.config.ambiguity_gate == "resolve" else {}),
             "velocity": None if v is None else {
                 "vx_ft_s": v.vx, "vz_ft_s": v.vz, "turn_deg_s": v.turn_deg_s,
                 "cov": np.round(v.cov, 8).tolist()},
@@ -504,12 +507,14 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "included; innovation inside chi-square 99 %%) and no more looks that "
                         "missed it is CONFIRMED, the others TENTATIVE: both kept and matched, "
                         "scored and reported apart (M default 2; off by default)")
-    w.add_argument("--ambiguity-gate", choices=("drop", "track"), default=None,
+    w.add_argument("--ambiguity-gate", choices=("drop", "track", "resolve"), default=None,
                    help="a vertical edge whose picture patch fits another disparity as well as "
                         "the rig's (a periodic texture matched a period off: checks, stripes) "
                         "is ambiguous: 'drop' leaves its vertices out of that look; 'track' "
                         "lets them match features the model holds (the prediction picks the "
-                        "period) but start none (off by default)")
+                        "period) but start none; 'resolve' locates the edge at the other "
+                        "period the model predicts (Chapter III), and where it predicts none "
+                        "starts a feature only where two looks agree (off by default)")
     w.add_argument("--match", choices=("1985", "improved"), default="1985",
                    help="the rig's stereo matcher: 1985 (default, ESTAR's own lists) or "
                         "improved (the matching package's, where installed)")

@@ -162,3 +162,27 @@ def test_stereo_ambiguity_flags_a_picket_fence_and_not_a_lone_edge():
     assert score == (0.0, 3.0, 9.0) and not is_ambiguous(score)
     # a patch hanging over the picture's side has no score
     assert stereo_ambiguity(left, right, _edge_at(1, 20), (9.0, 135.0)) is None
+
+
+def test_alternative_disparities_are_the_picket_fence_periods():
+    """The stripes of the test above (period 8 px, true disparity 20, the rig's 28): every
+    disparity 20 + 8n fits as well as the rig's.  The patch (columns 69..75) stays inside
+    the right picture up to disparity 69, so the fits are d = 12, 20, 36, .., 68: offsets
+    -16, -8, 8, .., 40 from 28, nearest first; one step has none."""
+    from model.edges import Camera, VertexObservation, alternative_disparities, locate, shifted_vertex
+    x = np.arange(128 + 20)
+    stripes = np.where((x // 4) % 2 == 0, 3, 12)
+    left, right = np.tile(stripes[:128], (120, 1)), np.tile(stripes[20:], (120, 1))
+    assert alternative_disparities(left, right, _edge_at(72, 28), (9.0, 135.0)) == \
+        [-8, 8, -16, 16, 24, 32, 40]
+    step = np.where(x >= 70, 12, 5)
+    left, right = np.tile(step[:128], (120, 1)), np.tile(step[20:], (120, 1))
+    assert alternative_disparities(left, right, _edge_at(70, 20), (9.0, 135.0)) == []
+    # the corner located again one period nearer in disparity: A-6's range 0.75 * 180 / 20
+    q, C = locate(72.5, 39.5, 28.0, Camera(), e_d=1.5)
+    v = VertexObservation(q, C, "top", 72.5, 39.5, 28.0, (3, 12), 0, 40)
+    w = shifted_vertex(v, -8, Camera(), e_d=1.5)
+    assert w.disparity == 20.0 and w.q[0] == pytest.approx(6.75)
+    np.testing.assert_allclose(w.cov, locate(72.5, 39.5, 20.0, Camera(), e_d=1.5)[1])
+    assert (w.col, w.row, w.kind, w.line) == (v.col, v.row, v.kind, v.line)
+    assert shifted_vertex(v, -27.5, Camera()) is None        # LCSL's refusal (disparity 0.5)

@@ -336,3 +336,68 @@ def test_observed_truth_at_an_occluding_edge_is_the_occluding_surface():
     # two columns off the edge the scorer's window (the named column and one either side) is
     # all wall: that observation is scored against the wall
     assert pts[2][2] == pytest.approx(19.0)
+
+
+def _fence_look():
+    """A hand-made picket fence: stripes 4 px wide (period 8 px) seen at a true disparity of
+    20 px (right[x] = left[x + 20]); the rig matched the edge at column 72 one period off,
+    at 28 px.  Its top corner at row 39.5 (line 40)."""
+    from types import SimpleNamespace
+    from model.edges import EdgeObservation, locate
+    x = np.arange(128 + 20)
+    stripes = np.where((x // 4) % 2 == 0, 3, 12)
+    look = SimpleNamespace(left_bi=np.tile(stripes[:128], (120, 1)),
+                           right_bi=np.tile(stripes[20:], (120, 1)))
+    lines = (40, 42, 44, 46)
+    q, C = locate(72.5, 39.5, 28.0, Camera(), e_d=1.5)
+    v = VertexObservation(q, C, "top", 72.5, 39.5, 28.0, (3, 12), 0, 40)
+    edge = EdgeObservation(lines, (72.5,) * 4, (28.0,) * 4, np.zeros(3), np.eye(3), (3, 12),
+                           False, False, vertices=[v])
+    return look, edge
+
+
+def _at_start(disparity):
+    """The room point of the fence's corner at ``disparity``, the robot at the origin facing
+    +z (A-23 with the prior's axes)."""
+    from model.edges import locate
+    from model.mapping import _rotation
+    R = _rotation(0.0)
+    M = np.column_stack([R[:, 2], R[:, 0], R[:, 1]])
+    return left_centre((0.0, 0.0, 0.0), R) + M @ locate(72.5, 39.5, disparity, Camera(), e_d=1.5)[0]
+
+
+def test_resolve_picks_the_period_the_model_predicts():
+    """--ambiguity-gate resolve on a hand-made picket fence: the rig's disparity (28) is a
+    period off; the model holds the corner where the true disparity (20) puts it (6.75 ft
+    ahead), and the prior's prediction moves the edge there.  Where the model holds the
+    corner at the rig's own period, the rig's is kept; where it holds nothing, the edge
+    starts no feature and every period is remembered as a candidate."""
+    from world.room import bundled_lab
+    from model.mapping import Walker, WalkConfig
+    P = np.diag([0.01, 0.01, np.radians(1.0) ** 2])
+    for held, expect in ((20, 20.0), (28, 28.0)):
+        walker = Walker(bundled_lab(), WalkConfig(ambiguity_gate="resolve"))
+        walker.model.add_vertex(_at_start(held), np.eye(3) * 0.01, "top", (3, 12), 0)
+        look, edge = _fence_look()
+        no_new, unresolved = walker._resolve(look, [edge], ((0.0, 0.0, 0.0), P))
+        (v,) = edge.vertices
+        assert v.disparity == expect and walker.resolved == (expect != 28.0)
+        assert v.q[0] == pytest.approx(0.75 * 180 / expect)
+        # matched to the model's feature, or nothing: it starts none
+        assert no_new == {id(v)} and unresolved == []
+    # nothing in the model: unresolved; its candidates are every period inside the picture
+    walker = Walker(bundled_lab(), WalkConfig(ambiguity_gate="resolve"))
+    look, edge = _fence_look()
+    no_new, unresolved = walker._resolve(look, [edge], ((0.0, 0.0, 0.0), P))
+    assert edge.vertices[0].disparity == 28.0 and no_new == {id(edge.vertices[0])}
+    assert sorted(c.disparity for c in unresolved) == [12, 20, 28, 36, 44, 52, 60, 68]
+    # remembered one look: the next look's candidate that agrees with one may start a feature
+    from model.mapping import _rotation
+    R = _rotation(0.0)
+    walker._remember_unresolved(unresolved, PoseEstimate(
+        "given", left_centre((0.0, 0.0, 0.0), R), axes_matrix(R), np.zeros(0, bool),
+        covariance6=np.zeros((6, 6))))
+    assert len(walker.pending.vertices) == 8
+    look, edge = _fence_look()
+    no_new, unresolved = walker._resolve(look, [edge], ((0.0, 0.0, 0.0), P))
+    assert no_new == set() and unresolved == []

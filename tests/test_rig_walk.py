@@ -249,3 +249,22 @@ def test_rig_walk_ambiguity_gate_drop_and_track(tmp_path):
     assert p["looks"][0]["added"] == p["looks"][0]["seen"]
     assert t["looks"][0]["added"] == d["looks"][0]["added"] == d["looks"][0]["seen"]
     assert t["looks"][0]["added"] < p["looks"][0]["added"]
+
+
+def test_rig_walk_ambiguity_gate_resolve(tmp_path):
+    # "resolve" end to end on the first looks of the bundled walk: at the first look nothing
+    # predicts a period, so it starts exactly what "track" starts; later looks report how
+    # many ambiguous edges the model's prediction moved to another period
+    runs = {}
+    for name in ("track", "resolve"):
+        rc = main(["walk", "--looks", "6", "--kalman", "a29", "--ambiguity-gate", name,
+                   "--out", str(tmp_path / name), "--json", str(tmp_path / f"{name}.json"),
+                   "--quiet"])
+        assert rc == 0
+        runs[name] = json.loads((tmp_path / f"{name}.json").read_text())
+    t, r = runs["track"], runs["resolve"]
+    assert r["ambiguity_gate"] == "resolve" and "resolved" not in t["looks"][0]
+    assert r["looks"][0]["resolved"] == 0 and r["looks"][0]["ambiguous"] > 0
+    assert r["looks"][0]["added"] == t["looks"][0]["added"]
+    assert all(lk["resolved"] >= 0 for lk in r["looks"])
+    assert r["looks"][0]["seen"] == t["looks"][0]["seen"]
