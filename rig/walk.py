@@ -376,32 +376,27 @@ def _column_error(text: str) -> float:
     return value
 
 
-def _pose_floor(text: str) -> tuple[float, float]:
-    """--pose-floor: 'measured' or two positive numbers FT,DEG."""
-    from model.mapping import MEASURED_POSE_SIGMA_FLOOR
-    if text == "measured":
-        return MEASURED_POSE_SIGMA_FLOOR
-    try:
-        ft, deg = (float(v) for v in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: 'measured' or FT,DEG (two numbers)")
-    if not (np.isfinite(ft) and np.isfinite(deg) and ft >= 0 and deg >= 0):
-        raise argparse.ArgumentTypeError(f"{text!r}: FT and DEG must be finite and not negative")
-    return (ft, deg)
+def _sigma_floor(measured_name: str, flag: str):
+    """The parser of a --*-floor option: 'measured' (the constant
+    ``model.mapping.<measured_name>``) or two numbers FT,DEG, not negative."""
+    def parse(text: str) -> tuple[float, float]:
+        if text == "measured":
+            import model.mapping
+            return getattr(model.mapping, measured_name)
+        try:
+            ft, deg = (float(v) for v in text.split(","))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: 'measured' or FT,DEG (two numbers)")
+        if not (np.isfinite(ft) and np.isfinite(deg) and ft >= 0 and deg >= 0):
+            raise argparse.ArgumentTypeError(f"{text!r}: FT and DEG must be finite and not "
+                                             "negative")
+        return (ft, deg)
+    parse.__name__ = flag             # argparse names the option's type in its errors
+    return parse
 
 
-def _tilt_floor(text: str) -> tuple[float, float]:
-    """--tilt-floor: 'measured' or two positive numbers FT,DEG."""
-    from model.mapping import MEASURED_TILT_SIGMA_FLOOR
-    if text == "measured":
-        return MEASURED_TILT_SIGMA_FLOOR
-    try:
-        ft, deg = (float(v) for v in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: 'measured' or FT,DEG (two numbers)")
-    if not (np.isfinite(ft) and np.isfinite(deg) and ft >= 0 and deg >= 0):
-        raise argparse.ArgumentTypeError(f"{text!r}: FT and DEG must be finite and not negative")
-    return (ft, deg)
+_pose_floor = _sigma_floor("MEASURED_POSE_SIGMA_FLOOR", "pose floor")
+_tilt_floor = _sigma_floor("MEASURED_TILT_SIGMA_FLOOR", "tilt floor")
 
 
 FEATURE_GATE_DEFAULT = FEATURE_GATE_CHI2
