@@ -384,26 +384,11 @@ def stereo_ambiguity(left, right, edge: EdgeObservation, disparity_range: tuple[
     mean absolute grey difference.  Returns (difference at the rig's disparity, the best
     difference at a disparity more than ``same_px`` away, that disparity), or None when no
     other disparity fits inside the picture."""
-    L = np.asarray(left, dtype=np.int64)
-    Rp = np.asarray(right, dtype=np.int64)
-    h, w = L.shape
-    ys = np.clip(np.asarray(edge.lines, dtype=np.int64), 0, h - 1)
-    c = np.floor(np.asarray(edge.cols)).astype(np.int64)
-    d = np.rint(np.asarray(edge.disparities)).astype(np.int64)
+    profile = _disparity_profile(left, right, edge, disparity_range, half_width)
+    if profile is None:
+        return None
+    offsets, diff = profile
     d0 = int(np.rint(np.median(edge.disparities)))
-    k = np.arange(-half_width, half_width + 1)
-    lc = c[:, None] + k[None, :]
-    if lc.min() < 0 or lc.max() >= w:
-        return None
-    patch = L[ys[:, None], lc]
-    lo, hi = int(np.ceil(disparity_range[0])), int(np.floor(disparity_range[1]))
-    offsets = np.arange(lo - d0, hi - d0 + 1)
-    if offsets.size == 0:
-        return None
-    rc = lc[None, :, :] - d[None, :, None] - offsets[:, None, None]
-    valid = (rc >= 0).all(axis=(1, 2)) & (rc < w).all(axis=(1, 2))
-    diff = np.abs(Rp[ys[None, :, None], np.clip(rc, 0, w - 1)] - patch[None]).mean(axis=(1, 2))
-    diff = np.where(valid, diff, np.inf)
     own = np.abs(offsets) <= 1
     other = np.abs(offsets) > same_px
     if not own.any() or not np.isfinite(diff[own]).any() or not np.isfinite(diff[other]).any():
