@@ -201,6 +201,8 @@ def main(argv=None) -> int:
                        honest_2sigma=share, honest_features=n)
         if res.floor:
             row.update(res.floor)
+        if res.expired_uncertain is not None:
+            row["expired_uncertain"] = res.expired_uncertain
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
         rows.append(row)
@@ -231,7 +233,7 @@ def main(argv=None) -> int:
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "occupied": args.occupied, "hit_at": args.hit_at,
         "feature_pose": args.feature_pose, "goal_region": args.goal_region,
-        "floor_eyes": args.floor_eyes,
+        "floor_eyes": args.floor_eyes, "expire_uncertain": args.expire_uncertain,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
@@ -271,6 +273,8 @@ def main(argv=None) -> int:
     if any("vetoed_points" in r for r in rows):
         summary["vetoed_points"] = sum(r.get("vetoed_points", 0) for r in rows)
         summary["floor_cells"] = sum(r.get("floor_cells", 0) for r in rows)
+    if any("expired_uncertain" in r for r in rows):
+        summary["expired_uncertain"] = sum(r.get("expired_uncertain", 0) for r in rows)
     kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])
