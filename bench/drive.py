@@ -17,6 +17,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
     python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
+    python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
@@ -25,6 +26,9 @@ whose 2-sigma ellipse reaches the true outline.
 ``--floor-eyes carve|veto`` (planner.appearance) adds per room the floor's learned greys,
 the cells the floor in view proved free and the located points it vetoed; the summary sums
 the last two (``floor_cells``, ``vetoed_points``).
+
+``--expire-uncertain N`` adds per room, and sums in the summary, ``expired_uncertain``: the
+uncertain cells that expired to unknown after N looks had them in view with no hit.
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true

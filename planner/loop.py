@@ -435,7 +435,11 @@ class Perception:
         scan's bound of that column) in place of the blank-column assumption
         (``"carve"``, ``"veto"``) or beside it (``"add"``: the assumption still
         carves under its own rules); ``"veto"`` also leaves out the located
-        points the floor in view contradicts."""
+        points the floor in view contradicts.
+
+        ``expire_uncertain`` (a named option, N looks; 0 off) counts the look
+        against the uncertain cells it had in view without a hit
+        (:meth:`expire_in_view`); after N the map shows them UNKNOWN."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
