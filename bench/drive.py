@@ -17,6 +17,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
     python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
+    python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
@@ -25,6 +26,9 @@ whose 2-sigma ellipse reaches the true outline.
 ``--floor-eyes carve|veto`` (planner.appearance) adds per room the floor's learned greys,
 the cells the floor in view proved free and the located points it vetoed; the summary sums
 the last two (``floor_cells``, ``vetoed_points``).
+
+``--expire-uncertain N`` adds per room, and sums in the summary, ``expired_uncertain``: the
+uncertain cells that expired to unknown after N looks had them in view with no hit.
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
@@ -201,6 +205,8 @@ def main(argv=None) -> int:
                        honest_2sigma=share, honest_features=n)
         if res.floor:
             row.update(res.floor)
+        if res.expired_uncertain is not None:
+            row["expired_uncertain"] = res.expired_uncertain
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
         rows.append(row)
@@ -231,7 +237,7 @@ def main(argv=None) -> int:
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "occupied": args.occupied, "hit_at": args.hit_at,
         "feature_pose": args.feature_pose, "goal_region": args.goal_region,
-        "floor_eyes": args.floor_eyes,
+        "floor_eyes": args.floor_eyes, "expire_uncertain": args.expire_uncertain,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         "collisions": sum(r["collisions"] for r in rows),
@@ -271,6 +277,8 @@ def main(argv=None) -> int:
     if any("vetoed_points" in r for r in rows):
         summary["vetoed_points"] = sum(r.get("vetoed_points", 0) for r in rows)
         summary["floor_cells"] = sum(r.get("floor_cells", 0) for r in rows)
+    if any("expired_uncertain" in r for r in rows):
+        summary["expired_uncertain"] = sum(r.get("expired_uncertain", 0) for r in rows)
     kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])

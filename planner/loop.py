@@ -80,8 +80,8 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     cell_keys, features_cells, mark_assumed_free, mark_free_rays, mark_occupied, memory_bytes, \
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
-from .octree import free_below, key_centres, logodds_at
-from .perception import MAX_RANGE_FT, PLACES, floor_scan
+from .octree import _pack, _unpack, free_below, key_centres, logodds_at
+from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, floor_scan
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
@@ -200,6 +200,11 @@ class DriveConfig:
                                           # proof and the assumption (under its own rules)
                                           # both; "veto": "carve" and leave out the located
                                           # points the floor in view contradicts
+    expire_uncertain: int = 0             # 0 (off): an uncertain (once-hit) cell stays until
+                                          # sight lines clear it; N (a named option, not
+                                          # 1985): after N later looks had it in view and
+                                          # located nothing there, it shows UNKNOWN (never
+                                          # free) on the map (Perception.expire_in_view)
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -247,6 +252,7 @@ class DriveResult:
     match: str = "1985"
     features: FloorFeatures | None = None     # the floor features under occupied="model"
     floor: dict = field(default_factory=dict)  # under floor_eyes: what the floor in view did
+    expired_uncertain: int | None = None       # under expire_uncertain: the cells expired
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -286,6 +292,8 @@ class DriveResult:
             "start": [self.start.x, self.start.z, self.start.heading_deg],
             "goal": list(self.goal), "unknown": self.unknown, "search": self.search,
             "pose": self.pose, **({"floor": self.floor} if self.floor else {}),
+            **({"expired_uncertain": self.expired_uncertain}
+               if self.expired_uncertain is not None else {}),
             "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
             "dead_reckoning_error_ft_final":
                 round(float(self.track_errors(self.dead_track)[-1]), 3),
@@ -365,6 +373,10 @@ class Perception:
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
         self.floor_eyes = "off"           # or "carve", "add", "veto" (DriveConfig.floor_eyes)
+        self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
+        self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
+        self.expired: dict[int, float] = {}   # packed key -> its log-odds when it expired
+        self.expired_total = 0            # expiries so far (a cell hit again may expire anew)
         self.lowest_ft = 0.8              # DriveConfig.lowest_obstacle_ft
         self.floor_hist = np.zeros(16)    # greys of the pixels known to show floor, all looks
         self.vetoed = 0                   # located points the floor in view contradicted
@@ -423,7 +435,11 @@ class Perception:
         scan's bound of that column) in place of the blank-column assumption
         (``"carve"``, ``"veto"``) or beside it (``"add"``: the assumption still
         carves under its own rules); ``"veto"`` also leaves out the located
-        points the floor in view contradicts."""
+        points the floor in view contradicts.
+
+        ``expire_uncertain`` (a named option, N looks; 0 off) counts the look
+        against the uncertain cells it had in view without a hit
+        (:meth:`expire_in_view`); after N the map shows them UNKNOWN."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -451,6 +467,8 @@ class Perception:
                                features_cells(fs.hits, cov, res),
                                spans_cells(fs.hits, fs.spans, res)])
             grown = cell_centres(grown[np.abs(grown[:, 1] - left[1]) < res], res)  # floor slab
+            if self.expire_uncertain and self.occupied == "looks":
+                self.expire_in_view(fs, R, left, cell_keys(grown, res))
             self.hit_keys = np.union1d(self.hit_keys, cell_keys(grown, res))
             assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
                 else np.zeros(len(fs.free_ends), bool)
@@ -484,9 +502,123 @@ class Perception:
                                        and pose_cov is not None else None)
             if self.occupied == "model":
                 self.retire(left, self.max_range_ft + 3.0)
+        elif self.expire_uncertain and self.occupied == "looks":
+            self.expire_in_view(fs, R, left, np.zeros(0, np.int64))   # it located nothing
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
+
+    def expire_in_view(self, fs, R, left, look_keys) -> int:
+        """Count this look against every uncertain cell (hit by earlier looks,
+        not confirmed) that it had IN VIEW without locating anything there,
+        and expire a cell after ``expire_uncertain`` such looks: it then shows
+        UNKNOWN on the map (:meth:`floor_map`), never free, until a hit raises
+        its log-odds again.  Returns the cells expired by this look.
+
+        In view: in the picture's columns (the floor scan's own placement of
+        a column's range, ``place="axis"``, inverted), from ``near_ft`` on
+        (nearer, the lowest obstacle is below the picture) to ``max_range_ft``,
+        and nearer by a cell than the column's bound in this look — its hit, or
+        the end of its free sight line between two hits — in the cell's
+        column and the one each side (a column showing nothing at all has no
+        bound).  A cell within one cell of anything this look hit
+        (``look_keys``: its grown hit cells) is not counted and starts over:
+        a real corner seen again from near by shows again.  Cells whose state
+        is already OCCUPIED never expire."""
+        res = self.tree.getResolution()
+        cand = self._uncertain_keys(left, res)
+        if not len(cand):
+            return 0
+        xyz = key_centres(cand, res)
+        # the cell and its 8 neighbours against this look's hits
+        k = _unpack(cand)
+        near_hit = np.zeros(len(cand), bool)
+        look_keys = np.asarray(look_keys, np.int64)
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                near_hit |= np.isin(_pack(k + np.array([di, 0, dj])), look_keys)
+        # the column of each cell: v = s * (u * a + b), a, b the levelled
+        # right and forward axes of the camera (floor_scan's "axis" placement)
+        a = R[[0, 2], 0]
+        b = R[[0, 2], 2]
+        v = xyz[:, [0, 2]] - left[[0, 2]]
+        M = np.array([[a[0], b[0]], [a[1], b[1]]])
+        su, s = np.linalg.solve(M, v.T)
+        d = np.hypot(v[:, 0], v[:, 1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            col = np.where(s > 0, su / s * FOCAL_128 + CX_128 + 0.5, -1.0)
+        c = np.round(col).astype(int)
+        inview = (s > 0) & (c >= 2) & (c <= 127) & (d >= self.near_ft) & \
+            (d <= self.max_range_ft)
+        bound = np.full(130, np.inf)                 # 1-based columns, with a pad each side
+        for pts, cols, ok in ((fs.hits, fs.hit_cols, None),
+                              (fs.free_ends, fs.free_cols, None if fs.assumed is None
+                               else ~np.asarray(fs.assumed, bool))):
+            if cols is None or not len(pts):
+                continue
+            dist = np.hypot(pts[:, 0] - left[0], pts[:, 2] - left[2])
+            cc = np.asarray(cols, int)
+            sel = np.ones(len(cc), bool) if ok is None else ok
+            np.minimum.at(bound, cc[sel], dist[sel])
+        cs = np.clip(c, 1, 128)
+        nearest = np.minimum(np.minimum(bound[cs - 1], bound[cs]), bound[cs + 1])
+        counted = inview & (d <= nearest - res) & ~near_hit
+        for key in cand[near_hit]:
+            self.unseen.pop(int(key), None)
+        expired = 0
+        for key in cand[counted]:
+            key = int(key)
+            n = self.unseen.get(key, 0) + 1
+            self.unseen[key] = n
+            if n >= self.expire_uncertain and key not in self.expired:
+                self.expired[key] = float("nan")      # its log-odds, read after this look
+                expired += 1
+        self.expired_total += expired
+        return expired
+
+    def _uncertain_keys(self, left, res: float) -> np.ndarray:
+        """Packed keys of the floor-slab cells any look hit that are UNCERTAIN
+        now (before this look), within range of ``left``."""
+        keys = self.hit_keys
+        if not len(keys):
+            return keys
+        xyz = key_centres(keys, res)
+        keys = keys[np.hypot(xyz[:, 0] - left[0], xyz[:, 2] - left[2])
+                    <= self.max_range_ft + res]
+        if not len(keys):
+            return keys
+        lo = logodds_at(self.tree, keys)
+        unc = (lo >= 0) & (lo < self.tree.getOccupancyThresLog())    # NaN: neither
+        return keys[unc]
+
+    def _apply_expired(self, fm: FloorMap) -> None:
+        """Show the expired cells UNKNOWN: those still uncertain whose log-odds
+        have not risen since they expired (a later hit revives a cell, a
+        later sight line through it may clear it as before)."""
+        if not self.expired:
+            return
+        res = self.tree.getResolution()
+        keys = np.fromiter(self.expired.keys(), np.int64, len(self.expired))
+        then = np.fromiter(self.expired.values(), float, len(self.expired))
+        lo = logodds_at(self.tree, keys)
+        then = np.where(np.isnan(then), lo, then)       # expired this look: read now
+        for key, t in zip(keys, then):
+            self.expired[int(key)] = float(t)
+        revived = ~(lo <= then + 1e-9)                  # raised by a hit (or gone)
+        for key in keys[revived]:
+            self.expired.pop(int(key), None)
+            self.unseen.pop(int(key), None)
+        occ_lo = self.tree.getOccupancyThresLog()
+        show = ~revived & (lo >= 0) & (lo < occ_lo)
+        if not show.any():
+            return
+        k = _unpack(keys[show])
+        i = k[:, 2] - int(round(fm.z0 / res))
+        j = k[:, 0] - int(round(fm.x0 / res))
+        ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        i, j = i[ok], j[ok]
+        sel = fm.cells[i, j] == UNCERTAIN
+        fm.cells[i[sel], j[sel]] = UNKNOWN
 
     def _carve_floor(self, fs, rays, top, left, res: float) -> int:
         """Carve each column's floor in view (:func:`planner.appearance.floor_proof`),
@@ -553,6 +685,8 @@ class Perception:
                             free_looks=self.free_looks, free_band=self.free_band)
         if self.occupied == "model":
             self._draw_features(fm)
+        elif self.expire_uncertain:
+            self._apply_expired(fm)
         return fm
 
     def _draw_features(self, fm: FloorMap) -> None:
@@ -1109,6 +1243,11 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                          f"{', '.join(FEATURE_POSES)}")
     model.feature_pose = cfg.feature_pose
     model.floor_eyes = cfg.floor_eyes
+    if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
+            cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
+        raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
+                         f"not {cfg.expire_uncertain!r}")
+    model.expire_uncertain = int(cfg.expire_uncertain)
     model.lowest_ft = cfg.lowest_obstacle_ft
     # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
     dead_cov = np.zeros((3, 3))
@@ -1261,7 +1400,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
                        cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match,
                        model.features if cfg.occupied == "model" else None,
-                       _floor_stats(model) if cfg.floor_eyes != "off" else {})
+                       _floor_stats(model) if cfg.floor_eyes != "off" else {},
+                       model.expired_total if cfg.expire_uncertain else None)
 
 
 def _floor_stats(model: "Perception") -> dict:

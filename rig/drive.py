@@ -206,6 +206,10 @@ def add_loop_options(p) -> None:
                         "floor in view carved free in place of the blank-column assumption; "
                         "add: carved beside the assumption; veto: carve, and leave out located "
                         "points the floor in view contradicts")
+    p.add_argument("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
+                   help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
+                        "free) after N later looks had it in view and located nothing there "
+                        "(not 1985; default 0: off, it stays until sight lines clear it)")
     p.add_argument("--cell-ft", type=float, default=None, metavar="FT",
                    help="the octree's finest cell: the fewest levels over the 32 ft volume of "
                         "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
@@ -249,6 +253,8 @@ def loop_config(args, goal, fail):
             voi = VolumeOfInterest.for_accuracy(args.cell_ft)
         except ValueError as exc:
             fail(f"--cell-ft: {exc}")
+    if args.expire_uncertain < 0:
+        fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
     if args.margin is not None and not 0 <= args.margin < 10:
         fail(f"--margin {args.margin!r}: a planning margin in feet, at least 0 and under 10")
     profile = replace(DEFAULT, reverse=args.reverse == "on",
@@ -262,6 +268,7 @@ def loop_config(args, goal, fail):
                        look_around=args.look_around, progress=args.progress,
                        uncertain=args.uncertain, track_free=args.track_free,
                        goal_region=args.goal_region, floor_eyes=args.floor_eyes,
+                       expire_uncertain=args.expire_uncertain,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
