@@ -142,6 +142,9 @@ class DriveConfig:
     carve: str = "error"                  # perception.floor_scan's carve: "error": to the
                                           # near end of an edge's bound; "range": to its range
                                           # (0.2-0.45 ft into a face in room 40)
+    blank_px: int | None = None           # the blank-column assumption only this many picture
+                                          # columns beside a located one (floor_scan's
+                                          # blank_px); None: the whole blank run
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
@@ -369,6 +372,7 @@ class Perception:
         self.growth = "covariance"        # or "across" (DriveConfig.growth)
         self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
         self.carve = "range"              # or "error" (DriveConfig.carve)
+        self.blank_px = None              # DriveConfig.blank_px
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
@@ -459,7 +463,8 @@ class Perception:
                     self.vetoed += int(bad.sum())
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
-                        blank_ft=self.blank_ft, carve=self.carve, place=self.place)
+                        blank_ft=self.blank_ft, carve=self.carve, place=self.place,
+                        blank_px=self.blank_px)
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -1231,6 +1236,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"blank_carve must be 'unknown' or 'always', not {cfg.blank_carve!r}")
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve
+    if cfg.blank_px is not None and cfg.blank_px < 0:
+        raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
+    model.blank_px = cfg.blank_px
     if cfg.occupied not in OCCUPIEDS:
         raise ValueError(f"unknown occupied-cell source {cfg.occupied!r}; one of "
                          f"{', '.join(OCCUPIEDS)}")

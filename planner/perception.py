@@ -144,7 +144,8 @@ PLACES = ("axis", "point")
 
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
-               carve: str = "range", blank_alone: bool = True, place: str = "axis") -> FloorScan:
+               carve: str = "range", blank_alone: bool = True, place: str = "axis",
+               blank_px: int | None = None) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -167,6 +168,16 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     that located something: a look that located nothing at all may face a
     blank surface nearer than anything (or nearer than the lowest obstacle
     shows), and carving its whole view to ``blank_ft`` carves through it.
+
+    ``blank_px`` (a named option) keeps the blank-column assumption beside
+    what the look located: only columns at most ``blank_px`` columns from
+    the nearest located column (beside the outermost ones, or inside a gap
+    wider than ``max_gap_px``) are carved by it.  A located edge bounds only
+    the surfaces it belongs to; a blank run far from any located column may
+    be a box whose own edges the look did not locate, nearer than the edge
+    that bounds the run (room 45: a box 4.5 ft away, 20-60 columns beside
+    an edge at 7.6 ft, carved through).  A look that located nothing is
+    governed by ``blank_alone`` alone.
 
     ``place`` says where a column's range is put on the floor plane:
     ``"axis"`` (the default) along the column's ray through the picture's
@@ -244,10 +255,14 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         a, b = cols[k], cols[k + 1]
         if b - a > 1 and b - a <= gap_px:
             between = np.arange(a + 1, b)
+            wide = b - a > max_gap_px
+            if wide and blank_px is not None:
+                # by assumption only near the two edges
+                between = between[np.minimum(between - a, b - between) <= blank_px]
             free_cols.append(between)
             free_rng.append(np.full(len(between), min(reach[k], reach[k + 1])))
             # a gap wider than max_gap_px is free only by the blank-column assumption
-            assumed.append(np.full(len(between), b - a > max_gap_px))
+            assumed.append(np.full(len(between), wide))
         if b - a <= max_gap_px:
             tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
             if abs(rng[k] - rng[k + 1]) <= tol:
@@ -261,10 +276,11 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         hi_c = cols[-1] if len(cols) else 0
         sides = (np.arange(1, lo_c), np.arange(hi_c + 1, 129)) if len(cols) else \
             (np.arange(1, 129),)                      # (not the whole view twice)
-        for side in sides:
+        edges = (reach[0], reach[-1]) if len(cols) else (blank_ft,)
+        if len(cols) and blank_px is not None:
+            sides = (sides[0][sides[0] >= lo_c - blank_px], sides[1][sides[1] <= hi_c + blank_px])
+        for side, edge_r in zip(sides, edges):
             if len(side):
-                edge_r = reach[0] if (len(cols) and side[0] == 1) else \
-                    (reach[-1] if len(cols) else blank_ft)
                 free_cols.append(side)
                 free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))
                                         if len(cols) else float(blank_ft)))

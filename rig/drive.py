@@ -238,6 +238,10 @@ def add_loop_options(p) -> None:
     p.add_argument("--carve", choices=("error", "range"), default=C.carve,
                    help="columns between two edges free up to the near end of the edges' error "
                         "bound (default) or up to their range")
+    p.add_argument("--blank-px", type=int, default=C.blank_px if C.blank_px is not None else -1,
+                   metavar="N",
+                   help="that assumption carves only picture columns at most N columns beside a "
+                        "located one (-1: the whole blank run)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -270,6 +274,7 @@ def loop_config(args, goal, fail):
                        goal_region=args.goal_region, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
+                       blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 
