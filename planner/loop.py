@@ -142,9 +142,11 @@ class DriveConfig:
     carve: str = "error"                  # perception.floor_scan's carve: "error": to the
                                           # near end of an edge's bound; "range": to its range
                                           # (0.2-0.45 ft into a face in room 40)
-    blank_px: int | None = None           # the blank-column assumption only this many picture
+    blank_px: int | None = 16             # the blank-column assumption only this many picture
                                           # columns beside a located one (floor_scan's
-                                          # blank_px); None: the whole blank run
+                                          # blank_px: half max_gap_px, as between two edges);
+                                          # None: the whole blank run (a box whose edges no
+                                          # look located was carved: collision in room 45)
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
