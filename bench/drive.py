@@ -236,6 +236,7 @@ def main(argv=None) -> int:
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
+        "blank_limit": args.blank_limit,
         "occupied": args.occupied, "hit_at": args.hit_at,
         "feature_pose": args.feature_pose, "goal_region": args.goal_region,
         "floor_eyes": args.floor_eyes, "expire_uncertain": args.expire_uncertain,

@@ -81,7 +81,7 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
 from .octree import _pack, _unpack, free_below, key_centres, logodds_at
-from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, floor_scan
+from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, BLANK_LIMITS, floor_scan
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
@@ -147,6 +147,9 @@ class DriveConfig:
                                           # blank_px: half max_gap_px, as between two edges);
                                           # None: the whole blank run (a box whose edges no
                                           # look located was carved: collision in room 45)
+    blank_limit: str = "all"              # where blank_px applies (floor_scan's blank_limit):
+                                          # "all": beside the outermost edges and inside wide
+                                          # gaps; "sides": only beside the outermost edges
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
@@ -375,6 +378,7 @@ class Perception:
         self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.blank_px = None              # DriveConfig.blank_px
+        self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
@@ -466,7 +470,7 @@ class Perception:
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                         blank_ft=self.blank_ft, carve=self.carve, place=self.place,
-                        blank_px=self.blank_px)
+                        blank_px=self.blank_px, blank_limit=self.blank_limit)
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -1241,6 +1245,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
+    if cfg.blank_limit not in BLANK_LIMITS:
+        raise ValueError(f"blank_limit must be one of {', '.join(BLANK_LIMITS)}, "
+                         f"not {cfg.blank_limit!r}")
+    model.blank_limit = cfg.blank_limit
     if cfg.occupied not in OCCUPIEDS:
         raise ValueError(f"unknown occupied-cell source {cfg.occupied!r}; one of "
                          f"{', '.join(OCCUPIEDS)}")

@@ -140,12 +140,13 @@ class FloorScan:
 
 CARVE = ("range", "error")
 PLACES = ("axis", "point")
+BLANK_LIMITS = ("all", "sides")   # where floor_scan's blank_px applies
 
 
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
                carve: str = "range", blank_alone: bool = True, place: str = "axis",
-               blank_px: int | None = None) -> FloorScan:
+               blank_px: int | None = None, blank_limit: str = "all") -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -179,6 +180,13 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     an edge at 7.6 ft, carved through).  A look that located nothing is
     governed by ``blank_alone`` alone.
 
+    ``blank_limit`` says where ``blank_px`` applies: ``"all"`` (the default)
+    both beside the outermost located columns and inside a wide gap;
+    ``"sides"`` (a named option) only beside the outermost ones (toward the
+    picture's edges), and a gap wider than ``max_gap_px`` between two located
+    columns is carved whole as without ``blank_px`` (a blank run bounded on
+    both sides; room 45's carving came from the sides).
+
     ``place`` says where a column's range is put on the floor plane:
     ``"axis"`` (the default) along the column's ray through the picture's
     centre line, at depth ``range`` in the camera's axes, then moved to the
@@ -194,6 +202,8 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     if place not in PLACES:
         raise ValueError(f"place must be one of {PLACES}, not {place!r}")
+    if blank_limit not in BLANK_LIMITS:
+        raise ValueError(f"blank_limit must be one of {BLANK_LIMITS}, not {blank_limit!r}")
     R = np.asarray(R, float)
     origin = np.asarray(left_centre, float)
     xyz_c, cov_c, line, loc1, ep = camera_points(points)
@@ -256,7 +266,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         if b - a > 1 and b - a <= gap_px:
             between = np.arange(a + 1, b)
             wide = b - a > max_gap_px
-            if wide and blank_px is not None:
+            if wide and blank_px is not None and blank_limit == "all":
                 # by assumption only near the two edges
                 between = between[np.minimum(between - a, b - between) <= blank_px]
             free_cols.append(between)

@@ -242,6 +242,10 @@ def add_loop_options(p) -> None:
                    metavar="N",
                    help="that assumption carves only picture columns at most N columns beside a "
                         "located one (default 16; -1: the whole blank run, collides in room 45)")
+    p.add_argument("--blank-limit", choices=("all", "sides"), default=C.blank_limit,
+                   help="where --blank-px applies: 'all' (default): beside the outermost located "
+                        "columns and inside wide gaps between two; 'sides': only beside the "
+                        "outermost ones, wide gaps carved whole")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -275,6 +279,7 @@ def loop_config(args, goal, fail):
                        expire_uncertain=args.expire_uncertain,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
+                       blank_limit=args.blank_limit,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 

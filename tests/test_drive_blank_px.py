@@ -47,12 +47,34 @@ def test_blank_px_keeps_the_assumption_beside_the_located_columns():
     assert len(floor_scan([], np.eye(3), origin, BAND, blank_ft=8.0, blank_px=16).free_ends) == 128
 
 
-def _model(blank_px):
+def test_blank_limit_sides_limits_only_the_columns_beside_the_outermost_edges():
+    origin = np.zeros(3)
+    pts = _edge(40, 5.0) + _edge(110, 6.0)        # 70 columns apart: wider than max_gap_px
+    full = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0)
+    sides = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0, blank_px=16,
+                       blank_limit="sides")
+    # beside the outermost edges 16 columns (toward the picture's edges), the gap whole
+    assert sorted(_cols(sides)) == list(range(24, 40)) + list(range(41, 110)) + \
+        list(range(111, 127))
+    assert sides.assumed.all()
+    ranges = dict(zip(_cols(full), full.free_ends[:, 2]))
+    assert np.allclose(sides.free_ends[:, 2], [ranges[c] for c in _cols(sides)])
+    gap = (_cols(sides) > 40) & (_cols(sides) < 110)
+    assert np.allclose(sides.free_ends[gap, 2], 5.0)       # the nearer edge's range
+    # without blank_px the limit changes nothing
+    plain = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0, blank_limit="sides")
+    assert sorted(_cols(plain)) == sorted(_cols(full))
+    with pytest.raises(ValueError, match="blank_limit"):
+        floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0, blank_limit="gaps")
+
+
+def _model(blank_px, blank_limit="all"):
     m = Perception(VolumeOfInterest(32.0, 7), DriveConfig.band, 12.0, 2, 1,
                    near_ft=2.3, blank_ft=8.0)
     m.blank_carve = "unknown"
     m.carve = "error"
     m.blank_px = blank_px
+    m.blank_limit = blank_limit
     return m
 
 
@@ -87,6 +109,22 @@ def test_a_box_whose_edges_were_not_located_is_not_carved_beside_a_far_edge():
         assert query(m.tree, np.array([x, y, 6.0])) == FREE
 
 
+def test_blank_limit_sides_misses_room_45s_box_and_still_carves_a_wide_gap():
+    # room 45's look 4 under "sides": the box beside the one edge is not carved
+    box = _box_cells(20, 48, 4.0, 5.0)
+    m = _model(16, "sides")
+    m.update(_edge(68, 7.6, 0.1), State(0.0, 0.0, 0.0), Pose, 0.0)
+    y = m.points[0][1]
+    assert {query(m.tree, np.array([x, y, z])) for x, z in box} == {UNKNOWN}
+    # two edges 80 columns apart at 7.6 ft: the middle of the gap (40 columns from
+    # either edge) is carved under "sides", not under "all"
+    x = LEFT_X + (60 - 0.5 - CX_128) * 5.0 / FOCAL_128
+    for blank_limit, want in (("sides", FREE), ("all", UNKNOWN)):
+        m = _model(16, blank_limit)
+        m.update(_edge(20, 7.6, 0.1) + _edge(100, 7.6, 0.1), State(0.0, 0.0, 0.0), Pose, 0.0)
+        assert query(m.tree, np.array([x, m.points[0][1], 5.0])) == want, blank_limit
+
+
 def test_blank_px_reaches_the_config_and_a_bad_value_is_refused():
     from planner.loop import run
     from planner.tiny import GOAL, tiny_room
@@ -100,3 +138,9 @@ def test_blank_px_reaches_the_config_and_a_bad_value_is_refused():
     assert loop_config(ap.parse_args(["--blank-px", "-1"]), (0.0, 0.0), ap.error).blank_px is None
     with pytest.raises(ValueError, match="blank_px"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, blank_px=-2))
+    assert DriveConfig.blank_limit == "all"
+    assert loop_config(ap.parse_args([]), (0.0, 0.0), ap.error).blank_limit == "all"
+    assert loop_config(ap.parse_args(["--blank-limit", "sides"]), (0.0, 0.0),
+                       ap.error).blank_limit == "sides"
+    with pytest.raises(ValueError, match="blank_limit"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, blank_limit="gaps"))
