@@ -1216,7 +1216,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
                           ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
-                          ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES)):
+                          ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
+                          ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
+                          ("occupied", OCCUPIEDS), ("hit_at", PLACES),
+                          ("feature_pose", FEATURE_POSES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
@@ -1238,27 +1241,14 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                        near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     model.growth = cfg.growth
-    if cfg.blank_carve not in ("unknown", "always"):
-        raise ValueError(f"blank_carve must be 'unknown' or 'always', not {cfg.blank_carve!r}")
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
-    if cfg.blank_limit not in BLANK_LIMITS:
-        raise ValueError(f"blank_limit must be one of {', '.join(BLANK_LIMITS)}, "
-                         f"not {cfg.blank_limit!r}")
     model.blank_limit = cfg.blank_limit
-    if cfg.occupied not in OCCUPIEDS:
-        raise ValueError(f"unknown occupied-cell source {cfg.occupied!r}; one of "
-                         f"{', '.join(OCCUPIEDS)}")
     model.occupied = cfg.occupied
-    if cfg.hit_at not in PLACES:
-        raise ValueError(f"unknown hit placement {cfg.hit_at!r}; one of {', '.join(PLACES)}")
     model.place = cfg.hit_at
-    if cfg.feature_pose not in FEATURE_POSES:
-        raise ValueError(f"unknown feature pose error {cfg.feature_pose!r}; one of "
-                         f"{', '.join(FEATURE_POSES)}")
     model.feature_pose = cfg.feature_pose
     model.floor_eyes = cfg.floor_eyes
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(

@@ -180,11 +180,11 @@ def test_the_loop_on_the_regenerated_map_reaches_the_tiny_rooms_goal():
 
 
 def test_an_unknown_occupied_source_is_refused():
-    with pytest.raises(ValueError, match="occupied"):
+    with pytest.raises(ValueError, match="unknown occupied 'octree'; one of looks, model"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, occupied="octree"))
-    with pytest.raises(ValueError, match="feature pose"):
+    with pytest.raises(ValueError, match="unknown feature_pose 'gps'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, feature_pose="gps"))
-    with pytest.raises(ValueError, match="placement"):
+    with pytest.raises(ValueError, match="unknown hit_at 'floor'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, hit_at="floor"))
 
 
