@@ -304,11 +304,7 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
             reason[i] = "not mutual"
         has = set(c.i.tolist())
     if constraints.region:
-        supported = _region_supported(c, p.region_tolerance)
-        if p.region_penalty is None:
-            c = c.subset(supported)
-        else:
-            c = replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
+        c = _region_weighted(c, p)
         for i in has - set(c.i.tolist()):
             reason[i] = "no region partner"
     evidence = c.cost                       # what a verdict reports as its cost
@@ -421,12 +417,18 @@ def judged_candidates(c: Candidates, constraints: Constraints, p: Params) -> Can
     if constraints.lr:
         c = c.subset(_mutual(c, p.lr_tolerance))
     if constraints.region:
-        supported = _region_supported(c, p.region_tolerance)
-        if p.region_penalty is None:
-            c = c.subset(supported)
-        else:
-            c = replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
+        c = _region_weighted(c, p)
     return c
+
+
+def _region_weighted(c: Candidates, p: Params) -> Candidates:
+    """The ``region`` constraint on a line's candidates: those without a
+    region partner cost ``region_penalty`` more, or are left out when it is
+    None (strict)."""
+    supported = _region_supported(c, p.region_tolerance)
+    if p.region_penalty is None:
+        return c.subset(supported)
+    return replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
 
 
 CONFIRMABLE = ("occluded", "not on a vertical line", "ambiguous")
