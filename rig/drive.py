@@ -153,7 +153,9 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C
+    from planner.loop import DriveConfig as C, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
+        MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES, UNCERTAIN_PLANS
+    from planner.perception import BLANK_LIMITS, PLACES
     from model.pose import ESTIMATORS
     p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,
                    help="plan through never-seen space as free (default) or blocked; the vehicle "
@@ -163,11 +165,11 @@ def add_loop_options(p) -> None:
     p.add_argument("--eyes", choices=("rig", "truth"), default=C.eyes,
                    help="rig: the matcher's ranges (default); truth: the true range at the "
                         "same edge pixels (an oracle: the planner without the matcher's errors)")
-    p.add_argument("--match", choices=("1985", "improved"), default=C.match,
+    p.add_argument("--match", choices=MATCHES, default=C.match,
                    help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
                         "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
                         "the best available; on the in-process rig, several times slower)")
-    p.add_argument("--pose", choices=("fused", "dead_reckoning"), default=C.pose,
+    p.add_argument("--pose", choices=POSES, default=C.pose,
                    help="the camera estimate that places each look: fused: the symbolic model's "
                         "(the walk's step: the robust fix on matched vertices fused with the "
                         "odometry's prior); dead_reckoning: the odometry alone (default)")
@@ -182,25 +184,25 @@ def add_loop_options(p) -> None:
     p.add_argument("--growth", choices=("covariance", "across"), default=C.growth,
                    help="a located hit grown by its whole covariance (the dissertation's, "
                         "default) or by its error across the sight line only")
-    p.add_argument("--feature-pose", choices=("absolute", "drift", "none"),
+    p.add_argument("--feature-pose", choices=FEATURE_POSES,
                    default=C.feature_pose,
                    help="with --occupied model: the pose error in each observation's "
                         "covariance: the dead-reckoned pose's whole covariance (default), the "
                         "drift since a feature was last seen, or none")
-    p.add_argument("--hit-at", choices=("axis", "point"), default=C.hit_at,
+    p.add_argument("--hit-at", choices=PLACES, default=C.hit_at,
                    help="where a look's range lands on the floor plane: along the pitched "
                         "optical axis (default; short by up to the pitch's cosine) or at the "
                         "located point's own horizontal position")
-    p.add_argument("--occupied", choices=("looks", "model"), default=C.occupied,
+    p.add_argument("--occupied", choices=OCCUPIEDS, default=C.occupied,
                    help="the map's occupied cells: every look's hits grown by that look's "
                         "covariance (default), or regenerated each cycle from the floor "
                         "features fused look by look (Chapter IV's octree regenerated from "
                         "the symbolic model)")
-    p.add_argument("--goal-region", choices=("point", "disc"), default=C.goal_region,
+    p.add_argument("--goal-region", choices=GOALS, default=C.goal_region,
                    help="what the planner plans to: the goal point (default; refused when the "
                         "map puts an obstacle within the vehicle's radius of it) or the "
                         "standable cell nearest it inside the goal tolerance (0.75 ft)")
-    p.add_argument("--floor-eyes", choices=("off", "carve", "add", "veto"), default=C.floor_eyes,
+    p.add_argument("--floor-eyes", choices=FLOOR_EYES, default=C.floor_eyes,
                    help="free floor from what the picture shows (not 1985; planner.appearance): "
                         "off (default); carve: once the floor's grey is learned, each column's "
                         "floor in view carved free in place of the blank-column assumption; "
@@ -214,18 +216,18 @@ def add_loop_options(p) -> None:
                    help="the octree's finest cell: the fewest levels over the 32 ft volume of "
                         "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
                         "depth 8)")
-    p.add_argument("--look-around", choices=("sweep", "evidence"), default=C.look_around,
+    p.add_argument("--look-around", choices=LOOK_AROUNDS, default=C.look_around,
                    help="when the vehicle cannot move: face the path and sweep (default), or look "
                         "at where the path lacks evidence, from a place a look shows it")
-    p.add_argument("--progress", choices=("moved", "evidence"), default=C.progress,
+    p.add_argument("--progress", choices=PROGRESSES, default=C.progress,
                    help="what resets the count of looks without progress: any motion (default), "
                         "or a shorter way left than ever or new free space seen")
-    p.add_argument("--uncertain", choices=("blocked", "look"), default=C.uncertain,
+    p.add_argument("--uncertain", choices=UNCERTAIN_PLANS, default=C.uncertain,
                    help="no path avoids the uncertain cells (hit by one look): head for the "
                         "reachable cell nearest the goal (default), or plan through them and look")
     p.add_argument("--reverse", choices=("off", "on"), default="off",
                    help="the vehicle may BACK straight over space seen free (default off)")
-    p.add_argument("--track-free", choices=("poses", "swept"), default=C.track_free,
+    p.add_argument("--track-free", choices=TRACK_FREES, default=C.track_free,
                    help="free where the vehicle stood: its footprint at each pose (default), or "
                         "the footprint swept by every move and pivot, shrunk by the margin")
     p.add_argument("--blank-ft", type=float, default=C.blank_ft, metavar="FT",
@@ -242,7 +244,7 @@ def add_loop_options(p) -> None:
                    metavar="N",
                    help="that assumption carves only picture columns at most N columns beside a "
                         "located one (default 16; -1: the whole blank run, collides in room 45)")
-    p.add_argument("--blank-limit", choices=("all", "sides"), default=C.blank_limit,
+    p.add_argument("--blank-limit", choices=BLANK_LIMITS, default=C.blank_limit,
                    help="where --blank-px applies: 'all' (default): beside the outermost located "
                         "columns and inside wide gaps between two; 'sides': only beside the "
                         "outermost ones, wide gaps carved whole")
