@@ -292,8 +292,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         for side, edge_r in zip(sides, edges):
             if len(side):
                 free_cols.append(side)
-                free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))
-                                        if len(cols) else float(blank_ft)))
+                free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))))
                 assumed.append(np.ones(len(side), bool))
     if free_cols:
         fcols = np.concatenate(free_cols).astype(int)
