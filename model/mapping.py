@@ -71,6 +71,13 @@ AMBIGUITY_NEAREST_FT = 1.0   # the ambiguity gate searches disparities from max_
 CONSISTENT_CHI2 = 11.345      # a look consistent with its feature: chi-square 99 %, 3 degrees of freedom
 
 
+def _ambiguity_disparities(config) -> tuple[float, float]:
+    """The disparities (px) the ambiguity gate searches: from ``max_range_ft`` in to
+    AMBIGUITY_NEAREST_FT."""
+    cam = config.camera
+    return cam.ds * cam.dv / config.max_range_ft, cam.ds * cam.dv / AMBIGUITY_NEAREST_FT
+
+
 @dataclass
 class WalkConfig:
     methods: tuple[str, ...] = ESTIMATORS
@@ -438,8 +445,7 @@ class Walker:
         resolved_before = self.resolved
         unresolved: list = []
         if config.ambiguity_gate is not None:
-            d_range = (config.camera.ds * config.camera.dv / config.max_range_ft,
-                       config.camera.ds * config.camera.dv / AMBIGUITY_NEAREST_FT)
+            d_range = _ambiguity_disparities(config)
             for e in edges:
                 if e.vertices and is_ambiguous(stereo_ambiguity(look.left_bi, look.right_bi,
                                                                 e, d_range)):
@@ -580,7 +586,7 @@ class Walker:
         start no feature, the unresolved edges' candidate vertices)."""
         from .matching import gated_distances
         config, cam = self.config, self.config.camera
-        d_range = (cam.ds * cam.dv / config.max_range_ft, cam.ds * cam.dv / AMBIGUITY_NEAREST_FT)
+        d_range = _ambiguity_disparities(config)
         step = float(np.median(np.diff(self.lines))) if len(self.lines) > 1 else 1.0
         no_new: set[int] = set()
         unresolved: list = []
