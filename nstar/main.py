@@ -8,7 +8,9 @@ is asked for exactly as in 1985.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+import time
 from pathlib import Path
 
 from diskfmt import version
@@ -110,12 +112,40 @@ def _save_new(name: str, data: bytes, console: Console) -> bool:
     return False
 
 
-def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None) -> int:
+STARTER_POLL_S = 1.0      # how often a wait for a command looks whether its starter still runs
+
+
+def wait_for_command(jh: JHData, idle_timeout: float | None, starter_pid: int | None) -> None:
+    """NWAIT for NCONT.DT (label 100).  With ``starter_pid`` (beyond 1985) the
+    wait also ends, with :class:`Abort`, once this process is no longer that
+    one's child: a starter killed outright (SIGKILL) cannot send the terminate
+    command, and its NSTAR would otherwise wait out the idle timeout."""
+    if starter_pid is None:
+        jh.wait_for("NCONT.DT", timeout=idle_timeout or 0)
+        return
+    deadline = time.monotonic() + idle_timeout if idle_timeout else None
+    while True:
+        step = STARTER_POLL_S
+        if deadline is not None:
+            step = min(step, deadline - time.monotonic())
+            if step <= 0:
+                raise LinkTimeout(jh.not_written("NCONT.DT", idle_timeout))
+        try:
+            jh.wait_for("NCONT.DT", timeout=step)
+            return
+        except LinkTimeout:
+            if os.getppid() != starter_pid:
+                raise Abort(f"the program that started this one (pid {starter_pid}) has "
+                            f"ended; stopping") from None
+
+
+def run(nova: Nova, jh: JHData, console: Console, idle_timeout: float | None,
+        starter_pid: int | None = None) -> int:
     """The label-100 loop: wait for NCONT.DT, take it, do it, publish the reply."""
     while True:
         nova.octek.hctab(128, 255)
         console.type(" Ready for the ECLIPSE command file.")
-        jh.wait_for("NCONT.DT", timeout=idle_timeout or 0)
+        wait_for_command(jh, idle_timeout, starter_pid)
         with jh.busy():                    # a starting ESTAR waits for this (QUIRKS M14)
             try:
                 data = jh.read("NCONT.DT")
@@ -218,6 +248,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--idle-timeout", type=float, default=None, metavar="SECONDS",
                    help="stop after this long without a command (default: wait forever, "
                         "as in 1985)")
+    p.add_argument("--starter-pid", type=int, default=None, metavar="PID",
+                   help="BEYOND 1985: stop when the process PID that started this one has "
+                        "ended (rig and the benches pass their own; a 1985 NSTAR waits on)")
     p.add_argument("--quiet", action="store_true", help="no console messages")
     p.add_argument("--verbose", action="store_true",
                    help="also the per-bit messages of the block map (17 lines per column)")
@@ -269,7 +302,7 @@ def main(argv=None) -> int:
             console.type(" Image loaded.")
         else:
             new_images_dialogue(nova, console)
-        return run(nova, jh, console, args.idle_timeout)
+        return run(nova, jh, console, args.idle_timeout, args.starter_pid)
     except (FormatError, LinkTimeout, LockedError, Abort) as exc:
         print(f"nstar: {exc}", file=sys.stderr)
         return 1

@@ -45,8 +45,9 @@ def child_env() -> dict:
 
 def nstar_command(jhdata: Path, left: Path | None, right: Path | None, *extra: str,
                   debug: int | None = 0, idle_timeout: float | None = 300,
-                  quiet: bool = False) -> list[str]:
-    """The argument list of an ``nstar`` on ``jhdata`` serving the pair."""
+                  quiet: bool = False, starter: bool = False) -> list[str]:
+    """The argument list of an ``nstar`` on ``jhdata`` serving the pair;
+    ``starter``: it stops when this process has ended (``--starter-pid``)."""
     args = [sys.executable, "-m", "nstar.main", "--jhdata", str(jhdata)]
     if debug is not None:
         args += ["--debug", str(debug)]
@@ -56,6 +57,8 @@ def nstar_command(jhdata: Path, left: Path | None, right: Path | None, *extra: s
         args += ["--idle-timeout", f"{idle_timeout:g}"]
     if quiet:
         args.append("--quiet")
+    if starter:
+        args += ["--starter-pid", str(os.getpid())]
     return args + [str(a) for a in extra]
 
 
@@ -66,12 +69,15 @@ def start_nstar(jhdata: Path, left: Path | None, right: Path | None, *extra: str
     """Start an ``nstar`` process (the one constructor: rig, bench and tests).
     Its console goes to ``stdout``/``stderr`` (inherited when None).
     ``own_session``: a session (process group) of its own, which a Ctrl-C at
-    the terminal does not reach — for an NSTAR its starter stops itself."""
+    the terminal does not reach — for an NSTAR its starter stops itself.
+    It also stops within a second once this process has ended, however it
+    ended (``--starter-pid``)."""
     if env is None:
         env = child_env()
         env.pop("JHDATA", None)        # --jhdata names the directory, always
     return subprocess.Popen(nstar_command(jhdata, left, right, *extra, debug=debug,
-                                          idle_timeout=idle_timeout, quiet=quiet),
+                                          idle_timeout=idle_timeout, quiet=quiet,
+                                          starter=True),
                             stdin=stdin, stdout=stdout, stderr=stderr, text=text, env=env,
                             start_new_session=own_session)
 
