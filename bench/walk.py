@@ -35,8 +35,17 @@ and groups its truths' Mahalanobis distances (by looks seen, range, confirmation
 ambiguity gate) against the world's exact geometry: a wrong stereo match or the scorer's
 truth (``outside_evidence``).
 
+``--ten-looks`` follows the features behind the ten-look target: for the named configuration
+and it with ``--ambiguity-gate resolve``, every truth either run follows for ten looks, with
+each run's features on it (first look, looks, error after the 1st and the 10th), and how far
+leaving out one feature moves the ratio (``ten_look_census``, ``ten_look_ratio``).
+
+``--seeds N`` runs the same two on the bundled walk with N draws of its odometry and render
+noise (seeds 1985, 1986, ...): the five targets' figures per draw, and how many draws meet each.
+
 Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
-                           [--calibrate | --breakdown | --outside]
+                           [--calibrate | --breakdown | --outside | --ten-looks |
+                            --seeds N]
 """
 
 from __future__ import annotations
@@ -453,6 +462,160 @@ def outside(rooms: int, looks: int) -> str:
     return outside_tables(sets, near=("bundled", f"{rooms} rooms"))
 
 
+def truth_key(v) -> tuple:
+    """Which truth a vertex stands for: its true corner's index, else its true point to
+    0.1 ft (a point along an edge); features of two runs with one key are the same truth."""
+    if v.truth_id >= 0:
+        return ("corner", int(v.truth_id))
+    return ("point", *(round(float(x), 1) for x in v.truth))
+
+
+def ten_look_ratio(hist) -> dict:
+    """The ten-look target's figure on error histories (one list per feature, its error
+    after each look): RMS after the 1st and the 10th look over the features seen ten
+    times, their ratio, and the ratio with each feature left out in turn (its least and
+    greatest: how much one feature moves it)."""
+    same = [np.asarray(h[:10], float) for h in hist if len(h) >= 10]
+    if not same:
+        return {"features": 0, "rms_1": None, "rms_10": None, "ratio": None,
+                "leave_one_out": (None, None)}
+    a = np.array(same)
+    s1, s10 = np.square(a[:, 0]), np.square(a[:, 9])
+    out = {"features": len(a), "rms_1": float(np.sqrt(s1.mean())),
+           "rms_10": float(np.sqrt(s10.mean()))}
+    out["ratio"] = out["rms_10"] / out["rms_1"]
+    if len(a) > 1:
+        loo = [np.sqrt((s10.sum() - s10[i]) / (s1.sum() - s1[i])) for i in range(len(a))]
+        out["leave_one_out"] = (float(min(loo)), float(max(loo)))
+    else:
+        out["leave_one_out"] = (None, None)
+    return out
+
+
+def ten_look_census(results: dict) -> list[dict]:
+    """Every truth some feature of some run followed for ten looks or more, and what each
+    run (``results``: name -> WalkResult) made of it: its features on that truth (first
+    look, looks, error after the 1st and the 10th look, retired or not)."""
+    per_run = {}
+    for name, res in results.items():
+        feats = {}
+        every = {**res.model.vertices, **res.model.retired}
+        for vid, h in res.error_history.items():
+            v = every.get(vid)
+            if v is None or v.truth is None:
+                continue
+            feats.setdefault(truth_key(v), []).append(
+                {"vertex": vid, "first_look": v.first_look, "looks": len(h),
+                 "error_1": h[0], "error_10": h[9] if len(h) >= 10 else None,
+                 "retired": vid in res.model.retired})
+        per_run[name] = feats
+    keys = {k for feats in per_run.values() for k, fs in feats.items()
+            if any(f["looks"] >= 10 for f in fs)}
+    rows = []
+    for k in sorted(keys, key=lambda k: (k[0], k[1:])):
+        rows.append({"truth": k, **{name: sorted(per_run[name].get(k, []),
+                                                  key=lambda f: (f["first_look"], f["vertex"]))
+                                    for name in results}})
+    return rows
+
+
+def ten_look_tables(results: dict) -> str:
+    """``--ten-looks``: the ten-look ratio of each run with its leave-one-out range, and the
+    census of the truths followed ten times in any run."""
+    names = list(results)
+    out = ["| run | features seen 10 times | RMS after 1st -> 10th look ft | ratio | "
+           "one feature left out: ratio from .. to |", "|---|---|---|---|---|"]
+    for name, res in results.items():
+        r = ten_look_ratio(list(res.error_history.values()))
+        lo, hi = r["leave_one_out"]
+        out.append(f"| {name} | {r['features']} | {fmt(r['rms_1'], 3)} -> {fmt(r['rms_10'], 3)} "
+                   f"| {fmt(100 * r['ratio'] if r['ratio'] else None, 1)} % | "
+                   f"{fmt(100 * lo if lo else None, 1)} % .. {fmt(100 * hi if hi else None, 1)} % |")
+
+    def cell(fs):
+        if not fs:
+            return "none"
+        return "; ".join(f"v{f['vertex']} from look {f['first_look']}, {f['looks']} looks, "
+                         f"{f['error_1']:.2f}" + (f" -> {f['error_10']:.2f}" if f["error_10"]
+                                                  is not None else "")
+                         + (" (retired)" if f["retired"] else "") for f in fs)
+    out += ["", "| truth | " + " | ".join(f"{n}: its features (first look, looks, error ft "
+                                          "after the 1st -> 10th look)" for n in names) + " |",
+            "|---|" + "---|" * len(names)]
+    for row in ten_look_census(results):
+        k = row["truth"]
+        label = f"corner {k[1]}" if k[0] == "corner" else f"point ({k[1]}, {k[2]}, {k[3]})"
+        out.append(f"| {label} | " + " | ".join(cell(row[n]) for n in names) + " |")
+    return "\n".join(out)
+
+
+def ten_looks(seed: int = 1985) -> str:
+    """The named configuration and it with ``--ambiguity-gate resolve`` on the bundled walk:
+    which truths each follows for ten looks."""
+    results = {}
+    for name, kw in (("named", NAMED), ("named + resolve", dict(NAMED, ambiguity_gate="resolve"))):
+        results[name], _ = one_walk(bundled_lab(), bundled_walk(), seed=seed, **kw)
+    return ten_look_tables(results)
+
+
+def target_figures(res) -> dict:
+    """The issue's five targets' figures for one walk: median fused position (ft) and
+    heading (degrees) error, the ten-look ratio (:func:`ten_look_ratio`), the share of ALL
+    features' truths inside 2 sigma, and the median time per look (ms)."""
+    e = method_errors([res])["fused"]
+    f = feature_stats([res])
+    r = ten_look_ratio(list(res.error_history.values()))
+    return {"position_ft": e["median_pos"], "heading_deg": e["median_head"],
+            "ten_look_features": r["features"], "ten_look_ratio": r["ratio"],
+            "leave_one_out": r["leave_one_out"], "inside_2sigma": f["inside_2sigma"],
+            "features": f["features"], "look_ms": f["median_look_ms"]}
+
+
+SEED_CONFIGS = {"named": NAMED, "named + resolve": dict(NAMED, ambiguity_gate="resolve")}
+"""The configurations ``--seeds`` draws the bundled walk's noise for."""
+
+
+def seed_tables(rows) -> str:
+    """``--seeds``: one row per configuration and draw (``rows``: (name, seed, figures)),
+    then per configuration how many draws meet each target and the medians."""
+    out = ["| configuration | odometry and render seed | median position ft | median heading deg | "
+           "ten-look ratio (features; one left out: from .. to) | inside 2 sigma, all features | "
+           "ms per look (median) |", "|---|---|---|---|---|---|---|"]
+    for name, seed, f in rows:
+        lo, hi = f["leave_one_out"]
+        ratio = (f"{100 * f['ten_look_ratio']:.1f} % ({f['ten_look_features']}; "
+                 f"{fmt(100 * lo if lo else None, 1)} .. {fmt(100 * hi if hi else None, 1)} %)"
+                 if f["ten_look_ratio"] is not None else "- (0)")
+        out.append(f"| {name} | {seed} | {f['position_ft']:.2f} | {f['heading_deg']:.2f} | {ratio} "
+                   f"| {100 * f['inside_2sigma']:.1f} % of {f['features']} | {f['look_ms']:.0f} |")
+    out += ["", "| configuration | draws | position <= 0.25 ft | heading <= 1 deg | ten-look "
+            "ratio <= 50 % | inside 2 sigma >= 90 % | all four | median ratio | median inside |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for name in dict.fromkeys(n for n, _, _ in rows):
+        fs = [f for n, _, f in rows if n == name]
+        ok = np.array([[f["position_ft"] <= 0.25, f["heading_deg"] <= 1.0,
+                        f["ten_look_ratio"] is not None and f["ten_look_ratio"] <= 0.5,
+                        f["inside_2sigma"] >= 0.9] for f in fs])
+        ratios = [f["ten_look_ratio"] for f in fs if f["ten_look_ratio"] is not None]
+        out.append(f"| {name} | {len(fs)} | " + " | ".join(str(int(c)) for c in ok.sum(axis=0))
+                   + f" | {int(ok.all(axis=1).sum())} | "
+                   f"{fmt(100 * np.median(ratios) if ratios else None, 1)} % | "
+                   f"{100 * np.median([f['inside_2sigma'] for f in fs]):.1f} % |")
+    return "\n".join(out)
+
+
+def seeds(n: int, configs=None) -> str:
+    """The bundled walk with ``n`` draws of its noise (odometry and render seeds 1985,
+    1986, ...; 1985 is the walk every other figure uses) for each configuration."""
+    rows = []
+    for name, kw in (configs or SEED_CONFIGS).items():
+        for seed in range(1985, 1985 + n):
+            res, took = one_walk(bundled_lab(), bundled_walk(), seed=seed, **kw)
+            rows.append((name, seed, target_figures(res)))
+            print(f"{name}, seed {seed}: {took:.0f} s", file=sys.stderr)
+    return seed_tables(rows)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
@@ -467,8 +630,24 @@ def main(argv=None) -> int:
     ap.add_argument("--outside", action="store_true",
                     help="only the named configuration: its truths outside 2 sigma read "
                          "against the world's geometry (wrong stereo match or scorer)")
+    ap.add_argument("--ten-looks", action="store_true",
+                    help="only the named configuration and it with --ambiguity-gate resolve on "
+                         "the bundled walk: the truths each follows for ten looks, and how much "
+                         "one feature moves the ten-look ratio")
+    ap.add_argument("--seeds", type=int, metavar="N", default=None,
+                    help="only the named configuration and it with --ambiguity-gate resolve on "
+                         "the bundled walk, with N draws of the odometry and render noise: the "
+                         "targets' figures per draw")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.seeds:
+        print(seeds(args.seeds))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
+    if args.ten_looks:
+        print(ten_looks())
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     if args.outside:
         print(outside(args.rooms, args.looks))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")

@@ -119,3 +119,57 @@ def test_outside_evidence_names_the_side_of_an_occluding_edge():
     (e,) = bw.outside_evidence(res, [look])
     assert e["vertex"] == v.id and e["occluding"] and e["side"] == "far"
     assert e["surface"] == "back wall" and not e["wrong_match"]
+
+
+def test_ten_look_ratio_and_how_far_one_feature_moves_it():
+    # three features seen ten times (errors after their 1st and 10th look: 0.3 -> 0.1,
+    # 0.4 -> 0.2, 0.0 -> 0.5) and one seen nine times, which does not count
+    def h(first, tenth, n=10):
+        return [first] + [9.0] * (n - 2) + [tenth]
+    r = bw.ten_look_ratio([h(0.3, 0.1), h(0.4, 0.2), h(0.0, 0.5), h(5.0, 0.0, n=9)])
+    assert r["features"] == 3
+    assert r["rms_1"] == pytest.approx(np.sqrt(0.25 / 3))
+    assert r["rms_10"] == pytest.approx(np.sqrt(0.30 / 3))
+    assert r["ratio"] == pytest.approx(np.sqrt(0.30 / 0.25))
+    # left out in turn: sqrt(0.29/0.16), sqrt(0.26/0.09), sqrt(0.05/0.25)
+    assert r["leave_one_out"] == pytest.approx((np.sqrt(0.05 / 0.25), np.sqrt(0.26 / 0.09)))
+    assert bw.ten_look_ratio([h(1.0, 1.0, n=9)])["ratio"] is None
+
+
+def test_ten_look_census_pairs_the_runs_features_by_their_truth():
+    from model.symbolic import SymbolicModel
+
+    def run(spec):
+        model, history = SymbolicModel(), {}
+        for truth_id, truth, first, errors in spec:
+            v = model.add_vertex(np.zeros(3), np.eye(3), "top", (3, 9), first)
+            v.truth, v.truth_id = np.array(truth, float), truth_id
+            history[v.id] = errors
+        return SimpleNamespace(model=model, error_history=history)
+    corner = [0.4] + [0.2] * 9                            # ten looks
+    a = run([(7, (1, 0, 5), 3, corner), (-1, (2.04, 0, 5), 0, [0.3] * 12),
+             (8, (0, 0, 9), 1, [0.5] * 4)])
+    b = run([(7, (1, 0, 5), 5, [0.4] * 8), (7, (1, 0, 5), 6, [0.5]),
+             (-1, (1.96, 0.01, 5.02), 0, [0.3] * 11)])
+    rows = {r["truth"]: r for r in bw.ten_look_census({"a": a, "b": b})}
+    # corner 8 is followed four times only, in a; corner 7 ten times in a, eight in b
+    assert set(rows) == {("corner", 7), ("point", 2.0, 0.0, 5.0)}
+    assert [(f["first_look"], f["looks"], f["error_10"]) for f in rows[("corner", 7)]["a"]] \
+        == [(3, 10, 0.2)]
+    assert [(f["first_look"], f["looks"]) for f in rows[("corner", 7)]["b"]] == [(5, 8), (6, 1)]
+    assert rows[("point", 2.0, 0.0, 5.0)]["b"][0]["looks"] == 11
+    text = bw.ten_look_tables({"a": SimpleNamespace(**vars(a)), "b": b})
+    assert "| corner 7 | v0 from look 3, 10 looks, 0.40 -> 0.20 |" in text
+
+
+def test_seed_tables_count_the_draws_meeting_each_target():
+    f = dict(position_ft=0.2, heading_deg=0.7, ten_look_features=20, ten_look_ratio=0.45,
+             leave_one_out=(0.40, 0.52), inside_2sigma=0.91, features=500, look_ms=30.0)
+    g = dict(f, position_ft=0.3, ten_look_ratio=0.55, inside_2sigma=0.85)
+    h = dict(f, ten_look_features=0, ten_look_ratio=None, leave_one_out=(None, None))
+    text = bw.seed_tables([("x", 1985, f), ("x", 1986, g), ("x", 1987, h)])
+    assert "| x | 1985 | 0.20 | 0.70 | 45.0 % (20; 40.0 .. 52.0 %) | 91.0 % of 500 | 30 |" in text
+    assert "| x | 1987 | 0.20 | 0.70 | - (0) |" in text
+    # position met twice, heading three times, the ratio once (none without ten-look
+    # features), inside twice; all four once; the median of 45 and 55 %, of 91, 85, 91 %
+    assert "| x | 3 | 2 | 3 | 1 | 2 | 1 | 50.0 % | 91.0 % |" in text
