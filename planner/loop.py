@@ -81,6 +81,7 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
 from .octree import _pack, _unpack, free_below, key_centres, logodds_at
+from .depth_eyes import depth_floor_scan
 from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, BLANK_LIMITS, floor_scan
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
@@ -94,6 +95,7 @@ UNCERTAIN_PLANS = ("blocked", "look")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
+EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
@@ -130,7 +132,11 @@ class DriveConfig:
                                           # in-process rig: several times slower; scan_look)
     eyes: str = "rig"                     # "rig": the matcher's ranges; "truth": the
                                           # true range at the same edge pixels (an oracle
-                                          # that separates the planner from the matcher)
+                                          # that separates the planner from the matcher);
+                                          # "depth": the true range at EVERY pixel, a dense
+                                          # range finder (a diagnostic oracle that
+                                          # separates the planner from the eyes;
+                                          # planner.depth_eyes)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
     blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
     blank_carve: str = "unknown"          # how the blank-column assumption carves: "unknown":
@@ -411,7 +417,7 @@ class Perception:
         return dead
 
     def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
-               known: FloorMap | None = None, pose_cov=None, picture=None) -> int:
+               known: FloorMap | None = None, pose_cov=None, picture=None, depth=None) -> int:
         """One look into the model as a floor range scan
         (:func:`~planner.perception.floor_scan`): each column's nearest
         supported point hit (grown by its covariance; surface spans between
@@ -449,7 +455,12 @@ class Perception:
 
         ``expire_uncertain`` (a named option, N looks; 0 off) counts the look
         against the uncertain cells it had in view without a hit
-        (:meth:`expire_in_view`); after N the map shows them UNKNOWN."""
+        (:meth:`expire_in_view`); after N the map shows them UNKNOWN.
+
+        ``depth`` (the look's true range per pixel, ``Look.range_left``: the
+        diagnostic depth eyes, :mod:`planner.depth_eyes`) replaces the floor
+        scan of ``scan_points`` by :func:`~planner.depth_eyes.depth_floor_scan`;
+        the rest of the update is the same."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -468,9 +479,12 @@ class Perception:
                     bad = vetoed(scan_points, rays, top, res)
                     self.vetoed += int(bad.sum())
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
-        fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
-                        blank_ft=self.blank_ft, carve=self.carve, place=self.place,
-                        blank_px=self.blank_px, blank_limit=self.blank_limit)
+        if depth is not None:
+            fs = depth_floor_scan(depth, R, left, self.band, self.max_range_ft, res)
+        else:
+            fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
+                            blank_ft=self.blank_ft, carve=self.carve, place=self.place,
+                            blank_px=self.blank_px, blank_limit=self.blank_limit)
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -1214,7 +1228,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"unknown stereo matcher {cfg.match!r}; one of {', '.join(MATCHES)}")
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
-    for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
+    for name, allowed in (("eyes", EYES), ("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
                           ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
                           ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
                           ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
@@ -1288,7 +1302,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             t1 = time.perf_counter()
             scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
             scan_s = time.perf_counter() - t1
-            points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
+            points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
             if walker is None:
                 est = veh.dead
             else:
@@ -1300,7 +1314,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                   cfg.start_clear_ft + 1.0)
                 _mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
             model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov,
-                         look.left_bi if cfg.floor_eyes != "off" else None)
+                         look.left_bi if cfg.floor_eyes != "off" else None,
+                         look.range_left if cfg.eyes == "depth" else None)
             fm = model.floor_map([(est.x, est.z), goal])
             _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                              prof.margin_ft if cfg.track_free == "swept" else None)

@@ -153,7 +153,7 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
+    from planner.loop import DriveConfig as C, EYES, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
         MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, PLACES
     from model.pose import ESTIMATORS
@@ -162,9 +162,11 @@ def add_loop_options(p) -> None:
                         "never drives into it either way")
     p.add_argument("--search", choices=("dissertation", "astar"), default=C.search,
                    help="the dissertation's hierarchical search (default) or A*")
-    p.add_argument("--eyes", choices=("rig", "truth"), default=C.eyes,
+    p.add_argument("--eyes", choices=EYES, default=C.eyes,
                    help="rig: the matcher's ranges (default); truth: the true range at the "
-                        "same edge pixels (an oracle: the planner without the matcher's errors)")
+                        "same edge pixels (an oracle: the planner without the matcher's errors); "
+                        "depth: the true range at every pixel, a dense range finder (a "
+                        "diagnostic oracle: the planner without the eyes' limits)")
     p.add_argument("--match", choices=MATCHES, default=C.match,
                    help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
                         "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
