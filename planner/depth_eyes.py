@@ -25,8 +25,9 @@ eyes take): every column has its own range, so no votes, no columns between
 edges and no blank-column assumption (``assumed`` all False); a hit lands at
 its point's own horizontal position (floor_scan's ``place="point"``; the
 ``"axis"`` placement exists for a 1-D range along a pitched axis); a hit's
-covariance is a quarter cell each way (the truth has no error; a zero
-covariance cannot be inverted for growth); neighbouring columns whose hits
+covariance is :data:`SIGMA_FT` each way (the truth has no error, so a hit
+occupies its own cell and no more; a zero covariance cannot be inverted for
+growth); neighbouring columns whose hits
 agree within 5 % of the range (at least a cell) and lie within 1 ft are
 joined by a surface span, as floor_scan joins edges.  The result is a
 :class:`~planner.perception.FloorScan`, inserted by
@@ -39,6 +40,7 @@ import numpy as np
 
 from .perception import CX_128, CY_128, FOCAL_128, MAX_RANGE_FT, FloorScan
 
+SIGMA_FT = 0.01              # a hit's standard deviation: growth only into its own cell
 SPAN_FT = 1.0                 # neighbouring hits farther apart than this are not one surface
 
 
@@ -96,6 +98,6 @@ def depth_floor_scan(range_left, R, left_centre, band, max_range: float = MAX_RA
         tol = max(0.05 * min(dh[k], dh[k + 1]), res)
         if abs(dh[k] - dh[k + 1]) <= tol and np.linalg.norm(hits[k + 1] - hits[k]) <= SPAN_FT:
             spans.append((k, k + 1))
-    hit_cov = np.broadcast_to(np.eye(3) * (res / 4) ** 2, (len(hits), 3, 3)).copy()
+    hit_cov = np.broadcast_to(np.eye(3) * SIGMA_FT ** 2, (len(hits), 3, 3)).copy()
     return FloorScan(origin, hits, hit_cov, free_ends, spans,
                      np.zeros(len(free_ends), bool), hit_cols, cols[shows] + 1)

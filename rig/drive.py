@@ -153,7 +153,7 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C, EYES, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
+    from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
         MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, PLACES
     from model.pose import ESTIMATORS
@@ -179,6 +179,10 @@ def add_loop_options(p) -> None:
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
     p.add_argument("--margin", type=float, default=None, metavar="FT",
                    help="the vehicle profile's planning margin (default: the profile's)")
+    p.add_argument("--pivot", choices=PIVOTS, default=C.pivot,
+                   help="what a pivot in place needs seen free: disc: the whole circle of the "
+                        "footprint's half diagonal, whatever the angle (default); swept: the "
+                        "cells the footprint, grown by the margin, sweeps through the angle")
     p.add_argument("--clearance-at", choices=("anywhere", "centre"), default=C.clearance_at,
                    help="where in a passable cell the vehicle's centre may be: anywhere (the "
                         "dissertation's cross-section test, default) or its centre, every "
@@ -274,7 +278,7 @@ def loop_config(args, goal, fail):
     return DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                        max_looks=args.max_looks, eyes=args.eyes, match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
-                       clearance_at=args.clearance_at, growth=args.growth, voi=voi,
+                       clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,

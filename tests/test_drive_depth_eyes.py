@@ -155,3 +155,29 @@ def test_rig_drive_and_the_bench_take_eyes_depth(monkeypatch, tmp_path):
     assert drive_config(monkeypatch, tmp_path).eyes == "rig"            # never the default
     with pytest.raises(SystemExit):
         drive_config(monkeypatch, tmp_path, "--eyes", "sonar")
+
+
+
+def test_a_swept_pivot_needs_only_the_cells_its_footprint_sweeps():
+    # planner.loop's pivot="swept" (a named option).  All free but one unknown cell,
+    # x 0.5..0.75, z 0..0.25, beside the vehicle at the origin facing +z: within the
+    # half diagonal (0.64 ft) the default's whole disc asks for, outside the bare
+    # footprint (0.8 x 1.0 ft: x up to 0.4)
+    from planner.floormap import FloorMap
+    from planner.loop import _disc_seen_free, _pivot_seen_free
+    fm = FloorMap(np.full((24, 24), FREE, np.uint8), -3.0, -3.0, 0.25)
+    fm.cells[fm.index(0.6, 0.1)] = UNKNOWN
+    foot = DEFAULT.footprint
+    assert not _disc_seen_free(fm, 0.0, 0.0, DEFAULT.radius_ft)
+    assert _pivot_seen_free(fm, 0.0, 0.0, 0.0, 0.0, foot, 0.0)
+    # 2 deg: the right side's front half moves out to x = 0.4 cos 2 + 0.25 sin 2 = 0.41
+    assert _pivot_seen_free(fm, 0.0, 0.0, 0.0, 2.0, foot, 0.0)
+    assert _pivot_seen_free(fm, 0.0, 0.0, 0.0, -2.0, foot, 0.0)
+    # 20 deg right: the right side's point 0.3 ft ahead reaches (0.48, 0.15); 0.4 ft
+    # ahead (0.51, 0.24): into the cell.  45 deg left: 0.35 ft behind, (0.53, 0.04)
+    assert not _pivot_seen_free(fm, 0.0, 0.0, 0.0, 20.0, foot, 0.0)
+    assert not _pivot_seen_free(fm, 0.0, 0.0, 0.0, -90.0, foot, 0.0)
+    # the margin grows the footprint: x up to 0.55 covers the cell before any turn
+    assert not _pivot_seen_free(fm, 0.0, 0.0, 0.0, 0.0, foot, DEFAULT.margin_ft)
+    # off the map: never free
+    assert not _pivot_seen_free(fm, -2.9, 0.0, 0.0, 5.0, foot, 0.0)
