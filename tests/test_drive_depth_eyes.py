@@ -155,6 +155,8 @@ def test_rig_drive_and_the_bench_take_eyes_depth(monkeypatch, tmp_path):
     assert drive_config(monkeypatch, tmp_path).eyes == "rig"            # never the default
     with pytest.raises(SystemExit):
         drive_config(monkeypatch, tmp_path, "--eyes", "sonar")
+    assert drive_config(monkeypatch, tmp_path, "--pivot", "swept").pivot == "swept"
+    assert drive_config(monkeypatch, tmp_path).pivot == DriveConfig.pivot
 
 
 
