@@ -183,3 +183,24 @@ def test_a_swept_pivot_needs_only_the_cells_its_footprint_sweeps():
     assert not _pivot_seen_free(fm, 0.0, 0.0, 0.0, 0.0, foot, DEFAULT.margin_ft)
     # off the map: never free
     assert not _pivot_seen_free(fm, -2.9, 0.0, 0.0, 5.0, foot, 0.0)
+
+
+@pytest.mark.processes
+def test_bench_drive_runs_depth_eyes_without_odometry_noise(tmp_path):
+    """bench/drive.py --eyes depth --no-noise as a user runs it: the estimate
+    is then the true pose, look for look."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+    out = tmp_path / "b.json"
+    bench = Path(__file__).resolve().parents[1] / "bench" / "drive.py"
+    r = subprocess.run([sys.executable, str(bench), "--rooms", "1", "--first", "6",
+                        "--max-looks", "3", "--eyes", "depth", "--no-noise", "--out", str(out)],
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    data = json.loads(out.read_text())
+    assert data["summary"]["eyes"] == "depth" and data["summary"]["odometry_noise"] is False
+    room = data["rooms"][0]
+    assert room["collisions"] == 0 and room["travelled_ft"] > 0
+    assert room["estimate_error_ft_final"] < 1e-9 and room["dead_error_ft_final"] < 1e-9
