@@ -18,6 +18,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
     python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire
+    python bench/drive.py --rooms 20 --eyes depth [--no-noise]    # the planner's own share
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
@@ -39,6 +40,10 @@ dead reckoning) is reported against the true track, with the dead-reckoned
 pose's error on the same run beside it.  The summary ends with the rooms by how their
 drives ended (``stop_reasons``: reached, narrower than the vehicle, the goal too near an
 obstacle on the map, cannot turn, ...).
+
+``--eyes depth`` (planner.depth_eyes, a diagnostic oracle) sees the true range at every
+pixel, and ``--no-noise`` turns the odometry noise off: together they leave the planner
+and the loop alone to fail.
 
 ``--match improved`` scans each look with the improved stereo matcher (package
 ``matching``, on the in-process rig) instead of the 1985 eyes; ``scan_ms_per_cycle``
@@ -149,6 +154,10 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=20)
     ap.add_argument("--first", type=int, default=1, help="first room seed")
+    ap.add_argument("--no-noise", action="store_true",
+                    help="odometry noise off (a diagnostic: the estimate is the true pose, "
+                         "so what fails is neither the dead reckoning's drift nor, with "
+                         "--eyes depth, the eyes)")
     add_loop_options(ap)
     ap.add_argument("--losses", action="store_true",
                     help="also sort the final map's wrongly blocked cells (cell rounding of "
@@ -176,7 +185,7 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = loop_config(args, goal, ap.error)
-        res = run(room, start, cfg, noise=OdometryNoise(seed=seed))
+        res = run(room, start, cfg, noise=None if args.no_noise else OdometryNoise(seed=seed))
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal
         side = search_side_by_side(last.fmap, (start.x, start.z), goal,
@@ -229,10 +238,10 @@ def main(argv=None) -> int:
     ratios = [r["ratio"] for r in ok if r["ratio"]]
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
-        "rooms": len(rows), "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
+        "rooms": len(rows), "odometry_noise": not args.no_noise, "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
-        "clearance_at": args.clearance_at, "growth": args.growth, "uncertain": args.uncertain,
+        "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
         "look_around": args.look_around, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,

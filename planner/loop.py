@@ -81,6 +81,7 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
 from .octree import _pack, _unpack, free_below, key_centres, logodds_at
+from .depth_eyes import depth_floor_scan
 from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, BLANK_LIMITS, floor_scan
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
@@ -94,6 +95,8 @@ UNCERTAIN_PLANS = ("blocked", "look")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
+PIVOTS = ("disc", "swept")            # what a pivot needs seen free (DriveConfig.pivot)
+EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
@@ -130,7 +133,11 @@ class DriveConfig:
                                           # in-process rig: several times slower; scan_look)
     eyes: str = "rig"                     # "rig": the matcher's ranges; "truth": the
                                           # true range at the same edge pixels (an oracle
-                                          # that separates the planner from the matcher)
+                                          # that separates the planner from the matcher);
+                                          # "depth": the true range at EVERY pixel, a dense
+                                          # range finder (a diagnostic oracle that
+                                          # separates the planner from the eyes;
+                                          # planner.depth_eyes)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
     blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
     blank_carve: str = "unknown"          # how the blank-column assumption carves: "unknown":
@@ -153,6 +160,11 @@ class DriveConfig:
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
+    pivot: str = "disc"                   # what a pivot in place needs seen free: "disc":
+                                          # its whole circle (the footprint's half
+                                          # diagonal), whatever the angle; "swept": the
+                                          # cells the footprint, grown by the margin, sweeps
+                                          # through the angle (_pivot_seen_free)
     clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
                                           # passes anywhere in a passable cell; "centre":
                                           # a cell's centre has the radius and every
@@ -411,7 +423,7 @@ class Perception:
         return dead
 
     def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
-               known: FloorMap | None = None, pose_cov=None, picture=None) -> int:
+               known: FloorMap | None = None, pose_cov=None, picture=None, depth=None) -> int:
         """One look into the model as a floor range scan
         (:func:`~planner.perception.floor_scan`): each column's nearest
         supported point hit (grown by its covariance; surface spans between
@@ -449,7 +461,12 @@ class Perception:
 
         ``expire_uncertain`` (a named option, N looks; 0 off) counts the look
         against the uncertain cells it had in view without a hit
-        (:meth:`expire_in_view`); after N the map shows them UNKNOWN."""
+        (:meth:`expire_in_view`); after N the map shows them UNKNOWN.
+
+        ``depth`` (the look's true range per pixel, ``Look.range_left``: the
+        diagnostic depth eyes, :mod:`planner.depth_eyes`) replaces the floor
+        scan of ``scan_points`` by :func:`~planner.depth_eyes.depth_floor_scan`;
+        the rest of the update is the same."""
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -468,9 +485,12 @@ class Perception:
                     bad = vetoed(scan_points, rays, top, res)
                     self.vetoed += int(bad.sum())
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
-        fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
-                        blank_ft=self.blank_ft, carve=self.carve, place=self.place,
-                        blank_px=self.blank_px, blank_limit=self.blank_limit)
+        if depth is not None:
+            fs = depth_floor_scan(depth, R, left, self.band, self.max_range_ft, res)
+        else:
+            fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
+                            blank_ft=self.blank_ft, carve=self.carve, place=self.place,
+                            blank_px=self.blank_px, blank_limit=self.blank_limit)
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -787,6 +807,32 @@ def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
     return bool((fm.cells[ii[near], jj[near]] == FREE).all())
 
 
+def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
+                     footprint, margin_ft: float, step_deg: float = 2.0) -> bool:
+    """Every cell the footprint (``(width, length)``, grown by ``margin_ft`` on
+    each side) covers while it pivots about (x, z) from ``heading_deg``
+    through ``angle_deg`` is FREE: sampled a quarter cell apart over the
+    rectangle (its edges included) at headings at most ``step_deg`` apart.  A
+    turn of a degree sweeps hardly more than the footprint itself, where the
+    whole disc of :func:`_disc_seen_free` asks for every cell within the half
+    diagonal whatever the angle."""
+    hw = footprint[0] / 2 + margin_ft
+    hl = footprint[1] / 2 + margin_ft
+    q = fm.cell / 4
+    a = np.linspace(-hw, hw, int(math.ceil(2 * hw / q)) + 1)
+    b = np.linspace(-hl, hl, int(math.ceil(2 * hl / q)) + 1)
+    across, along = (g.ravel() for g in np.meshgrid(a, b))
+    n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
+    hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
+    px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
+    pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
+    i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
+    j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
+    if ((i < 0) | (j < 0) | (i >= fm.shape[0]) | (j >= fm.shape[1])).any():
+        return False
+    return bool((fm.cells[i, j] == FREE).all())
+
+
 HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
 EYES_TURN_DEG = 15.0         # a smaller turn keeps the way ahead inside the view just seen
 
@@ -860,21 +906,27 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
 
 def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
                  seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
-                 nose_ft: float = 0.5, pivot_ft: float = 0.0):
+                 nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None):
     """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
     would come nearer than its radius to an occupied or uncertain cell
     (``safe``), or where its swept width (``half_width`` each side) would
     enter a cell never seen (``seen``;
     ``seen_eyes`` adds the field of view just looked at, used while the vehicle
     still faces the way it looked).  A turn is a pivot: it needs every cell
-    within ``pivot_ft`` (the footprint's half diagonal) seen free."""
+    within ``pivot_ft`` (the footprint's half diagonal) seen free, or, given
+    ``pivot_sweep`` (a named option: the footprint and the margin,
+    ``DriveConfig.pivot="swept"``), every cell that footprint grown by the margin
+    sweeps through the turn (:func:`_pivot_seen_free`)."""
     out = []
     x, z, h = est.x, est.z, est.heading_deg
     turned = 0.0
     fm = safe.fmap
     for c in next_segment(cmds, step):
         if isinstance(c, Turn):
-            if pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
+            if pivot_sweep is not None:
+                if not _pivot_seen_free(fm, x, z, h, c.angle_deg, *pivot_sweep):
+                    break                 # its sweep reaches space not seen free
+            elif pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
                 break                     # its pivot circle reaches space not seen free
             out.append(c)
             h = wrap(h + c.angle_deg)
@@ -1214,7 +1266,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"unknown stereo matcher {cfg.match!r}; one of {', '.join(MATCHES)}")
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
-    for name, allowed in (("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
+    for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
                           ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
                           ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
                           ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
@@ -1262,6 +1314,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
         if noise is not None else (0.0, 0.0)
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
+    pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else None
     tried: dict = {}                      # blocker cell -> places it was looked at from
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
@@ -1288,7 +1341,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             t1 = time.perf_counter()
             scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
             scan_s = time.perf_counter() - t1
-            points = scan.points if cfg.eyes == "rig" else true_range_points(scan.points, look)
+            points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
             if walker is None:
                 est = veh.dead
             else:
@@ -1300,7 +1353,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                   cfg.start_clear_ft + 1.0)
                 _mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
             model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov,
-                         look.left_bi if cfg.floor_eyes != "off" else None)
+                         look.left_bi if cfg.floor_eyes != "off" else None,
+                         look.range_left if cfg.eyes == "depth" else None)
             fm = model.floor_map([(est.x, est.z), goal])
             _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                              prof.margin_ft if cfg.track_free == "swept" else None)
@@ -1320,7 +1374,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                                    prof.width_ft / 2 + prof.margin_ft,
                                    prof.length_ft / 2 + prof.margin_ft,
-                                   prof.radius_ft)
+                                   prof.radius_ft, pivot_sweep)
                 left = path_length(pts)
                 if not any(isinstance(c, Forward) for c in seg) and \
                         cfg.look_around == "evidence":
@@ -1347,7 +1401,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
                 back = _back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
-                if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+                if (_disc_seen_free(fm, est.x, est.z, prof.radius_ft) if pivot_sweep is None
+                        else _pivot_seen_free(fm, est.x, est.z, est.heading_deg, t,
+                                              *pivot_sweep)):
                     seg = [Turn(round(t, 2))]
                     note += " (turning to look)"
                 elif back:

@@ -153,7 +153,7 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
+    from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
         MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, PLACES
     from model.pose import ESTIMATORS
@@ -162,9 +162,11 @@ def add_loop_options(p) -> None:
                         "never drives into it either way")
     p.add_argument("--search", choices=("dissertation", "astar"), default=C.search,
                    help="the dissertation's hierarchical search (default) or A*")
-    p.add_argument("--eyes", choices=("rig", "truth"), default=C.eyes,
+    p.add_argument("--eyes", choices=EYES, default=C.eyes,
                    help="rig: the matcher's ranges (default); truth: the true range at the "
-                        "same edge pixels (an oracle: the planner without the matcher's errors)")
+                        "same edge pixels (an oracle: the planner without the matcher's errors); "
+                        "depth: the true range at every pixel, a dense range finder (a "
+                        "diagnostic oracle: the planner without the eyes' limits)")
     p.add_argument("--match", choices=MATCHES, default=C.match,
                    help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
                         "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
@@ -177,6 +179,10 @@ def add_loop_options(p) -> None:
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
     p.add_argument("--margin", type=float, default=None, metavar="FT",
                    help="the vehicle profile's planning margin (default: the profile's)")
+    p.add_argument("--pivot", choices=PIVOTS, default=C.pivot,
+                   help="what a pivot in place needs seen free: disc: the whole circle of the "
+                        "footprint's half diagonal, whatever the angle (default); swept: the "
+                        "cells the footprint, grown by the margin, sweeps through the angle")
     p.add_argument("--clearance-at", choices=("anywhere", "centre"), default=C.clearance_at,
                    help="where in a passable cell the vehicle's centre may be: anywhere (the "
                         "dissertation's cross-section test, default) or its centre, every "
@@ -272,7 +278,7 @@ def loop_config(args, goal, fail):
     return DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                        max_looks=args.max_looks, eyes=args.eyes, match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
-                       clearance_at=args.clearance_at, growth=args.growth, voi=voi,
+                       clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,
