@@ -67,7 +67,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
@@ -80,8 +80,10 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     cell_keys, features_cells, mark_assumed_free, mark_free_rays, mark_occupied, memory_bytes, \
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
-from .octree import _pack, _unpack, free_below, key_centres, logodds_at
+from .octree import _pack, _unpack, assumed_free_keys, free_below, key_centres, logodds_at, \
+    mark_keys_free
 from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, BLANK_LIMITS, floor_scan
+from .perception import BLANK_SIDES, TwoLookSides
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
@@ -150,6 +152,10 @@ class DriveConfig:
     blank_limit: str = "all"              # where blank_px applies (floor_scan's blank_limit):
                                           # "all": beside the outermost edges and inside wide
                                           # gaps; "sides": only beside the outermost edges
+    blank_sides: str = "cut"              # the side columns blank_px cuts off: "cut" (not
+                                          # carved); "two-looks": carved where two looks
+                                          # sides_apart apart both saw them blank
+    sides_apart: tuple[float, float] = (1.0, 20.0)   # (ft, deg): how far apart two looks are
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
@@ -379,6 +385,7 @@ class Perception:
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.blank_px = None              # DriveConfig.blank_px
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
+        self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
@@ -470,7 +477,14 @@ class Perception:
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                         blank_ft=self.blank_ft, carve=self.carve, place=self.place,
-                        blank_px=self.blank_px, blank_limit=self.blank_limit)
+                        blank_px=self.blank_px, blank_limit=self.blank_limit,
+                        far_sides=self.two_look_sides is not None)
+        far_ends = fs.free_ends[:0]
+        if fs.far is not None and fs.far.any():
+            # held back for a second look (TwoLookSides); the rest of the update never sees them
+            far_ends, near = fs.free_ends[fs.far], ~fs.far
+            fs = replace(fs, free_ends=fs.free_ends[near], assumed=fs.assumed[near],
+                         free_cols=fs.free_cols[near], far=fs.far[near])
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -498,6 +512,13 @@ class Perception:
             if known is not None and len(ends):
                 ends = ends[_near_free(known, left, ends, self.near_ft)]
             mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
+            if len(far_ends):
+                if known is not None:
+                    far_ends = far_ends[_near_free(known, left, far_ends, self.near_ft)]
+                keys = assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
+                                         start_ft=self.near_ft)
+                mark_keys_free(self.tree, self.two_look_sides.confirm(
+                    keys, (est.x, est.z, est.heading_deg)))
             if self.occupied == "looks":
                 if len(grown):
                     mark_occupied(self.tree, grown)
@@ -1218,6 +1239,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                           ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
                           ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
                           ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
+                          ("blank_sides", BLANK_SIDES),
                           ("occupied", OCCUPIEDS), ("hit_at", PLACES),
                           ("feature_pose", FEATURE_POSES)):
         if getattr(cfg, name) not in allowed:
@@ -1247,6 +1269,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
+    if cfg.blank_sides == "two-looks":
+        if cfg.blank_px is None:
+            raise ValueError("blank_sides 'two-looks' needs blank_px (the columns it holds back)")
+        model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied
     model.place = cfg.hit_at
     model.feature_pose = cfg.feature_pose
