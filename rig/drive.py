@@ -256,7 +256,8 @@ def add_loop_options(p) -> None:
     p.add_argument("--sides-apart", type=float, nargs=2, default=C.sides_apart,
                    metavar=("FT", "DEG"),
                    help="for --blank-sides two-looks: the two looks at least FT apart or "
-                        "turned DEG from each other (default %(default)s)")
+                        f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
+                        f"{C.sides_apart[1]:g} deg)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
