@@ -152,9 +152,10 @@ class DriveConfig:
     blank_limit: str = "all"              # where blank_px applies (floor_scan's blank_limit):
                                           # "all": beside the outermost edges and inside wide
                                           # gaps; "sides": only beside the outermost edges
-    blank_sides: str = "cut"              # the side columns blank_px cuts off: "cut" (not
-                                          # carved); "two-looks": carved where two looks
-                                          # sides_apart apart both saw them blank
+    blank_sides: str = "two-looks"        # the side columns blank_px cuts off: "two-looks"
+                                          # (since 2026-12-01 16:40): a cell carved where two
+                                          # looks sides_apart apart both saw it blank
+                                          # (TwoLookSides); "cut": never carved
     sides_apart: tuple[float, float] = (1.0, 20.0)   # (ft, deg): how far apart two looks are
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
@@ -1269,9 +1270,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
-    if cfg.blank_sides == "two-looks":
-        if cfg.blank_px is None:
-            raise ValueError("blank_sides 'two-looks' needs blank_px (the columns it holds back)")
+    if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
         model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied
     model.place = cfg.hit_at

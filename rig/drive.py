@@ -250,9 +250,9 @@ def add_loop_options(p) -> None:
                         "outermost ones, wide gaps carved whole")
     p.add_argument("--blank-sides", choices=BLANK_SIDES, default=C.blank_sides,
                    help="the side columns --blank-px cuts off (beside the outermost located "
-                        "one, out to the picture's edge): 'cut' (default): not carved; "
-                        "'two-looks': a cell carved once two looks --sides-apart apart both "
-                        "had it in such a blank column")
+                        "one, out to the picture's edge): 'two-looks' (default): a cell carved "
+                        "once two looks --sides-apart apart both had it in such a blank "
+                        "column; 'cut': never carved")
     p.add_argument("--sides-apart", type=float, nargs=2, default=C.sides_apart,
                    metavar=("FT", "DEG"),
                    help="for --blank-sides two-looks: the two looks at least FT apart or "

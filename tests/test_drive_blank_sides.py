@@ -136,9 +136,11 @@ def test_blank_sides_reaches_the_config_and_a_bad_value_is_refused():
     from rig.drive import add_loop_options, loop_config
     ap = argparse.ArgumentParser()
     add_loop_options(ap)
-    assert DriveConfig.blank_sides == "cut"
+    assert DriveConfig.blank_sides == "two-looks"     # the default since 2026-12-01 16:40
     cfg = loop_config(ap.parse_args([]), (0.0, 0.0), ap.error)
-    assert cfg.blank_sides == "cut" and cfg.sides_apart == (1.0, 20.0)
+    assert cfg.blank_sides == "two-looks" and cfg.sides_apart == (1.0, 20.0)
+    assert loop_config(ap.parse_args(["--blank-sides", "cut"]), (0.0, 0.0),
+                       ap.error).blank_sides == "cut"
     cfg = loop_config(ap.parse_args(["--blank-sides", "two-looks", "--sides-apart", "2", "30"]),
                       (0.0, 0.0), ap.error)
     assert cfg.blank_sides == "two-looks" and cfg.sides_apart == (2.0, 30.0)
@@ -146,6 +148,5 @@ def test_blank_sides_reaches_the_config_and_a_bad_value_is_refused():
         loop_config(ap.parse_args(["--sides-apart", "0", "30"]), (0.0, 0.0), ap.error)
     with pytest.raises(ValueError, match="blank_sides"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, blank_sides="both"))
-    with pytest.raises(ValueError, match="blank_px"):
-        run(tiny_room(), State(0.0, 0.0, 0.0),
-            DriveConfig(goal=GOAL, blank_sides="two-looks", blank_px=None))
+    with pytest.raises(ValueError, match="apart"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, sides_apart=(1.0, -5.0)))
