@@ -153,7 +153,7 @@ class DriveConfig:
                                           # "all": beside the outermost edges and inside wide
                                           # gaps; "sides": only beside the outermost edges
     blank_sides: str = "two-looks"        # the side columns blank_px cuts off: "two-looks"
-                                          # (since 2026-12-01 16:40): a cell carved where two
+                                          # (since 2026-12-01 16:35): a cell carved where two
                                           # looks sides_apart apart both saw it blank
                                           # (TwoLookSides); "cut": never carved
     sides_apart: tuple[float, float] = (1.0, 20.0)   # (ft, deg): how far apart two looks are

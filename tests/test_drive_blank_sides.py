@@ -136,7 +136,7 @@ def test_blank_sides_reaches_the_config_and_a_bad_value_is_refused():
     from rig.drive import add_loop_options, loop_config
     ap = argparse.ArgumentParser()
     add_loop_options(ap)
-    assert DriveConfig.blank_sides == "two-looks"     # the default since 2026-12-01 16:40
+    assert DriveConfig.blank_sides == "two-looks"     # the default since 2026-12-01 16:35
     cfg = loop_config(ap.parse_args([]), (0.0, 0.0), ap.error)
     assert cfg.blank_sides == "two-looks" and cfg.sides_apart == (1.0, 20.0)
     assert loop_config(ap.parse_args(["--blank-sides", "cut"]), (0.0, 0.0),
