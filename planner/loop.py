@@ -67,7 +67,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
@@ -80,10 +80,10 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, cell_c
     cell_keys, features_cells, mark_assumed_free, mark_free_rays, mark_occupied, memory_bytes, \
     new_octree, spans_cells
 from .features import FloorFeatures, pose_point_covariance
-from .octree import _pack, _unpack, assumed_free_keys, free_below, key_centres, logodds_at, \
-    mark_keys_free
+from .octree import _pack, _unpack, free_below, key_centres, logodds_at
 from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, BLANK_LIMITS, floor_scan
 from .perception import BLANK_SIDES, TwoLookSides
+from .octree import assumed_free_keys, mark_keys_free
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
@@ -478,14 +478,7 @@ class Perception:
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
         fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                         blank_ft=self.blank_ft, carve=self.carve, place=self.place,
-                        blank_px=self.blank_px, blank_limit=self.blank_limit,
-                        far_sides=self.two_look_sides is not None)
-        far_ends = fs.free_ends[:0]
-        if fs.far is not None and fs.far.any():
-            # held back for a second look (TwoLookSides); the rest of the update never sees them
-            far_ends, near = fs.free_ends[fs.far], ~fs.far
-            fs = replace(fs, free_ends=fs.free_ends[near], assumed=fs.assumed[near],
-                         free_cols=fs.free_cols[near], far=fs.far[near])
+                        blank_px=self.blank_px, blank_limit=self.blank_limit)
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -513,7 +506,10 @@ class Perception:
             if known is not None and len(ends):
                 ends = ends[_near_free(known, left, ends, self.near_ft)]
             mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
+            far_ends = fs.far_ends if self.two_look_sides is not None and \
+                fs.far_ends is not None else fs.free_ends[:0]
             if len(far_ends):
+                # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
                 if known is not None:
                     far_ends = far_ends[_near_free(known, left, far_ends, self.near_ft)]
                 keys = assumed_free_keys(self.tree, left, far_ends, self.hit_keys,

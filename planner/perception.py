@@ -137,9 +137,10 @@ class FloorScan:
                                         # assumption (``blank_ft``), not bounded by hits
     hit_cols: np.ndarray | None = None  # (H,) picture column (1-based) of each hit
     free_cols: np.ndarray | None = None # (F,) picture column (1-based) of each free end
-    far: np.ndarray | None = None       # (F,) bool: under ``far_sides``, a free end of a side
-                                        # column more than ``blank_px`` beside the outermost
-                                        # located one (assumed; its carving is held back)
+    far_ends: np.ndarray | None = None  # (K, 3) under ``blank_px``: the free ends of the side
+                                        # columns it cut off (more than ``blank_px`` beside the
+                                        # outermost located one), not in ``free_ends``
+    far_cols: np.ndarray | None = None  # (K,) their picture columns (1-based)
 
 
 CARVE = ("range", "error")
@@ -150,8 +151,7 @@ BLANK_LIMITS = ("all", "sides")   # where floor_scan's blank_px applies
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
                carve: str = "range", blank_alone: bool = True, place: str = "axis",
-               blank_px: int | None = None, blank_limit: str = "all",
-               far_sides: bool = False) -> FloorScan:
+               blank_px: int | None = None, blank_limit: str = "all") -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -192,12 +192,11 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     columns is carved whole as without ``blank_px`` (a blank run bounded on
     both sides; room 45's carving came from the sides).
 
-    ``far_sides`` (a named option, with ``blank_px``) keeps the side columns
-    that ``blank_px`` cuts off (more than ``blank_px`` beside the outermost
-    located column, out to the picture's edge) among the free ends, carved
-    to the same reach, and flags them in ``FloorScan.far``: the caller
-    decides whether to carve them (:class:`TwoLookSides`).  Off, or without
-    ``blank_px``, the scan is exactly what it is without it.
+    The side columns that ``blank_px`` cuts off (more than ``blank_px``
+    beside the outermost located column, out to the picture's edge) are
+    returned apart, in ``FloorScan.far_ends`` / ``far_cols``, at the reach
+    they would have had: a caller may carve them on more evidence
+    (:class:`TwoLookSides`).
 
     ``place`` says where a column's range is put on the floor plane:
     ``"axis"`` (the default) along the column's ray through the picture's
@@ -272,6 +271,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         reach = reach * ahead / np.maximum(rng, 1e-12)       # in forward feet, as the hit
     hit_cov = R @ cov_c[near] @ R.T
     free_cols, free_rng, spans, assumed, far = [], [], [], [], []
+    far_ends = far_cols = None
     gap_px = 128 if blank_ft else max_gap_px
     for k in range(len(cols) - 1):
         a, b = cols[k], cols[k + 1]
@@ -303,9 +303,6 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         side_far = [np.zeros(len(s), bool) for s in sides]
         if len(cols) and blank_px is not None:
             side_far = [sides[0] < lo_c - blank_px, sides[1] > hi_c + blank_px]
-            if not far_sides:
-                sides = (sides[0][~side_far[0]], sides[1][~side_far[1]])
-                side_far = [np.zeros(len(s), bool) for s in sides]
         for side, edge_r, is_far in zip(sides, edges, side_far):
             if len(side):
                 free_cols.append(side)
@@ -317,17 +314,20 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         free_ends = to_room(fcols.astype(float), np.concatenate(free_rng))
         assumed = np.concatenate(assumed)
         far = np.concatenate(far)
+        if blank_px is not None and len(cols):
+            far_ends, far_cols = free_ends[far], fcols[far]
+            free_ends, assumed, fcols = free_ends[~far], assumed[~far], fcols[~far]
     else:
         free_ends, assumed, fcols = empty, np.zeros(0, bool), np.zeros(0, int)
-        far = np.zeros(0, bool)
-    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols, far)
+    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
+                     far_ends, far_cols)
 
 
 BLANK_SIDES = ("cut", "two-looks")   # what becomes of the side columns blank_px cuts off
 
 
 class TwoLookSides:
-    """The far side columns of a look (``floor_scan(far_sides=True)``: more
+    """The far side columns of a look (``FloorScan.far_ends``: more
     than ``blank_px`` beside the outermost located edge, toward the picture's
     edge) carve a cell only when two looks from poses at least ``apart_ft``
     apart, or turned at least ``apart_deg`` from each other, both had it in

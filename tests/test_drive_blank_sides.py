@@ -28,28 +28,22 @@ def _cols(ends, origin=np.zeros(3)):
     return np.round(d[:, 0] * FOCAL_128 / d[:, 2] + CX_128 + 0.5).astype(int)
 
 
-def test_far_sides_adds_the_cut_off_side_columns_flagged_and_leaves_the_rest_alone():
+def test_the_cut_off_side_columns_come_apart_and_the_rest_is_unchanged():
     origin = np.zeros(3)
     pts = _edge(40, 5.0) + _edge(110, 6.0)        # 70 columns apart: wider than max_gap_px
+    whole = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0)
     cut = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0, blank_px=16)
-    held = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0, blank_px=16, far_sides=True)
-    assert not cut.far.any()
-    far_cols = sorted(_cols(held.free_ends[held.far]))
     # more than 16 columns beside the outermost edges, out to the picture's edges
-    assert far_cols == list(range(1, 24)) + list(range(127, 129))
-    assert held.assumed[held.far].all()
-    # the far ones carved to the same reach as their side's near ones (the edge's own)
-    cols = _cols(held.free_ends)
-    assert np.allclose(held.free_ends[held.far & (cols < 40), 2], 5.0)
-    assert np.allclose(held.free_ends[held.far & (cols > 110), 2], 6.0)
-    # without the far ones the scan is exactly the one without far_sides
-    near = ~held.far
-    assert np.array_equal(held.free_ends[near], cut.free_ends)
-    assert np.array_equal(held.assumed[near], cut.assumed)
-    assert np.array_equal(held.free_cols[near], cut.free_cols)
-    # nothing is far without blank_px (nothing is cut off)
-    whole = floor_scan(pts, np.eye(3), origin, BAND, blank_ft=8.0, far_sides=True)
-    assert not whole.far.any() and len(whole.free_ends) == 126
+    assert sorted(cut.far_cols) == list(range(1, 24)) + list(range(127, 129))
+    assert sorted(_cols(cut.far_ends)) == sorted(cut.far_cols)
+    assert not set(cut.far_cols) & set(cut.free_cols)
+    # at the reach they had without blank_px: their side's edge's range
+    assert np.allclose(cut.far_ends[cut.far_cols < 40, 2], 5.0)
+    assert np.allclose(cut.far_ends[cut.far_cols > 110, 2], 6.0)
+    ranges = dict(zip(_cols(whole.free_ends), whole.free_ends[:, 2]))
+    assert np.allclose(cut.far_ends[:, 2], [ranges[c] for c in cut.far_cols])
+    # nothing is cut off without blank_px
+    assert whole.far_ends is None and len(whole.free_ends) == 126
 
 
 def test_two_look_sides_confirms_a_cell_only_from_a_second_pose_apart():
