@@ -1,5 +1,5 @@
 """The side columns that ``blank_px`` cuts off, carved only where two looks from
-poses apart both saw them blank (``floor_scan(far_sides=True)``,
+poses apart both saw them blank (``FloorScan.far_ends``,
 :class:`planner.perception.TwoLookSides`, ``DriveConfig.blank_sides``), on
 hand-made looks of a level camera: room 45's look 4 (a box whose edges the
 look did not locate, beside an edge located farther away) and a second look."""
@@ -98,7 +98,7 @@ def test_a_blank_side_is_carved_only_once_a_second_look_apart_saw_it_blank():
     m.update(look, State(0.0, -1.2, 0.0), Pose, 0.0)
     assert _state(BOX_X, BOX_Z, m) == FREE
     assert m.two_look_sides.confirmed > 0
-    # the default ("cut"): the same three looks never carve it
+    # "cut" (the default before 16:35): the same three looks never carve it
     d = _model("cut")
     for z in (0.0, -0.5, -1.2):
         d.update(look, State(0.0, z, 0.0), Pose, 0.0)
