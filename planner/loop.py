@@ -83,6 +83,8 @@ from .features import FloorFeatures, pose_point_covariance
 from .octree import _pack, _unpack, free_below, key_centres, logodds_at
 from .depth_eyes import depth_floor_scan
 from .perception import CX_128, FOCAL_128, MAX_RANGE_FT, PLACES, BLANK_LIMITS, floor_scan
+from .perception import BLANK_SIDES, TwoLookSides
+from .octree import assumed_free_keys, mark_keys_free
 from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
     training_mask, vetoed
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, hierarchical_search, \
@@ -157,6 +159,11 @@ class DriveConfig:
     blank_limit: str = "all"              # where blank_px applies (floor_scan's blank_limit):
                                           # "all": beside the outermost edges and inside wide
                                           # gaps; "sides": only beside the outermost edges
+    blank_sides: str = "two-looks"        # the side columns blank_px cuts off: "two-looks"
+                                          # (since 2026-12-01 16:35): a cell carved where two
+                                          # looks sides_apart apart both saw it blank
+                                          # (TwoLookSides); "cut": never carved
+    sides_apart: tuple[float, float] = (1.0, 20.0)   # (ft, deg): how far apart two looks are
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
@@ -391,6 +398,7 @@ class Perception:
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.blank_px = None              # DriveConfig.blank_px
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
+        self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
@@ -518,6 +526,16 @@ class Perception:
             if known is not None and len(ends):
                 ends = ends[_near_free(known, left, ends, self.near_ft)]
             mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
+            far_ends = fs.far_ends if self.two_look_sides is not None and \
+                fs.far_ends is not None else fs.free_ends[:0]
+            if len(far_ends):
+                # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
+                if known is not None:
+                    far_ends = far_ends[_near_free(known, left, far_ends, self.near_ft)]
+                keys = assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
+                                         start_ft=self.near_ft)
+                mark_keys_free(self.tree, self.two_look_sides.confirm(
+                    keys, (est.x, est.z, est.heading_deg)))
             if self.occupied == "looks":
                 if len(grown):
                     mark_occupied(self.tree, grown)
@@ -1270,6 +1288,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                           ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
                           ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
                           ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
+                          ("blank_sides", BLANK_SIDES),
                           ("occupied", OCCUPIEDS), ("hit_at", PLACES),
                           ("feature_pose", FEATURE_POSES)):
         if getattr(cfg, name) not in allowed:
@@ -1299,6 +1318,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
+    if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
+        model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied
     model.place = cfg.hit_at
     model.feature_pose = cfg.feature_pose

@@ -417,10 +417,28 @@ def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: 
     ``start_ft`` on, ``stop_short`` (default one cell) before each end; a hit
     cell nearer than ``start_ft`` stops its line too.  Returns the number of
     cells marked."""
+    keys = assumed_free_keys(tree, origin, ends, hit_keys, start_ft, stop_short, only_unknown)
+    return mark_keys_free(tree, keys)
+
+
+def mark_keys_free(tree: pyoctomap.OcTree, keys) -> int:
+    """One miss for each packed cell key; returns how many."""
+    keys = np.asarray(keys, np.int64)
+    if len(keys):
+        tree.updateNodes(np.ascontiguousarray((_unpack(keys) + 0.5) * tree.getResolution()),
+                         False)
+    return len(keys)
+
+
+def assumed_free_keys(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: float = 0.0,
+                      stop_short: float | None = None, only_unknown: bool = True) -> np.ndarray:
+    """The packed keys :func:`mark_assumed_free` would mark, without marking
+    them (a caller that holds the assumption back until more evidence comes)."""
     res = tree.getResolution()
+    none = np.zeros(0, np.int64)
     along = _sight_samples(origin, ends, res, stop_short, start_ft, 0.0)
     if along is None:
-        return 0
+        return none
     samples, dist, n = along
     keys = cell_keys(samples, res)
     hit = np.isin(keys, np.asarray(hit_keys, np.int64))
@@ -431,11 +449,6 @@ def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: 
     base = np.repeat(run[first] - hit[first], m)
     keep = (run - base == 0) & (dist >= start_ft)
     keys = np.unique(keys[keep])
-    if not len(keys):
-        return 0
-    if only_unknown:
+    if only_unknown and len(keys):
         keys = keys[np.isnan(logodds_at(tree, keys))]
-    if not len(keys):
-        return 0
-    tree.updateNodes(np.ascontiguousarray((_unpack(keys) + 0.5) * res), False)
-    return len(keys)
+    return keys.astype(np.int64)

@@ -19,6 +19,7 @@ bounds: the surface between two boundary lines (Chapter IV: occupied where
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -136,6 +137,10 @@ class FloorScan:
                                         # assumption (``blank_ft``), not bounded by hits
     hit_cols: np.ndarray | None = None  # (H,) picture column (1-based) of each hit
     free_cols: np.ndarray | None = None # (F,) picture column (1-based) of each free end
+    far_ends: np.ndarray | None = None  # (K, 3) under ``blank_px``: the free ends of the side
+                                        # columns it cut off (more than ``blank_px`` beside the
+                                        # outermost located one), not in ``free_ends``
+    far_cols: np.ndarray | None = None  # (K,) their picture columns (1-based)
 
 
 CARVE = ("range", "error")
@@ -186,6 +191,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     picture's edges), and a gap wider than ``max_gap_px`` between two located
     columns is carved whole as without ``blank_px`` (a blank run bounded on
     both sides; room 45's carving came from the sides).
+
+    The side columns that ``blank_px`` cuts off (more than ``blank_px``
+    beside the outermost located column, out to the picture's edge) are
+    returned apart, in ``FloorScan.far_ends`` / ``far_cols``, at the reach
+    they would have had: a caller may carve them on more evidence
+    (:class:`TwoLookSides`).
 
     ``place`` says where a column's range is put on the floor plane:
     ``"axis"`` (the default) along the column's ray through the picture's
@@ -259,7 +270,8 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         ahead = (hits - origin) @ fwd
         reach = reach * ahead / np.maximum(rng, 1e-12)       # in forward feet, as the hit
     hit_cov = R @ cov_c[near] @ R.T
-    free_cols, free_rng, spans, assumed = [], [], [], []
+    free_cols, free_rng, spans, assumed, far = [], [], [], [], []
+    far_ends = far_cols = None
     gap_px = 128 if blank_ft else max_gap_px
     for k in range(len(cols) - 1):
         a, b = cols[k], cols[k + 1]
@@ -273,6 +285,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
             free_rng.append(np.full(len(between), min(reach[k], reach[k + 1])))
             # a gap wider than max_gap_px is free only by the blank-column assumption
             assumed.append(np.full(len(between), wide))
+            far.append(np.zeros(len(between), bool))
         if b - a <= max_gap_px:
             tol = max(ep[near[k]] + ep[near[k + 1]], 0.05 * min(rng[k], rng[k + 1]))
             if abs(rng[k] - rng[k + 1]) <= tol:
@@ -287,17 +300,73 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         sides = (np.arange(1, lo_c), np.arange(hi_c + 1, 129)) if len(cols) else \
             (np.arange(1, 129),)                      # (not the whole view twice)
         edges = (reach[0], reach[-1]) if len(cols) else (blank_ft,)
+        side_far = [np.zeros(len(s), bool) for s in sides]
         if len(cols) and blank_px is not None:
-            sides = (sides[0][sides[0] >= lo_c - blank_px], sides[1][sides[1] <= hi_c + blank_px])
-        for side, edge_r in zip(sides, edges):
+            side_far = [sides[0] < lo_c - blank_px, sides[1] > hi_c + blank_px]
+        for side, edge_r, is_far in zip(sides, edges, side_far):
             if len(side):
                 free_cols.append(side)
                 free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))))
                 assumed.append(np.ones(len(side), bool))
+                far.append(is_far)
     if free_cols:
         fcols = np.concatenate(free_cols).astype(int)
         free_ends = to_room(fcols.astype(float), np.concatenate(free_rng))
         assumed = np.concatenate(assumed)
+        far = np.concatenate(far)
+        if blank_px is not None and len(cols):
+            far_ends, far_cols = free_ends[far], fcols[far]
+            free_ends, assumed, fcols = free_ends[~far], assumed[~far], fcols[~far]
     else:
         free_ends, assumed, fcols = empty, np.zeros(0, bool), np.zeros(0, int)
-    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols)
+    return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
+                     far_ends, far_cols)
+
+
+BLANK_SIDES = ("cut", "two-looks")   # what becomes of the side columns blank_px cuts off
+
+
+class TwoLookSides:
+    """The far side columns of a look (``FloorScan.far_ends``: more
+    than ``blank_px`` beside the outermost located edge, toward the picture's
+    edge) carve a cell only when two looks from poses at least ``apart_ft``
+    apart, or turned at least ``apart_deg`` from each other, both had it in
+    such a blank column.  An assumption of this project, not the
+    dissertation's: one look's blank side may be a box face running out of
+    the picture whose edges that look did not locate (room 45, seeds 41-60);
+    a second viewpoint brings the face's edges to other columns, or into the
+    picture, and one located there stops the carving (a hit ends every
+    assumed line before it).  Not proof: a face no look ever locates stays
+    blank from everywhere.
+
+    ``confirm(keys, pose)`` takes the packed keys of the cells this look's far
+    sides would carve (:func:`planner.octree.assumed_free_keys`: unknown, not
+    past a hit) and the look's (x, z, heading deg); it returns the keys a
+    look far enough from this one had already held back, and holds back the
+    others under this look's pose (the first look's pose is kept)."""
+
+    def __init__(self, apart_ft: float = 1.0, apart_deg: float = 20.0):
+        if not (apart_ft > 0 and apart_deg > 0):
+            raise ValueError(f"two looks apart by a positive distance and turn, "
+                             f"not {apart_ft!r} ft, {apart_deg!r} deg")
+        self.apart_ft = float(apart_ft)
+        self.apart_deg = float(apart_deg)
+        self.first: dict[int, tuple[float, float, float]] = {}   # key -> first look's pose
+        self.confirmed = 0
+
+    def apart(self, a, b) -> bool:
+        turn = abs((a[2] - b[2] + 180.0) % 360.0 - 180.0)
+        return math.hypot(a[0] - b[0], a[1] - b[1]) >= self.apart_ft or turn >= self.apart_deg
+
+    def confirm(self, keys, pose) -> np.ndarray:
+        pose = tuple(float(v) for v in pose)
+        out = []
+        for k in np.asarray(keys, np.int64).tolist():
+            seen = self.first.get(k)
+            if seen is None:
+                self.first[k] = pose
+            elif self.apart(seen, pose):
+                out.append(k)
+                del self.first[k]
+        self.confirmed += len(out)
+        return np.array(out, np.int64)

@@ -155,7 +155,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
         MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES, UNCERTAIN_PLANS
-    from planner.perception import BLANK_LIMITS, PLACES
+    from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES
     from model.pose import ESTIMATORS
     p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,
                    help="plan through never-seen space as free (default) or blocked; the vehicle "
@@ -254,6 +254,16 @@ def add_loop_options(p) -> None:
                    help="where --blank-px applies: 'all' (default): beside the outermost located "
                         "columns and inside wide gaps between two; 'sides': only beside the "
                         "outermost ones, wide gaps carved whole")
+    p.add_argument("--blank-sides", choices=BLANK_SIDES, default=C.blank_sides,
+                   help="the side columns --blank-px cuts off (beside the outermost located "
+                        "one, out to the picture's edge): 'two-looks' (default): a cell carved "
+                        "once two looks --sides-apart apart both had it in such a blank "
+                        "column; 'cut': never carved")
+    p.add_argument("--sides-apart", type=float, nargs=2, default=C.sides_apart,
+                   metavar=("FT", "DEG"),
+                   help="for --blank-sides two-looks: the two looks at least FT apart or "
+                        f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
+                        f"{C.sides_apart[1]:g} deg)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -269,6 +279,9 @@ def loop_config(args, goal, fail):
             voi = VolumeOfInterest.for_accuracy(args.cell_ft)
         except ValueError as exc:
             fail(f"--cell-ft: {exc}")
+    if not all(v > 0 for v in args.sides_apart):
+        fail(f"--sides-apart {args.sides_apart[0]!r} {args.sides_apart[1]!r}: a distance in feet "
+             f"and a turn in degrees, both positive")
     if args.expire_uncertain < 0:
         fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
     if args.margin is not None and not 0 <= args.margin < 10:
@@ -287,7 +300,8 @@ def loop_config(args, goal, fail):
                        expire_uncertain=args.expire_uncertain,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
-                       blank_limit=args.blank_limit,
+                       blank_limit=args.blank_limit, blank_sides=args.blank_sides,
+                       sides_apart=tuple(args.sides_apart),
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 
