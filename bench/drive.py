@@ -114,7 +114,7 @@ def final_map_losses(room, fmap, radius):
 
 def seeded_tasks(args):
     """(seed, room, start state, goal or None) for the seeded rooms the bench runs."""
-    from planner.loop import random_goal
+    from planner.planning import random_goal
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
     from world.room import generate_room

@@ -31,7 +31,7 @@ growth); neighbouring columns whose hits
 agree within 5 % of the range (at least a cell) and lie within 1 ft are
 joined by a surface span, as floor_scan joins edges.  The result is a
 :class:`~planner.perception.FloorScan`, inserted by
-:meth:`planner.loop.Perception.update` as any other look.
+:meth:`planner.evidence.Perception.update` as any other look.
 """
 
 from __future__ import annotations

@@ -90,7 +90,7 @@ def cmd_drive(args) -> int:
         goal = DEFAULT_LAB_GOAL
     else:
         import numpy as np
-        from planner.loop import random_goal
+        from planner.planning import random_goal
         goal = random_goal(room, start, DEFAULT, np.random.default_rng(args.room))
         if goal is None:
             raise SystemExit(f"rig drive: room {args.room} has no reachable goal from the start; "
@@ -153,8 +153,9 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, GOALS, LOOK_AROUNDS, \
-        MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES, UNCERTAIN_PLANS
+    from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
+    MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
+    from planner.planning import GOALS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES
     from model.pose import ESTIMATORS
     p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,

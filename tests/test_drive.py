@@ -7,7 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from planner.loop import DriveConfig, near_visible_ft, run, true_optimum
+from planner.loop import DriveConfig, run
+from planner.motion import near_visible_ft
+from planner.planning import true_optimum
 from planner.perception import floor_scan
 from planner.tiny import GOAL, tiny_room
 from rig.scan import Point
@@ -154,7 +156,7 @@ def test_a_start_too_near_an_obstacle_may_be_left_but_not_approached():
     """The planner leads the vehicle away from an obstacle it stands too near
     (within 1 ft, never nearer to anything) instead of refusing the start."""
     from planner.floormap import FloorMap
-    from planner.loop import _escape_start
+    from planner.planning import _escape_start
     from planner.octree import FREE, OCCUPIED
     from planner.search import astar, clearance_map
     cells = np.full((40, 40), FREE, np.uint8)          # 10 ft square, 0.25 ft cells
@@ -179,7 +181,7 @@ def test_across_sight_growth_drops_the_range_error_only():
     the sight line each way (2 cells of 0.25 ft beyond its own); grown across
     only, by 2 x a quarter cell = 0.125 ft along (to its own cell's edges, so
     the touching neighbours), and as wide as before across."""
-    from planner.loop import across_sight_cov
+    from planner.evidence import across_sight_cov
     from planner.octree import features_cells
     res = 0.25
     hit = np.array([[1.125, 0.0, 8.125]])
@@ -235,7 +237,8 @@ def test_a_blank_look_carves_by_assumption_only_past_a_near_zone_seen_free():
     # is free to blank_ft only along lines whose part nearer than near_ft is
     # free on the known map; a blank face right in front shows nothing either
     from planner.floormap import empty_map
-    from planner.loop import Perception, _mark_track_free
+    from planner.evidence import Perception
+    from planner.motion import _mark_track_free
     from planner.octree import FREE, UNKNOWN, VolumeOfInterest, query
     from world.pose import Pose
     est = State(0.0, 0.0, 0.0)

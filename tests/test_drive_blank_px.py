@@ -6,7 +6,8 @@ beside an edge located farther away (room 45, seeds 41-60)."""
 import numpy as np
 import pytest
 
-from planner.loop import DriveConfig, Perception
+from planner.evidence import Perception
+from planner.loop import DriveConfig
 from planner.octree import FREE, UNKNOWN, VolumeOfInterest, query
 from planner.perception import FOCAL_128, CX_128, floor_scan
 from rig.scan import Point

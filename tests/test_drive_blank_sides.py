@@ -7,7 +7,8 @@ look did not locate, beside an edge located farther away) and a second look."""
 import numpy as np
 import pytest
 
-from planner.loop import DriveConfig, Perception
+from planner.evidence import Perception
+from planner.loop import DriveConfig
 from planner.octree import FREE, UNKNOWN, VolumeOfInterest, query
 from planner.perception import CX_128, FOCAL_128, TwoLookSides, floor_scan
 from rig.scan import Point

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from planner.depth_eyes import camera_points, depth_floor_scan
-from planner.loop import DriveConfig, Perception, run
+from planner.evidence import Perception
+from planner.loop import DriveConfig, run
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, query
 from planner.perception import floor_scan
 from rig.scene import flat
@@ -166,7 +167,7 @@ def test_a_swept_pivot_needs_only_the_cells_its_footprint_sweeps():
     # half diagonal (0.64 ft) the default's whole disc asks for, outside the bare
     # footprint (0.8 x 1.0 ft: x up to 0.4)
     from planner.floormap import FloorMap
-    from planner.loop import _disc_seen_free, _pivot_seen_free
+    from planner.motion import _disc_seen_free, _pivot_seen_free
     fm = FloorMap(np.full((24, 24), FREE, np.uint8), -3.0, -3.0, 0.25)
     fm.cells[fm.index(0.6, 0.1)] = UNKNOWN
     foot = DEFAULT.footprint

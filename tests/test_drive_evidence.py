@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 from planner.floormap import FloorMap
-from planner.loop import DriveConfig, _blocker, _fetch_evidence, _viewpoint, near_visible_ft, plan
+from planner.loop import DriveConfig
+from planner.motion import _blocker, _fetch_evidence, _viewpoint, near_visible_ft
+from planner.planning import plan
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from planner.search import clearance_map
 from planner.trajectory import polyline
@@ -149,7 +151,7 @@ def test_back_prefix_backs_over_seen_free_space_only():
     tail would reach the unknown below z = -8 ft; none for a vehicle that
     cannot reverse."""
     import dataclasses
-    from planner.loop import _back_prefix
+    from planner.motion import _back_prefix
     from vehicle.commands import Back
     fm = corridor_map()
     safe = clearance_map(fm, R, "free", uncertain="blocked")
@@ -187,7 +189,7 @@ def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
     between are marked too (the middle of the move, the pivot's corners at 45
     deg), the footprint shrunk by the margin; the default marks only the
     poses themselves (nothing at the move's middle)."""
-    from planner.loop import _mark_track_free, swept_poses
+    from planner.motion import _mark_track_free, swept_poses
     track = [State(0.0, 0.0, 0.0), State(0.0, 2.0, 0.0), State(0.0, 2.0, 90.0)]
     poses = swept_poses(track)
     assert poses[0] == track[0] and poses[-1] == track[-1]

@@ -5,7 +5,8 @@ anything there expires to UNKNOWN (``DriveConfig.expire_uncertain``,
 import numpy as np
 import pytest
 
-from planner.loop import DriveConfig, Perception, run
+from planner.evidence import Perception
+from planner.loop import DriveConfig, run
 from planner.octree import OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, query
 from planner.tiny import GOAL, tiny_room
 from rig.scan import Point

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from planner.floormap import true_floor_map
-from planner.loop import DriveConfig, GOAL_SLACK_FT, goal_target, plan
+from planner.loop import DriveConfig
+from planner.planning import GOAL_SLACK_FT, goal_target, plan
 from planner.search import NoPath, clearance_map, hierarchical_search, segment_samples
 from vehicle.profile import DEFAULT
 from vehicle.sim import State

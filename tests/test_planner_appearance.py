@@ -191,7 +191,9 @@ def test_floor_eyes_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
 
 def test_add_carves_both_the_floor_in_view_and_the_assumption():
     from eyes import scan_pair
-    from planner.loop import DriveConfig, Perception, near_visible_ft, true_range_points
+    from planner.evidence import Perception
+    from planner.loop import DriveConfig, true_range_points
+    from planner.motion import near_visible_ft
     from planner.octree import FREE as F
     from vehicle.profile import DEFAULT
     from vehicle.sim import State

@@ -8,7 +8,8 @@ import pytest
 
 from planner.features import FloorFeatures, associate, ellipse_cells, fuse2, \
     pose_point_covariance, segment_cells
-from planner.loop import DriveConfig, Perception, run
+from planner.evidence import Perception
+from planner.loop import DriveConfig, run
 from planner.octree import VolumeOfInterest, cell_centres, feature_cells, features_cells, \
     mark_free_rays, mark_occupied
 from planner.tiny import GOAL, tiny_room

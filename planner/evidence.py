@@ -1,0 +1,447 @@
+"""The loop's map of its evidence (Chapter IV's volumetric model as the closed
+loop keeps it): every look into the occupancy octree and the floor map
+(:class:`Perception`), and what the map is told beside the looks — the room's
+walls as a floor plan (:func:`_mark_walls`).
+
+Each look enters as a floor range scan (:func:`planner.perception.floor_scan`,
+or :func:`planner.depth_eyes.depth_floor_scan` for the diagnostic depth eyes):
+hits grown by their covariance, their sight lines free, the blank-column
+assumption carved only where it is allowed (``blank_carve``, ``blank_px``,
+``blank_sides``).  ``occupied="model"`` draws the occupied cells from floor
+features fused look by look instead (:mod:`planner.features`).  The loop that
+drives on this map is :mod:`planner.loop`.
+"""
+
+from __future__ import annotations
+
+
+import numpy as np
+
+from vehicle.sim import State
+from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
+    training_mask, vetoed
+from .depth_eyes import depth_floor_scan
+from .features import FloorFeatures, pose_point_covariance
+from .floormap import FloorMap, project_octree
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, _pack, _unpack, \
+    assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
+    logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, new_octree, \
+    spans_cells
+from .perception import CX_128, FOCAL_128, floor_scan
+
+
+def across_sight_cov(points, covs, origin, res: float) -> np.ndarray:
+    """The covariances with their spread along the (horizontal) sight line
+    from ``origin`` cut to a quarter cell: a hit grown by its error ACROSS the
+    sight line only, the range error not grown (a named option, off by
+    default: the dissertation grows a feature by its whole covariance)."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    u = pts - np.asarray(origin, float)
+    u[:, 1] = 0.0
+    u /= np.maximum(np.linalg.norm(u, axis=1), 1e-12)[:, None]
+    P = np.eye(3)[None] - u[:, :, None] * u[:, None, :]
+    return P @ np.asarray(covs, float) @ P + (res / 4) ** 2 * (u[:, :, None] * u[:, None, :])
+
+
+class Perception:
+    """The model the loop plans on: located points (room coordinates) of every
+    look and the octree built from them.  ``estimate`` is the camera estimate
+    this adapter uses: the dead-reckoned pose, unchanged (``run`` replaces it
+    with the walk's fused pose under ``pose="fused"``)."""
+
+    def __init__(self, voi: VolumeOfInterest, band, max_range_ft: float, confirm_looks: int = 2,
+                 free_looks: int = 2, near_ft: float = 2.8, blank_ft: float | None = None):
+        self.tree = new_octree(voi, confirm_looks)
+        self.growth = "covariance"        # or "across" (DriveConfig.growth)
+        self.blank_carve = "always"       # or "unknown" (DriveConfig.blank_carve)
+        self.carve = "range"              # or "error" (DriveConfig.carve)
+        self.blank_px = None              # DriveConfig.blank_px
+        self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
+        self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
+        self.occupied = "looks"           # or "model" (DriveConfig.occupied)
+        self.place = "axis"               # or "point" (DriveConfig.hit_at)
+        self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
+        self.floor_eyes = "off"           # or "carve", "add", "veto" (DriveConfig.floor_eyes)
+        self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
+        self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
+        self.expired: dict[int, float] = {}   # packed key -> its log-odds when it expired
+        self.expired_total = 0            # expiries so far (a cell hit again may expire anew)
+        self.lowest_ft = 0.8              # DriveConfig.lowest_obstacle_ft
+        self.floor_hist = np.zeros(16)    # greys of the pixels known to show floor, all looks
+        self.vetoed = 0                   # located points the floor in view contradicted
+        self.floor_cells = 0              # cells the floor in view proved free
+        self.confirm_looks = confirm_looks
+        self.features = FloorFeatures()
+        self.retired = 0
+        self.hit_keys = np.zeros(0, np.int64)   # cells of the floor slab any look has hit
+        self.free_looks = free_looks
+        self.free_band = None
+        self.near_ft = near_ft
+        self.blank_ft = blank_ft
+        self.voi = voi
+        self.band = band
+        self.max_range_ft = max_range_ft
+        self.points = np.zeros((0, 3))
+        self.lo = None
+        self.hi = None
+        self.pending = []
+
+    def estimate(self, look, dead: State) -> State:
+        return dead
+
+    def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
+               known: FloorMap | None = None, pose_cov=None, picture=None, depth=None) -> int:
+        """One look into the model as a floor range scan
+        (:func:`~planner.perception.floor_scan`): each column's nearest
+        supported point hit (grown by its covariance; surface spans between
+        neighbours at one range), and its sight line carved free from
+        ``near_ft`` on — nearer than that the lowest obstacle would be below
+        the picture, so the look proves nothing there — as are the columns
+        between two neighbours, up to the nearer of them.  One update per cell
+        per look.
+
+        Columns free only by the blank-column assumption (``blank_ft``) carve
+        less under ``blank_carve="unknown"`` (a named option): only cells no look has seen, never
+        past a cell any look has hit (:func:`~planner.octree.mark_assumed_free`),
+        and, given the ``known`` floor map (the last one, the vehicle's track
+        free), only along a line whose part nearer than ``near_ft`` (where the
+        look proves nothing) is free on it: a blank view may be a blank face
+        right in front.
+
+        ``occupied="model"`` (a named option, :mod:`planner.features`): the
+        octree gets the sight lines as above but only the hits' own cells
+        (the evidence :meth:`retire` weighs); the hits go into the floor
+        features instead, their covariance with the pose's share added
+        (``pose_cov``: the estimate's (x, z, heading) covariance), and the map's
+        occupied and uncertain cells are drawn from the features
+        (:meth:`floor_map`).
+
+        ``floor_eyes`` (a named option, :mod:`planner.appearance`) reads the
+        look's left ``picture`` (the condensed 128x120 one the eyes scan):
+        once the floor's grey is learned from pixels that show floor the
+        ``known`` map has free, each column's floor in view is carved as a
+        proof (never past a cell any look has hit, no farther than the floor
+        scan's bound of that column) in place of the blank-column assumption
+        (``"carve"``, ``"veto"``) or beside it (``"add"``: the assumption still
+        carves under its own rules); ``"veto"`` also leaves out the located
+        points the floor in view contradicts.
+
+        ``expire_uncertain`` (a named option, N looks; 0 off) counts the look
+        against the uncertain cells it had in view without a hit
+        (:meth:`expire_in_view`); after N the map shows them UNKNOWN.
+
+        ``depth`` (the look's true range per pixel, ``Look.range_left``: the
+        diagnostic depth eyes, :mod:`planner.depth_eyes`) replaces the floor
+        scan of ``scan_points`` by :func:`~planner.depth_eyes.depth_floor_scan`;
+        the rest of the update is the same."""
+        pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
+        R = pose.rotation()
+        left = pose.camera_centre("left")
+        res = self.tree.getResolution()
+        rays = top = None
+        if self.floor_eyes != "off" and picture is not None:
+            rays = floor_rays(R, left)
+            pic = np.asarray(picture)
+            if known is not None:
+                m = training_mask(rays, known, self.lowest_ft, self.max_range_ft)
+                self.floor_hist += np.bincount(pic[m].astype(int), minlength=16)[:16]
+            greys = floor_greys(self.floor_hist)
+            if greys is not None:
+                top = floor_run(pic, greys)
+                if self.floor_eyes == "veto" and len(scan_points):
+                    bad = vetoed(scan_points, rays, top, res)
+                    self.vetoed += int(bad.sum())
+                    scan_points = [q for q, b in zip(scan_points, bad) if not b]
+        if depth is not None:
+            fs = depth_floor_scan(depth, R, left, self.band, self.max_range_ft, res)
+        else:
+            fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
+                            blank_ft=self.blank_ft, carve=self.carve, place=self.place,
+                            blank_px=self.blank_px, blank_limit=self.blank_limit)
+        if len(fs.hits) or len(fs.free_ends):
+            cov = fs.hit_cov if self.growth == "covariance" else \
+                across_sight_cov(fs.hits, fs.hit_cov, left, res)
+            grown = np.vstack([cell_centres(fs.hits, res),
+                               features_cells(fs.hits, cov, res),
+                               spans_cells(fs.hits, fs.spans, res)])
+            grown = cell_centres(grown[np.abs(grown[:, 1] - left[1]) < res], res)  # floor slab
+            if self.expire_uncertain and self.occupied == "looks":
+                self.expire_in_view(fs, R, left, cell_keys(grown, res))
+            self.hit_keys = np.union1d(self.hit_keys, cell_keys(grown, res))
+            assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
+                else np.zeros(len(fs.free_ends), bool)
+            if top is not None:
+                # the floor in view replaces the blank-column assumption
+                self._carve_floor(fs, rays, top, left, res)
+                assumed = fs.assumed if fs.assumed is not None else assumed
+                proven = fs.free_ends[~assumed]
+                # "add": the assumption carves as well, under its own rules
+                ends = fs.free_ends[assumed] if self.floor_eyes == "add" else fs.free_ends[:0]
+            else:
+                proven = fs.free_ends[~assumed]
+                ends = fs.free_ends[assumed]
+            mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]), start_ft=self.near_ft)
+            # by assumption only into unknown cells, never past a cell hit (this look too)
+            if known is not None and len(ends):
+                ends = ends[_near_free(known, left, ends, self.near_ft)]
+            mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
+            far_ends = fs.far_ends if self.two_look_sides is not None and \
+                fs.far_ends is not None else fs.free_ends[:0]
+            if len(far_ends):
+                # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
+                if known is not None:
+                    far_ends = far_ends[_near_free(known, left, far_ends, self.near_ft)]
+                keys = assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
+                                         start_ft=self.near_ft)
+                mark_keys_free(self.tree, self.two_look_sides.confirm(
+                    keys, (est.x, est.z, est.heading_deg)))
+            if self.occupied == "looks":
+                if len(grown):
+                    mark_occupied(self.tree, grown)
+            elif len(fs.hits):
+                mark_occupied(self.tree, cell_centres(fs.hits, res))
+                obs = fs.hits[:, [0, 2]]
+                obs_cov = fs.hit_cov[:, [0, 2]][:, :, [0, 2]]
+                if pose_cov is not None and self.feature_pose == "absolute":
+                    obs_cov = obs_cov + pose_point_covariance(obs, (est.x, est.z), pose_cov)
+                self.features.add_look(obs, obs_cov, fs.spans, near=(est.x, est.z),
+                                       near_ft=self.max_range_ft + 3.0,
+                                       drift_cov=pose_cov if self.feature_pose == "drift"
+                                       and pose_cov is not None else None)
+            if self.occupied == "model":
+                self.retire(left, self.max_range_ft + 3.0)
+        elif self.expire_uncertain and self.occupied == "looks":
+            self.expire_in_view(fs, R, left, np.zeros(0, np.int64))   # it located nothing
+        self.points = np.vstack([self.points, fs.hits])
+        self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
+        return len(fs.hits)
+
+    def expire_in_view(self, fs, R, left, look_keys) -> int:
+        """Count this look against every uncertain cell (hit by earlier looks,
+        not confirmed) that it had IN VIEW without locating anything there,
+        and expire a cell after ``expire_uncertain`` such looks: it then shows
+        UNKNOWN on the map (:meth:`floor_map`), never free, until a hit raises
+        its log-odds again.  Returns the cells expired by this look.
+
+        In view: in the picture's columns (the floor scan's own placement of
+        a column's range, ``place="axis"``, inverted), from ``near_ft`` on
+        (nearer, the lowest obstacle is below the picture) to ``max_range_ft``,
+        and nearer by a cell than the column's bound in this look — its hit, or
+        the end of its free sight line between two hits — in the cell's
+        column and the one each side (a column showing nothing at all has no
+        bound).  A cell within one cell of anything this look hit
+        (``look_keys``: its grown hit cells) is not counted and starts over:
+        a real corner seen again from near by shows again.  Cells whose state
+        is already OCCUPIED never expire."""
+        res = self.tree.getResolution()
+        cand = self._uncertain_keys(left, res)
+        if not len(cand):
+            return 0
+        xyz = key_centres(cand, res)
+        # the cell and its 8 neighbours against this look's hits
+        k = _unpack(cand)
+        near_hit = np.zeros(len(cand), bool)
+        look_keys = np.asarray(look_keys, np.int64)
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                near_hit |= np.isin(_pack(k + np.array([di, 0, dj])), look_keys)
+        # the column of each cell: v = s * (u * a + b), a, b the levelled
+        # right and forward axes of the camera (floor_scan's "axis" placement)
+        a = R[[0, 2], 0]
+        b = R[[0, 2], 2]
+        v = xyz[:, [0, 2]] - left[[0, 2]]
+        M = np.array([[a[0], b[0]], [a[1], b[1]]])
+        su, s = np.linalg.solve(M, v.T)
+        d = np.hypot(v[:, 0], v[:, 1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            col = np.where(s > 0, su / s * FOCAL_128 + CX_128 + 0.5, -1.0)
+        c = np.round(col).astype(int)
+        inview = (s > 0) & (c >= 2) & (c <= 127) & (d >= self.near_ft) & \
+            (d <= self.max_range_ft)
+        bound = np.full(130, np.inf)                 # 1-based columns, with a pad each side
+        for pts, cols, ok in ((fs.hits, fs.hit_cols, None),
+                              (fs.free_ends, fs.free_cols, None if fs.assumed is None
+                               else ~np.asarray(fs.assumed, bool))):
+            if cols is None or not len(pts):
+                continue
+            dist = np.hypot(pts[:, 0] - left[0], pts[:, 2] - left[2])
+            cc = np.asarray(cols, int)
+            sel = np.ones(len(cc), bool) if ok is None else ok
+            np.minimum.at(bound, cc[sel], dist[sel])
+        cs = np.clip(c, 1, 128)
+        nearest = np.minimum(np.minimum(bound[cs - 1], bound[cs]), bound[cs + 1])
+        counted = inview & (d <= nearest - res) & ~near_hit
+        for key in cand[near_hit]:
+            self.unseen.pop(int(key), None)
+        expired = 0
+        for key in cand[counted]:
+            key = int(key)
+            n = self.unseen.get(key, 0) + 1
+            self.unseen[key] = n
+            if n >= self.expire_uncertain and key not in self.expired:
+                self.expired[key] = float("nan")      # its log-odds, read after this look
+                expired += 1
+        self.expired_total += expired
+        return expired
+
+    def _uncertain_keys(self, left, res: float) -> np.ndarray:
+        """Packed keys of the floor-slab cells any look hit that are UNCERTAIN
+        now (before this look), within range of ``left``."""
+        keys = self.hit_keys
+        if not len(keys):
+            return keys
+        xyz = key_centres(keys, res)
+        keys = keys[np.hypot(xyz[:, 0] - left[0], xyz[:, 2] - left[2])
+                    <= self.max_range_ft + res]
+        if not len(keys):
+            return keys
+        lo = logodds_at(self.tree, keys)
+        unc = (lo >= 0) & (lo < self.tree.getOccupancyThresLog())    # NaN: neither
+        return keys[unc]
+
+    def _apply_expired(self, fm: FloorMap) -> None:
+        """Show the expired cells UNKNOWN: those still uncertain whose log-odds
+        have not risen since they expired (a later hit revives a cell, a
+        later sight line through it may clear it as before)."""
+        if not self.expired:
+            return
+        res = self.tree.getResolution()
+        keys = np.fromiter(self.expired.keys(), np.int64, len(self.expired))
+        then = np.fromiter(self.expired.values(), float, len(self.expired))
+        lo = logodds_at(self.tree, keys)
+        then = np.where(np.isnan(then), lo, then)       # expired this look: read now
+        for key, t in zip(keys, then):
+            self.expired[int(key)] = float(t)
+        revived = ~(lo <= then + 1e-9)                  # raised by a hit (or gone)
+        for key in keys[revived]:
+            self.expired.pop(int(key), None)
+            self.unseen.pop(int(key), None)
+        occ_lo = self.tree.getOccupancyThresLog()
+        show = ~revived & (lo >= 0) & (lo < occ_lo)
+        if not show.any():
+            return
+        k = _unpack(keys[show])
+        i = k[:, 2] - int(round(fm.z0 / res))
+        j = k[:, 0] - int(round(fm.x0 / res))
+        ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        i, j = i[ok], j[ok]
+        sel = fm.cells[i, j] == UNCERTAIN
+        fm.cells[i[sel], j[sel]] = UNKNOWN
+
+    def _carve_floor(self, fs, rays, top, left, res: float) -> int:
+        """Carve each column's floor in view (:func:`planner.appearance.floor_proof`),
+        cut at the floor scan's own bound of that column (its hit, or the end
+        of its free sight line: the near end of its neighbours' error bound,
+        or the blank-column reach), never past a cell any look has hit."""
+        clip = np.zeros(128)
+        for pts, cols in ((fs.hits, fs.hit_cols), (fs.free_ends, fs.free_cols)):
+            if cols is None or not len(pts):
+                continue
+            d = np.hypot(pts[:, 0] - left[0], pts[:, 2] - left[2])
+            c = np.asarray(cols, int) - 1
+            ok = (c >= 0) & (c < 128)
+            np.maximum.at(clip, c[ok], d[ok])
+        proof = floor_proof(rays, top, clip, self.lowest_ft, res)
+        if proof is None:
+            return 0
+        pts, ray, _ = proof
+        keys = cell_keys(pts, res)
+        keys = np.unique(keys[keep_before_hit(keys, ray, self.hit_keys)])
+        if not len(keys):
+            return 0
+        self.tree.updateNodes(np.ascontiguousarray(key_centres(keys, res)), False)
+        self.floor_cells += len(keys)
+        return len(keys)
+
+    def retire(self, origin, within_ft: float) -> int:
+        """Retire the floor features within ``within_ft`` of ``origin`` whose
+        cell later looks have seen through: its log-odds in the octree below
+        the free threshold (more misses than hits)."""
+        f = self.features
+        sel = np.flatnonzero(f.alive)
+        if not len(sel):
+            return 0
+        sel = sel[np.hypot(f.mean[sel, 0] - origin[0], f.mean[sel, 1] - origin[2]) <= within_ft]
+        if not len(sel):
+            return 0
+        res = self.tree.getResolution()
+        xyz = np.column_stack([f.mean[sel, 0], np.full(len(sel), origin[1]), f.mean[sel, 1]])
+        keys = cell_keys(xyz, res)
+        uniq, inv = np.unique(keys, return_inverse=True)
+        lo = logodds_at(self.tree, uniq)[inv]
+        through = np.zeros(len(f.alive), bool)
+        through[sel] = lo < free_below(self.free_looks)       # NaN (unknown): not seen through
+        n = f.retire(through)
+        self.retired += n
+        return n
+
+    def _extend(self, xz):
+        if len(xz) == 0:
+            return
+        lo, hi = xz.min(0), xz.max(0)
+        self.lo = lo if self.lo is None else np.minimum(self.lo, lo)
+        self.hi = hi if self.hi is None else np.maximum(self.hi, hi)
+
+    def floor_map(self, around) -> FloorMap:
+        pts = np.asarray(around, float).reshape(-1, 2)
+        lo, hi = pts.min(0), pts.max(0)
+        if self.lo is not None:
+            lo, hi = np.minimum(lo, self.lo), np.maximum(hi, self.hi)
+        margin = 2.0
+        fm = project_octree(self.tree, (lo[0] - margin, hi[0] + margin, lo[1] - margin,
+                                        hi[1] + margin), self.band, margin=0.0,
+                            free_looks=self.free_looks, free_band=self.free_band)
+        if self.occupied == "model":
+            self._draw_features(fm)
+        elif self.expire_uncertain:
+            self._apply_expired(fm)
+        return fm
+
+    def _draw_features(self, fm: FloorMap) -> None:
+        """The occupied and uncertain cells regenerated from the floor
+        features; the octree's hit cells count only as seen, not free."""
+        fm.cells[(fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)] = UNKNOWN
+        occ, unc = self.features.cells(fm.cell, self.confirm_looks)
+        i0, j0 = int(round(fm.z0 / fm.cell)), int(round(fm.x0 / fm.cell))
+        for cells, st in ((unc, UNCERTAIN), (occ, OCCUPIED)):        # occupied wins
+            i, j = cells[:, 1] - i0, cells[:, 0] - j0
+            ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+            fm.cells[i[ok], j[ok]] = st
+
+
+def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
+    """Mask of the sight lines ``origin -> end`` whose part nearer than
+    ``near_ft`` lies on cells FREE on ``fm`` (outside it: unknown)."""
+    origin = np.asarray(origin, float)
+    d = np.asarray(ends, float)[:, [0, 2]] - origin[[0, 2]]
+    unit = d / np.maximum(np.linalg.norm(d, axis=1), 1e-12)[:, None]
+    t = np.arange(0.0, near_ft + 1e-9, fm.cell / 2)
+    x = origin[0] + unit[:, None, 0] * t[None]
+    z = origin[2] + unit[:, None, 1] * t[None]
+    i = np.floor((z - fm.z0) / fm.cell).astype(int)
+    j = np.floor((x - fm.x0) / fm.cell).astype(int)
+    nz, nx = fm.cells.shape
+    inside = (i >= 0) & (i < nz) & (j >= 0) & (j < nx)
+    free = np.zeros(i.shape, bool)
+    free[inside] = fm.cells[i[inside], j[inside]] == FREE
+    return free.all(1)
+
+
+def _mark_walls(fm: FloorMap, bounds) -> None:
+    """The floor plan: every cell reaching past the walls is occupied."""
+    nz, nx = fm.shape
+    xs = fm.x0 + np.arange(nx + 1) * fm.cell
+    zs = fm.z0 + np.arange(nz + 1) * fm.cell
+    bx0, bx1, bz0, bz1 = bounds
+    out_x = (xs[:-1] < bx0) | (xs[1:] > bx1)
+    out_z = (zs[:-1] < bz0) | (zs[1:] > bz1)
+    fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
+
+
+def _floor_stats(model: "Perception") -> dict:
+    """What the floor in view did in one drive (planner.appearance)."""
+    from .appearance import floor_greys
+    g = floor_greys(model.floor_hist)
+    return {"floor_greys": [] if g is None else np.flatnonzero(g).tolist(),
+            "floor_samples": int(model.floor_hist.sum()), "floor_cells": int(model.floor_cells),
+            "vetoed_points": int(model.vetoed)}

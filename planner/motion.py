@@ -1,0 +1,367 @@
+"""What the vehicle may do on the map it has (the execution step of the closed
+loop, :mod:`planner.loop`): the vehicle never drives into space no look has
+shown free.
+
+* :func:`_safe_prefix`: the first ``step`` ft of the planned commands, each
+  forward move cut where its swept width (and nose) would enter a cell not
+  seen free or come within the vehicle's radius of an occupied or uncertain
+  cell; a pivot needs its circle (or, ``pivot="swept"``, its sweep) seen free;
+* what a look can show: :func:`looked_free` (the field of view just looked
+  at), :func:`near_visible_ft` (nothing nearer is in the picture);
+* the vehicle's own track as free space (:func:`_mark_track_free`);
+* fetching evidence when it cannot move (``look_around="evidence"``, a named
+  option): the blocking cells, a viewpoint to look at them from, backing off
+  (:func:`_fetch_evidence`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from vehicle.commands import Back, Forward, Turn
+from vehicle.profile import VehicleProfile
+from vehicle.sim import State
+from .floormap import FloorMap
+from .octree import FREE, UNCERTAIN, UNKNOWN
+from .planning import _escape_start
+from .search import NoPath, Passable, astar, clearance_at, clearance_map, segment_samples
+from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
+
+
+def swept_poses(track, step_ft: float = 0.25, step_deg: float = 10.0) -> list:
+    """The poses between consecutive poses of a track: a straight move sampled
+    every ``step_ft``, a pivot every ``step_deg`` (the footprint's sweep)."""
+    if not track:
+        return []
+    out = [track[0]]
+    for a, b in zip(track[:-1], track[1:]):
+        turn = wrap(b.heading_deg - a.heading_deg)
+        dist = math.hypot(b.x - a.x, b.z - a.z)
+        n = max(1, int(math.ceil(max(abs(turn) / step_deg, dist / step_ft))))
+        for k in range(1, n + 1):
+            t = k / n
+            out.append(State(a.x + t * (b.x - a.x), a.z + t * (b.z - a.z),
+                             wrap(a.heading_deg + t * turn)))
+    return out
+
+
+def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0,
+                     swept_margin: float | None = None) -> None:
+    """Where the vehicle has stood is free: its footprint rectangle at every
+    dead-reckoned pose (and, with ``disc_ft``, a disc of that radius about the
+    first pose: the clear spot it was set down in).  With ``swept_margin`` (a
+    named option, ``DriveConfig.track_free="swept"``) also every pose between
+    them (the footprint swept by each move and pivot), the footprint shrunk by
+    that margin on every side against the estimate's error."""
+    from world.collide import footprint_corners
+    mask = np.zeros(fm.shape, np.uint8)
+    if swept_margin is not None:
+        track = swept_poses(track)
+        footprint = (max(footprint[0] - 2 * swept_margin, 0.0),
+                     max(footprint[1] - 2 * swept_margin, 0.0))
+    for s in track:
+        c = footprint_corners(s.x, s.z, s.heading_deg, footprint)
+        poly = np.stack([(c[:, 0] - fm.x0) / fm.cell, (c[:, 1] - fm.z0) / fm.cell], 1)
+        cv2.fillPoly(mask, [np.round(poly - 0.5).astype(np.int32)], 1)
+    if disc_ft > 0 and len(track):
+        i, j = fm.index(track[0].x, track[0].z)
+        cv2.circle(mask, (j, i), int(math.floor(disc_ft / fm.cell)), 1, -1)
+    fm.cells[mask > 0] = FREE
+
+
+def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
+    """Every cell within ``radius`` of (x, z) is FREE: a pivot there is safe."""
+    n = int(math.ceil(radius / fm.cell)) + 1
+    i0, j0 = fm.index(x, z)
+    ii, jj = np.mgrid[i0 - n:i0 + n + 1, j0 - n:j0 + n + 1]
+    cx, cz = fm.centre(ii, jj)
+    # cells whose square comes within the radius
+    dx = np.maximum(np.abs(cx - x) - fm.cell / 2, 0)
+    dz = np.maximum(np.abs(cz - z) - fm.cell / 2, 0)
+    near = np.hypot(dx, dz) <= radius
+    inside = (ii >= 0) & (jj >= 0) & (ii < fm.shape[0]) & (jj < fm.shape[1])
+    if (near & ~inside).any():
+        return False
+    return bool((fm.cells[ii[near], jj[near]] == FREE).all())
+
+
+def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
+                     footprint, margin_ft: float, step_deg: float = 2.0) -> bool:
+    """Every cell the footprint (``(width, length)``, grown by ``margin_ft`` on
+    each side) covers while it pivots about (x, z) from ``heading_deg``
+    through ``angle_deg`` is FREE: sampled a quarter cell apart over the
+    rectangle (its edges included) at headings at most ``step_deg`` apart.  A
+    turn of a degree sweeps hardly more than the footprint itself, where the
+    whole disc of :func:`_disc_seen_free` asks for every cell within the half
+    diagonal whatever the angle."""
+    hw = footprint[0] / 2 + margin_ft
+    hl = footprint[1] / 2 + margin_ft
+    q = fm.cell / 4
+    a = np.linspace(-hw, hw, int(math.ceil(2 * hw / q)) + 1)
+    b = np.linspace(-hl, hl, int(math.ceil(2 * hl / q)) + 1)
+    across, along = (g.ravel() for g in np.meshgrid(a, b))
+    n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
+    hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
+    px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
+    pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
+    i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
+    j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
+    if ((i < 0) | (j < 0) | (i >= fm.shape[0]) | (j >= fm.shape[1])).any():
+        return False
+    return bool((fm.cells[i, j] == FREE).all())
+
+
+HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
+
+
+EYES_TURN_DEG = 15.0         # a smaller turn keeps the way ahead inside the view just seen
+
+
+def looked_free(fm: FloorMap, est: State, max_range: float) -> FloorMap:
+    """A copy of ``fm`` whose never-seen cells inside the field of view just
+    looked at (within ``max_range``) count as free: the look located nothing
+    nearer there.  Occupied and uncertain cells stay as they are."""
+    out = FloorMap(fm.cells.copy(), fm.x0, fm.z0, fm.cell)
+    nz, nx = fm.shape
+    xs, zs = fm.centre(np.arange(nz)[:, None], np.arange(nx)[None, :])
+    dx, dz = xs - est.x, zs - est.z
+    bearing = np.degrees(np.arctan2(dx, dz))
+    off = np.abs((bearing - est.heading_deg + 180.0) % 360.0 - 180.0)
+    wedge = (off <= HALF_FOV_DEG) & (np.hypot(dx, dz) <= max_range)
+    out.cells[wedge & (fm.cells == UNKNOWN)] = FREE
+    return out
+
+
+HALF_VFOV_DEG = math.degrees(math.atan(60 / 180))     # half the 120-line picture's height
+
+
+def near_visible_ft(profile: VehicleProfile, lowest_obstacle_ft: float) -> float:
+    """The distance from which an obstacle ``lowest_obstacle_ft`` tall shows in
+    the picture (the lower edge of the view, pitched by the profile, reaches
+    its top): nearer than that a look proves no floor free."""
+    down = -profile.camera_pitch_deg + HALF_VFOV_DEG
+    if down <= 0:
+        return math.inf
+    return (profile.camera_height_ft - lowest_obstacle_ft) / math.tan(math.radians(down))
+
+
+def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad: float,
+               half_width: float) -> np.ndarray:
+    """For each sample of a straight move: every cell across the vehicle's
+    swept width (``half_width`` each side of the centre line) has been seen."""
+    right = np.array([math.cos(heading_rad), -math.sin(heading_rad)])
+    offs = np.arange(-half_width, half_width + 1e-9, fm.cell / 2)
+    pts = samples[:, None, :] + offs[None, :, None] * right[None, None, :]
+    i = np.floor((pts[..., 1] - fm.z0) / fm.cell).astype(int)
+    j = np.floor((pts[..., 0] - fm.x0) / fm.cell).astype(int)
+    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    ok = np.zeros(i.shape, bool)
+    ok[inside] = known[i[inside], j[inside]]
+    return ok.all(1)
+
+
+def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
+                 seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
+                 nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None):
+    """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
+    would come nearer than its radius to an occupied or uncertain cell
+    (``safe``), or where its swept width (``half_width`` each side) would
+    enter a cell never seen (``seen``;
+    ``seen_eyes`` adds the field of view just looked at, used while the vehicle
+    still faces the way it looked).  A turn is a pivot: it needs every cell
+    within ``pivot_ft`` (the footprint's half diagonal) seen free, or, given
+    ``pivot_sweep`` (a named option: the footprint and the margin,
+    ``DriveConfig.pivot="swept"``), every cell that footprint grown by the margin
+    sweeps through the turn (:func:`_pivot_seen_free`)."""
+    out = []
+    x, z, h = est.x, est.z, est.heading_deg
+    turned = 0.0
+    fm = safe.fmap
+    for c in next_segment(cmds, step):
+        if isinstance(c, Turn):
+            if pivot_sweep is not None:
+                if not _pivot_seen_free(fm, x, z, h, c.angle_deg, *pivot_sweep):
+                    break                 # its sweep reaches space not seen free
+            elif pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
+                break                     # its pivot circle reaches space not seen free
+            out.append(c)
+            h = wrap(h + c.angle_deg)
+            turned += abs(c.angle_deg)
+            continue
+        if not isinstance(c, Forward):
+            break
+        if turned > EYES_TURN_DEG and out:
+            break                         # look the new way before driving into it
+        known = seen_eyes if (seen_eyes is not None and turned <= EYES_TURN_DEG) else seen
+        hr = math.radians(h)
+        end = (x + c.distance_ft * math.sin(hr), z + c.distance_ft * math.cos(hr))
+        s = segment_samples((x, z), end, fm.cell / 4)
+        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        # each position needs the band seen on to the vehicle's nose ahead of it
+        step_s = fm.cell / 4
+        m = int(math.ceil(nose_ft / step_s))
+        ext = np.vstack([s, end + (np.arange(1, m + 1) * step_s)[:, None] *
+                         np.array([math.sin(hr), math.cos(hr)])[None, :]])
+        bs = _band_seen(known, fm, ext, hr, half_width)
+        run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+        seen_band = run_ok
+        ok = np.zeros(len(s), bool)
+        near = np.zeros(len(s), bool)
+        if safe.at == "centre":
+            # each position by its own exact distance to the blocked cells
+            cl = clearance_at(safe, s)
+            ok = (cl >= safe.radius - 1e-9) & seen_band & inside
+            near = (cl >= cl[0] - 1e-9) & seen_band & inside
+        else:
+            ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
+            # the vehicle may leave a cell it stands in even if a (perhaps false)
+            # obstacle came near it, as long as it gets no nearer
+            cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0
+            near[inside] = (safe.clearance[i[inside], j[inside]] >= cl0 - 1e-9) & \
+                seen_band[inside]
+        good = ok | (near & (np.arange(len(s)) * fm.cell / 4 <= 1.0))
+        bad = np.flatnonzero(~good)
+        if len(bad) == 0:
+            out.append(c)
+            x, z = end
+            continue
+        k = bad[0] - 1
+        d = max(0.0, k * c.distance_ft / (len(s) - 1)) if k > 0 else 0.0
+        if d > 0.05:
+            out.append(Forward(round(d, 3)))
+        break
+    return out
+
+
+def _blocker(fm: FloorMap, safe: Passable, pts, near_ft: float):
+    """Where the path's execution would stop for want of evidence: the first
+    sample of the path (a quarter cell apart) outside the space seen free, or
+    within the vehicle's radius of an uncertain cell, and the cell to look at
+    there (the nearest cell not seen free: unknown or uncertain).  None when
+    the path has no such place."""
+    look_at = (fm.cells == UNKNOWN) | (fm.cells == UNCERTAIN)
+    if not look_at.any():
+        return None
+    n = int(math.ceil((safe.radius + fm.cell) / fm.cell))
+    for a, b in zip(pts[:-1], pts[1:]):
+        s = segment_samples(a, b, fm.cell / 4)
+        i = np.floor((s[:, 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((s[:, 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        bad = ~inside
+        bad[inside] = (fm.cells[i[inside], j[inside]] != FREE) | ~safe.ok[i[inside], j[inside]]
+        for k in np.flatnonzero(bad):
+            if not inside[k]:
+                return None
+            i0, j0 = i[k], j[k]
+            ii, jj = np.mgrid[max(i0 - n, 0):min(i0 + n + 1, fm.shape[0]),
+                              max(j0 - n, 0):min(j0 + n + 1, fm.shape[1])]
+            m = look_at[ii, jj]
+            if not m.any():
+                continue                  # near a confirmed obstacle: nothing to look at
+            cx, cz = fm.centre(ii[m], jj[m])
+            d = np.hypot(cx - s[k, 0], cz - s[k, 1])
+            q = int(np.argmin(d))
+            return float(cx[q]), float(cz[q])
+    return None
+
+
+def _viewpoint(fm: FloorMap, safe_seen: Passable, est: State, target, near_ft: float,
+               tried, far_ft: float = 2.0):
+    """A path (polyline) through space seen free to a place from which
+    ``target`` can be looked at: between ``near_ft`` + 0.3 ft and ``near_ft`` +
+    ``far_ft`` from it (nearer, a look proves nothing there), not within 0.5 ft
+    of a place in ``tried``, the nearest such place first.  None without one."""
+    p = _escape_start(safe_seen, (est.x, est.z))
+    si, sj = fm.index(est.x, est.z)
+    if not fm.inside(si, sj) or not p.ok[si, sj]:
+        return None
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    ii, jj = np.nonzero(comp == comp[si, sj])
+    cx, cz = fm.centre(ii, jj)
+    dt = np.hypot(cx - target[0], cz - target[1])
+    keep = (dt >= near_ft + 0.3) & (dt <= near_ft + far_ft)
+    for q in tried + [(est.x, est.z)]:
+        keep &= np.hypot(cx - q[0], cz - q[1]) > 0.5
+    if not keep.any():
+        return None
+    cx, cz = cx[keep], cz[keep]
+    order = np.argsort(np.hypot(cx - est.x, cz - est.z))
+    for k in order[:4]:
+        v = (float(cx[k]), float(cz[k]))
+        try:
+            return shorten(p, astar(p, (est.x, est.z), v))
+        except NoPath:
+            continue
+    return None
+
+
+def _back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProfile) -> list:
+    """``[BACK d]``: as far as ``dist`` (at most the profile's step) straight
+    back along the heading, cut by the same rules as a forward move
+    (:func:`_safe_prefix` on the heading turned round: the swept width and
+    the tail seen free, nothing known within the radius); ``[]`` when less
+    than 0.05 ft is allowed."""
+    dist = min(dist, prof.step_ft)
+    if dist <= 0.05:
+        return []
+    behind = State(est.x, est.z, wrap(est.heading_deg + 180.0))
+    seg = _safe_prefix([Forward(dist)], behind, safe, seen, dist, None,
+                       prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
+                       0.0)
+    d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
+    return [Back(round(d, 3))] if d > 0.05 else []
+
+
+LOOKS_PER_VIEWPOINT = 3      # looks at one blocker from one place before trying another
+
+
+def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft: float,
+                    prof: VehicleProfile, cfg, tried: dict):
+    """(commands, note) that go and get the evidence the path lacks, or None.
+    The place where the path's execution stops (:func:`_blocker`: a cell not
+    seen free, or an uncertain cell within the vehicle's radius of it) is
+    looked at: turned to, when it lies far enough (``near_ft``) to show in a
+    look and outside the view just taken; otherwise (too near to show, or
+    looked at from here already) the vehicle drives, through space seen free,
+    to a place from which it can be seen (:func:`_viewpoint`), then turns to
+    it.  ``tried`` maps each blocker's cell to the places it was looked at from."""
+    u = _blocker(fm, safe, pts, near_ft)
+    if u is None:
+        return None
+    tried = tried.setdefault(fm.index(*u), [])
+    here = (est.x, est.z)
+    d = math.hypot(u[0] - here[0], u[1] - here[1])
+    off = wrap(heading_to(here, u) - est.heading_deg)
+    looked = sum(math.hypot(q[0] - here[0], q[1] - here[1]) <= 0.5 for q in tried)
+    if d < near_ft + 0.2 and prof.reverse and abs(off) <= HALF_FOV_DEG - 4.0:
+        # too near to show, and ahead: back straight off until it shows
+        seg = _back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
+        if seg:
+            return seg, f" (backing off to look at ({u[0]:.1f}, {u[1]:.1f}))"
+    if d >= near_ft + 0.2 and looked < LOOKS_PER_VIEWPOINT:
+        if abs(off) <= HALF_FOV_DEG - 4.0:
+            # the look just taken saw it and left it unresolved: a cell hit once
+            # needs more than one look through it to be cleared; look again
+            tried.append(here)
+            return [], f" (looking again at ({u[0]:.1f}, {u[1]:.1f}))"
+        if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+            return [Turn(round(off, 2))], f" (turning to look at ({u[0]:.1f}, {u[1]:.1f}))"
+    seen_only = clearance_map(fm, prof.planning_radius_ft, "blocked", uncertain="blocked",
+                              at=cfg.clearance_at)
+    vp = _viewpoint(fm, seen_only, est, u, near_ft, tried)
+    if vp is None or len(vp) < 2:
+        return None
+    cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
+    seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
+                       prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
+                       prof.radius_ft)
+    if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
+        return None
+    return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
+                 f"({vp[-1][0]:.1f}, {vp[-1][1]:.1f}))")

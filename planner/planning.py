@@ -1,0 +1,223 @@
+"""From the floor map to a path and its motion commands, for the closed loop
+(:mod:`planner.loop`; Chapter IV's path and trajectory generation):
+:func:`plan` searches the map grown by the vehicle's radius (the
+dissertation's search or A*, :mod:`planner.search`), pulls the path taut and
+turns it into commands (:mod:`planner.trajectory`), keeps the previous path
+while it stays good, plans to the goal's disc under ``goal_region="disc"``
+(:func:`goal_target`) and heads for the reachable cell nearest an unreachable
+goal.  :func:`true_optimum` is the benchmark's yardstick (A* on the TRUE
+room), :func:`random_goal` a reachable goal for a generated room.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import cv2
+import numpy as np
+
+from vehicle.profile import VehicleProfile
+from vehicle.sim import State
+from .floormap import FloorMap, true_floor_map
+from .octree import UNCERTAIN
+from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
+    path_length
+from .trajectory import shorten, to_commands
+
+if TYPE_CHECKING:
+    from .loop import DriveConfig
+
+
+SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
+
+
+UNCERTAIN_PLANS = ("blocked", "look")
+
+
+GOALS = ("point", "disc")             # what the planner plans to: the goal point, or the
+                                      # standable cells of the tolerance disc (goal_target)
+
+
+GOAL_SLACK_FT = 0.1                   # a target cell's centre this far inside the disc
+
+
+def true_optimum(room, start, goal, profile: VehicleProfile, cell: float):
+    """(taut length, A* grid length) of the best path for the vehicle in the
+    TRUE room at the planner's resolution, or (None, None) without one."""
+    fm = true_floor_map(room.obstacles, room.bounds, cell)
+    p = clearance_map(fm, profile.planning_radius_ft, "blocked")
+    try:
+        raw = astar(p, start, goal)
+    except NoPath:
+        return None, None
+    return path_length(shorten(p, raw)), path_length(raw)
+
+
+def _nearest_reachable(p: Passable, start, goal):
+    """The passable cell reachable from the start that is nearest the goal."""
+    fm = p.fmap
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    si, sj = fm.index(*start)
+    if not fm.inside(si, sj) or comp[si, sj] == 0:
+        return None
+    ii, jj = np.nonzero(comp == comp[si, sj])
+    xs, zs = fm.centre(ii, jj)
+    d = np.hypot(xs - goal[0], zs - goal[1])
+    k = int(np.argmin(d))
+    return float(xs[k]), float(zs[k])
+
+
+def _still_good(p: Passable, prev, start) -> list | None:
+    """The previous path from the vehicle's new position, if still passable."""
+    if not prev or len(prev) < 2:
+        return None
+    # drop the waypoints already passed: continue from the nearest leg's end
+    rest = [tuple(start)] + [tuple(q) for q in prev[1:]]
+    d = [math.hypot(q[0] - start[0], q[1] - start[1]) for q in rest[1:]]
+    k = int(np.argmin(d))
+    if k > 0 and line_of_sight(p, start, rest[k + 1]):
+        rest = [tuple(start)] + rest[k + 1:]
+    if all(line_of_sight(p, a, b) for a, b in zip(rest[:-1], rest[1:])):
+        return rest
+    return None
+
+
+ESCAPE_FT = 1.0              # as far as _safe_prefix lets the vehicle leave a too-near spot
+
+
+def _escape_start(p: Passable, start) -> Passable:
+    """When the estimate stands nearer an obstacle than the planning radius
+    (a feature seen late, or a fix that moved the estimate), the cells within
+    ``ESCAPE_FT`` of it that are no nearer to any obstacle count passable, so
+    the search can lead the vehicle away; :func:`_safe_prefix` allows exactly
+    those moves.  Otherwise the planner refuses the start and the vehicle
+    stays put until it gives up."""
+    fm = p.fmap
+    i0, j0 = fm.index(*start)
+    if not fm.inside(i0, j0) or p.ok[i0, j0] or p.blocked[i0, j0]:
+        return p
+    cl0 = p.clearance[i0, j0]
+    ii, jj = np.indices(fm.shape)
+    cx, cz = fm.centre(ii, jj)
+    near = np.hypot(cx - start[0], cz - start[1]) <= ESCAPE_FT
+    ok = p.ok | (near & ~p.blocked & (p.clearance >= cl0 - 1e-9))
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown, p.at)
+
+
+def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
+    """(polyline, commands, note) from the estimate toward the goal, or raise
+    NoPath.  The previous path is kept while it stays passable and is no more
+    than ``keep_ft`` longer than a new one (no dithering between two ways round).
+
+    Uncertain cells (hit by one look, not yet confirmed by a second) block the
+    path; when none avoids them (``cfg.uncertain="blocked"``, the default) the
+    vehicle heads for the reachable cell nearest the goal.  With ``"look"`` (a
+    named option, measured and not adopted: docs/planner.md) the path may pass
+    through them: the vehicle drives toward them (never nearer than its
+    radius: the execution still treats them as obstacles) and looks again, so
+    a second look confirms or clears them."""
+    if cfg.uncertain not in UNCERTAIN_PLANS:
+        raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
+                         f"{', '.join(UNCERTAIN_PLANS)}")
+    if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
+        return _plan(fm, est, goal, cfg, prev, "blocked")
+    try:
+        return _plan(fm, est, goal, cfg, prev, "blocked", nearest=False)
+    except NoPath as exc:
+        try:
+            pts, cmds, _ = _plan(fm, est, goal, cfg, prev, "free", nearest=False)
+            return pts, cmds, f"{exc}; through uncertain cells, to look at them"
+        except NoPath:
+            return _plan(fm, est, goal, cfg, prev, "blocked")
+
+
+def goal_target(p: Passable, start, goal, radius: float):
+    """The point the planner plans to under ``goal_region="disc"``: the goal
+    itself when the vehicle may stand there and reach it from ``start``;
+    otherwise, of the cells within ``radius`` of the goal (centre distance)
+    that are passable and connected to the start's cell (4-connected: a
+    region both searches can grow through), the one nearest the goal; the
+    goal itself when there is none (the point planning then says why not).
+    A cell passable on ``p`` has the vehicle's planning radius to every
+    blocked cell, so the target is never in or against an obstacle."""
+    fm = p.fmap
+    gi, gj = fm.index(*goal)
+    si, sj = fm.index(*start)
+    if not fm.inside(si, sj) or not p.ok[si, sj]:
+        return tuple(map(float, goal))
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=4)
+    here = comp[si, sj]
+    if fm.inside(gi, gj) and p.ok[gi, gj] and comp[gi, gj] == here:
+        return tuple(map(float, goal))
+    n = int(math.ceil(radius / fm.cell)) + 1
+    ii, jj = np.mgrid[max(gi - n, 0):min(gi + n + 1, fm.shape[0]),
+                      max(gj - n, 0):min(gj + n + 1, fm.shape[1])]
+    cx, cz = fm.centre(ii, jj)
+    d = np.hypot(cx - goal[0], cz - goal[1])
+    cand = (d <= radius) & p.ok[ii, jj] & (comp[ii, jj] == here)
+    if not cand.any():
+        return tuple(map(float, goal))
+    k = np.flatnonzero(cand.ravel())[np.argmin(d[cand])]
+    return float(cx.ravel()[k]), float(cz.ravel()[k])
+
+
+def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
+          nearest: bool = True):
+    search = SEARCHES[cfg.search]
+    r = cfg.profile.planning_radius_ft
+    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
+                                    at=cfg.clearance_at), (est.x, est.z))
+    start = (est.x, est.z)
+    aim = tuple(map(float, goal))
+    if cfg.goal_region == "disc":
+        aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
+
+    def to_goal(q) -> bool:
+        # a previous path is kept only when it ends at the goal point itself,
+        # as without the disc (keeping paths to a disc cell took the bundled
+        # lab's drive round the far side of the table, and lost it)
+        return tuple(map(float, q)) == tuple(map(float, goal))
+    try:
+        pts = shorten(p, search(p, start, aim))
+        note = "path to the goal" if aim == tuple(map(float, goal)) else \
+            f"path to the goal's disc at ({aim[0]:.2f}, {aim[1]:.2f})"
+        old = _still_good(p, prev, start) if prev and to_goal(prev[-1]) else None
+        if old is not None and path_length(old) <= path_length(pts) + cfg.keep_ft:
+            pts, note = old, "path to the goal (kept)"
+        elif prev:
+            note = "path to the goal (replanned)"
+    except NoPath as exc:
+        if not nearest:
+            raise
+        # the goal itself may look blocked from afar (a far feature's grown
+        # covariance): head for the reachable cell nearest it and look again
+        target = _nearest_reachable(p, start, goal)
+        if target is None or math.hypot(target[0] - start[0], target[1] - start[1]) < 0.3:
+            raise exc
+        pts = shorten(p, search(p, start, target))
+        note = f"goal not reachable ({exc}); toward ({target[0]:.1f}, {target[1]:.1f})"
+    cmds = to_commands(pts, est.heading_deg, cfg.profile.turning_radius_ft, p)
+    return pts, cmds, note
+
+
+def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float = 6.0,
+                cell: float = 0.25, tries: int = 200):
+    """A goal the vehicle can reach from ``start`` in the TRUE room (a path
+    exists at the planner's resolution) at least ``min_ft`` away, or None."""
+    x0, x1, z0, z1 = room.bounds
+    r = profile.planning_radius_ft
+    fm = true_floor_map(room.obstacles, room.bounds, cell)
+    p = clearance_map(fm, r, "blocked")
+    _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+    si, sj = fm.index(start.x, start.z)
+    if not fm.inside(si, sj) or comp[si, sj] == 0:
+        return None
+    for _ in range(tries):
+        gx, gz = float(rng.uniform(x0 + r, x1 - r)), float(rng.uniform(z0 + r, z1 - r))
+        if math.hypot(gx - start.x, gz - start.z) < min_ft:
+            continue
+        gi, gj = fm.index(gx, gz)
+        if comp[gi, gj] == comp[si, sj] and room.clearance(gx, gz) >= r:
+            return round(gx, 2), round(gz, 2)
+    return None
