@@ -35,7 +35,10 @@ room axes.  One look is
 
 WHICH observations are used is decided exactly as for the static filters (the
 matcher, the pose methods, the odometry gate, the feature gate, confirmation);
-only the estimator changes.  The generic steps :func:`ekf_predict`,
+only the estimator changes -- except for the filter's own validation gate
+(:meth:`JointFilter.update`, ``WalkConfig.joint_gate``): a pair inconsistent with the JOINT
+covariance is left out, as an EKF must (one wrong pair fused with its A-19/A-20 covariance
+turns the pose and, through it, every correlated feature).  The generic steps :func:`ekf_predict`,
 :func:`ekf_augment` and :func:`ekf_update` are plain linear-Gaussian algebra,
 tested against a batch weighted least squares solution.
 """
@@ -230,27 +233,46 @@ class JointFilter:
         self.ids = ids
         self._slot = {vid: k for k, vid in enumerate(ids)}
 
-    def update(self, observations) -> None:
-        """All of one look's matched observations ``(vid, q, Cq)`` in one batch."""
+    def update(self, observations, gate_chi2: float | None = None) -> list[int]:
+        """All of one look's matched observations ``(vid, q, Cq)`` in one batch.
+        ``gate_chi2``: the filter's own validation gate -- an observation whose
+        innovation lies outside this chi-square bound of its joint innovation
+        covariance ``H_k P H_k^T + C_q`` (the pose's, the feature's and their cross
+        terms) is left out.  Returns the ids left out."""
         observations = list(observations)
         if not observations:
-            return
-        n, m = len(self.mean), 3 * len(observations)
+            return []
         pose = self.mean[:POSE_DIM]
-        H = np.zeros((m, n))
-        R = np.zeros((m, m))
-        r = np.zeros(m)
-        for k, (vid, q, Cq) in enumerate(observations):
+        rows_H, rows_r, Cqs, ids, out = [], [], [], [], []
+        for vid, q, Cq in observations:
             i = self._index(vid)
             f = self.mean[i:i + 3]
             Jp, Jf = camera_point_jacobians(pose, f, self.pitch_deg)
+            r = np.asarray(q, dtype=np.float64) - camera_point(pose, f, self.pitch_deg)
+            if gate_chi2 is not None:
+                at = [0, 1, 2, i, i + 1, i + 2]
+                Hk = np.hstack([Jp, Jf])
+                S = Hk @ self.cov[np.ix_(at, at)] @ Hk.T + Cq
+                if float(r @ np.linalg.solve(S, r)) > gate_chi2:
+                    out.append(int(vid))
+                    continue
+            rows_H.append((i, Jp, Jf))
+            rows_r.append(r)
+            Cqs.append(Cq)
+            ids.append(int(vid))
+        if not ids:
+            return out
+        n, m = len(self.mean), 3 * len(ids)
+        H = np.zeros((m, n))
+        R = np.zeros((m, m))
+        for k, (i, Jp, Jf) in enumerate(rows_H):
             rows = slice(3 * k, 3 * k + 3)
             H[rows, :POSE_DIM] = Jp
             H[rows, i:i + 3] = Jf
-            R[rows, rows] = Cq
-            r[rows] = np.asarray(q, dtype=np.float64) - camera_point(pose, f, self.pitch_deg)
-        self.mean, self.cov = ekf_update(self.mean, self.cov, r, H, R)
+            R[rows, rows] = Cqs[k]
+        self.mean, self.cov = ekf_update(self.mean, self.cov, np.concatenate(rows_r), H, R)
         self.mean[2] = np.radians(wrap_deg(np.degrees(self.mean[2])))
+        return out
 
     def pose_estimate(self, method: str = "fused") -> PoseEstimate:
         """The pose as the walk's other code takes it: the left camera, the axes, and

@@ -150,6 +150,10 @@ class WalkConfig:
     # that look at all; "track": they may match features the model already holds (the
     # prediction from the prior pose picks the period) but start no feature
     ambiguity_gate: str | None = None
+    # --kalman joint only: the joint filter's own validation gate (chi-square, 3 degrees of
+    # freedom) on each used pair's innovation against its JOINT covariance (pose, feature and
+    # their cross terms; model.joint.JointFilter.update); None: every used pair is fused
+    joint_gate: float | None = FEATURE_GATE_CHI2
 
 
 @dataclass
@@ -607,7 +611,7 @@ class Walker:
         joint, model = self.joint, self.model
         joint.add_many([(vid, obs[i].q, obs[i].cov) for vid, i in log["new"]])
         joint.update([(vid, obs[i].q, obs[i].cov) for vid, i in log["pairs"]
-                      if vid in model.vertices and vid in joint])
+                      if vid in model.vertices and vid in joint], self.config.joint_gate)
         joint.drop([vid for vid in joint.ids if vid not in model.vertices])
         for vid in joint.ids:
             v = model.vertices[vid]

@@ -215,3 +215,18 @@ def test_joint_with_the_consider_covariance_is_refused(tmp_path, capsys):
                "--out", str(tmp_path / "o"), "--quiet"])
     assert rc == 2 and "--consider" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_the_joint_gate_leaves_out_an_observation_far_outside_its_joint_covariance():
+    """A re-observation 2 ft off where pose and feature are sure to centimetres is left out
+    (nothing moves); the same 2 ft inside a wide pose covariance passes and is fused."""
+    f = np.array([1.0, 0.0, 8.0])
+    Cq = np.eye(3) * 0.02 ** 2
+    for pose_sigma, left_out in ((0.01, True), (3.0, False)):
+        jf = JointFilter((0.0, 0.0, 0.0), np.zeros((3, 3)))
+        jf.add(3, camera_point((0.0, 0.0, 0.0), f), Cq)
+        jf.predict((0.0, 0.0, 0.0), np.eye(3), np.diag([pose_sigma, pose_sigma, 1e-4]) ** 2)
+        before = jf.mean.copy()
+        out = jf.update([(3, camera_point((2.0, 0.0, 0.0), f), Cq)], gate_chi2=16.27)
+        assert (out == [3]) is left_out
+        assert np.array_equal(jf.mean, before) is left_out
