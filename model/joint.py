@@ -85,8 +85,10 @@ def ekf_update(mean, cov, innovation, H, R):
     S^-1``, ``S = H P H^T + R``; ``P' = P - K S K^T`` (symmetrised)."""
     P = np.asarray(cov, dtype=np.float64)
     H = np.asarray(H, dtype=np.float64)
-    PHt = P @ H.T
-    S = H @ PHt + np.asarray(R, dtype=np.float64)
+    # a look touches the pose and its matched features only: P H^T from those columns
+    cols = np.flatnonzero(np.any(H != 0, axis=0))
+    PHt = P[:, cols] @ H[:, cols].T
+    S = H[:, cols] @ PHt[cols] + np.asarray(R, dtype=np.float64)
     S = (S + S.T) / 2
     K = np.linalg.solve(S, PHt.T).T
     m = np.asarray(mean, dtype=np.float64) + K @ np.asarray(innovation, dtype=np.float64)
