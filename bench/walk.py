@@ -632,6 +632,37 @@ def seeds(n: int, configs=None) -> str:
     return seed_tables(rows)
 
 
+def joint_rooms(n: int, looks: int) -> str:
+    """``--joint`` without ``--seeds``: the generated rooms 1..n for the named configuration with
+    resolve and the joint filter's configurations (JOINT_CONFIGS): the fused pose's median and
+    worst error, the share of truths inside 2 sigma (all features; the track-confirmed ones),
+    the ten-look ratio over the rooms together and the median time per look."""
+    configs = {"named + resolve": SEED_CONFIGS["named + resolve"], **JOINT_CONFIGS}
+    results = {name: [] for name in configs}
+    for seed in range(1, n + 1):
+        room = generate_room(seed)
+        walk = generate_walk(room, seed, looks)
+        for name, kw in configs.items():
+            res, took = one_walk(room, walk, **kw)
+            results[name].append(res)
+            print(f"room {seed}, {name}: {took:.0f} s", file=sys.stderr)
+    out = ["| configuration | position ft median / worst | heading deg median / worst | inside 2 "
+           "sigma, all (confirmed) | features seen 10 times: RMS 1st -> 10th look | ms per look "
+           "(median) |", "|---|---|---|---|---|---|"]
+    for name, rs in results.items():
+        e = method_errors(rs)["fused"]
+        f = feature_stats(rs)
+        conf = f.get("track_confirmed_inside_2sigma")
+        ten = (f"{f['same_rms_1']:.2f} -> {f['same_rms_10']:.2f} ({f['same_features']})"
+               if f["same_features"] else "- (0)")
+        out.append(f"| {name} | {e['median_pos']:.2f} / {e['worst_pos']:.2f} | "
+                   f"{e['median_head']:.2f} / {e['worst_head']:.1f} | "
+                   f"{100 * f['inside_2sigma']:.1f} % of {f['features']} "
+                   f"({fmt(100 * conf if conf is not None else None, 1)} %) | {ten} | "
+                   f"{f['median_look_ms']:.0f} |")
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
@@ -653,13 +684,18 @@ def main(argv=None) -> int:
     ap.add_argument("--joint", action="store_true",
                     help="with --seeds: the joint filter of pose and features (--kalman joint) "
                          "with confirmation, and with the resolve gate, instead of the named "
-                         "two (their rows are deterministic: docs/model.md)")
+                         "two (their rows are deterministic: docs/model.md); alone: those and "
+                         "the named configuration with resolve in the generated rooms")
     ap.add_argument("--seeds", type=int, metavar="N", default=None,
                     help="only the named configuration and it with --ambiguity-gate resolve on "
                          "the bundled walk, with N draws of the odometry and render noise: the "
                          "targets' figures per draw")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.joint and not args.seeds:
+        print(joint_rooms(args.rooms, args.looks))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     if args.seeds:
         print(seeds(args.seeds, JOINT_CONFIGS if args.joint else None))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")
