@@ -230,3 +230,16 @@ def test_the_joint_gate_leaves_out_an_observation_far_outside_its_joint_covarian
         out = jf.update([(3, camera_point((2.0, 0.0, 0.0), f), Cq)], gate_chi2=16.27)
         assert (out == [3]) is left_out
         assert np.array_equal(jf.mean, before) is left_out
+
+
+def test_seed_tables_carry_the_model_update_time_where_the_rows_have_it():
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    import walk as bw
+    f = dict(position_ft=0.1, heading_deg=0.5, ten_look_features=20, ten_look_ratio=0.3,
+             leave_one_out=(0.25, 0.35), inside_2sigma=0.75, features=500, look_ms=150.0,
+             update_ms=97.0, update_ms_last10=122.0, final_model=591)
+    text = bw.seed_tables([("joint", 1985, f)])
+    assert "| 75.0 % of 500 | 150 | 97, 122 (591) |" in text
+    assert "model update ms" in text
