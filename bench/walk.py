@@ -41,11 +41,13 @@ each run's features on it (first look, looks, error after the 1st and the 10th),
 leaving out one feature moves the ratio (``ten_look_census``, ``ten_look_ratio``).
 
 ``--seeds N`` runs the same two on the bundled walk with N draws of its odometry and render
-noise (seeds 1985, 1986, ...): the five targets' figures per draw, and how many draws meet each.
+noise (seeds 1985, 1986, ...): the five targets' figures per draw, and how many draws meet each;
+with ``--joint`` instead the joint filter of pose and features (``--kalman joint``, model.joint)
+with confirmation, and with the resolve gate.
 
 Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
                            [--calibrate | --breakdown | --outside | --ten-looks |
-                            --seeds N]
+                            --seeds N [--joint]]
 """
 
 from __future__ import annotations
@@ -565,7 +567,10 @@ def target_figures(res) -> dict:
     e = method_errors([res])["fused"]
     f = feature_stats([res])
     r = ten_look_ratio(list(res.error_history.values()))
+    update = [r.times_ms["update"] for r in res.records]
     return {"position_ft": e["median_pos"], "heading_deg": e["median_head"],
+            "update_ms": float(np.median(update)), "update_ms_last10": float(np.median(update[-10:])),
+            "final_model": res.records[-1].model_size,
             "ten_look_features": r["features"], "ten_look_ratio": r["ratio"],
             "leave_one_out": r["leave_one_out"], "inside_2sigma": f["inside_2sigma"],
             "features": f["features"], "look_ms": f["median_look_ms"]}
@@ -573,21 +578,36 @@ def target_figures(res) -> dict:
 
 SEED_CONFIGS = {"named": NAMED, "named + resolve": dict(NAMED, ambiguity_gate="resolve")}
 """The configurations ``--seeds`` draws the bundled walk's noise for."""
+JOINT_CONFIGS = {"joint + confirm": dict(kalman="joint", confirm=2,
+                                         column_error=CALIBRATED_COLUMN_ERROR_PX),
+                 "joint + confirm + resolve": dict(kalman="joint", confirm=2,
+                                                   column_error=CALIBRATED_COLUMN_ERROR_PX,
+                                                   ambiguity_gate="resolve")}
+"""``--seeds N --joint``: the joint filter of pose and features (model.joint), with the
+calibrated column error (with LCSL's 0.5 px the filter believes its pairs too much and the
+pose diverges: docs/model.md); the consider covariance and its tilt floor follow the static
+filter's gain, so not with joint."""
 
 
 def seed_tables(rows) -> str:
     """``--seeds``: one row per configuration and draw (``rows``: (name, seed, figures)),
     then per configuration how many draws meet each target and the medians."""
+    # the model update's time (it grows with the joint filter's state) where the rows carry it
+    update = all("update_ms" in f for _, _, f in rows)
     out = ["| configuration | odometry and render seed | median position ft | median heading deg | "
            "ten-look ratio (features; one left out: from .. to) | inside 2 sigma, all features | "
-           "ms per look (median) |", "|---|---|---|---|---|---|---|"]
+           "ms per look (median) |" + (" model update ms: median, last 10 looks (model size) |"
+                                       if update else ""),
+           "|---|---|---|---|---|---|---|" + ("---|" if update else "")]
     for name, seed, f in rows:
         lo, hi = f["leave_one_out"]
         ratio = (f"{100 * f['ten_look_ratio']:.1f} % ({f['ten_look_features']}; "
                  f"{fmt(100 * lo if lo else None, 1)} .. {fmt(100 * hi if hi else None, 1)} %)"
                  if f["ten_look_ratio"] is not None else "- (0)")
         out.append(f"| {name} | {seed} | {f['position_ft']:.2f} | {f['heading_deg']:.2f} | {ratio} "
-                   f"| {100 * f['inside_2sigma']:.1f} % of {f['features']} | {f['look_ms']:.0f} |")
+                   f"| {100 * f['inside_2sigma']:.1f} % of {f['features']} | {f['look_ms']:.0f} |"
+                   + (f" {f['update_ms']:.0f}, {f['update_ms_last10']:.0f} ({f['final_model']}) |"
+                      if update else ""))
     out += ["", "| configuration | draws | position <= 0.25 ft | heading <= 1 deg | ten-look "
             "ratio <= 50 % | inside 2 sigma >= 90 % | all four | median ratio | median inside |",
             "|---|---|---|---|---|---|---|---|---|"]
@@ -616,6 +636,37 @@ def seeds(n: int, configs=None) -> str:
     return seed_tables(rows)
 
 
+def joint_rooms(n: int, looks: int) -> str:
+    """``--joint`` without ``--seeds``: the generated rooms 1..n for the named configuration with
+    resolve and the joint filter's configurations (JOINT_CONFIGS): the fused pose's median and
+    worst error, the share of truths inside 2 sigma (all features; the track-confirmed ones),
+    the ten-look ratio over the rooms together and the median time per look."""
+    configs = {"named + resolve": SEED_CONFIGS["named + resolve"], **JOINT_CONFIGS}
+    results = {name: [] for name in configs}
+    for seed in range(1, n + 1):
+        room = generate_room(seed)
+        walk = generate_walk(room, seed, looks)
+        for name, kw in configs.items():
+            res, took = one_walk(room, walk, **kw)
+            results[name].append(res)
+            print(f"room {seed}, {name}: {took:.0f} s", file=sys.stderr)
+    out = ["| configuration | position ft median / worst | heading deg median / worst | inside 2 "
+           "sigma, all (confirmed) | features seen 10 times: RMS 1st -> 10th look | ms per look "
+           "(median) |", "|---|---|---|---|---|---|"]
+    for name, rs in results.items():
+        e = method_errors(rs)["fused"]
+        f = feature_stats(rs)
+        conf = f.get("track_confirmed_inside_2sigma")
+        ten = (f"{f['same_rms_1']:.2f} -> {f['same_rms_10']:.2f} ({f['same_features']})"
+               if f["same_features"] else "- (0)")
+        out.append(f"| {name} | {e['median_pos']:.2f} / {e['worst_pos']:.2f} | "
+                   f"{e['median_head']:.2f} / {e['worst_head']:.1f} | "
+                   f"{100 * f['inside_2sigma']:.1f} % of {f['features']} "
+                   f"({fmt(100 * conf if conf is not None else None, 1)} %) | {ten} | "
+                   f"{f['median_look_ms']:.0f} |")
+    return "\n".join(out)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=10)
@@ -634,14 +685,23 @@ def main(argv=None) -> int:
                     help="only the named configuration and it with --ambiguity-gate resolve on "
                          "the bundled walk: the truths each follows for ten looks, and how much "
                          "one feature moves the ten-look ratio")
+    ap.add_argument("--joint", action="store_true",
+                    help="with --seeds: the joint filter of pose and features (--kalman joint) "
+                         "with confirmation, and with the resolve gate, instead of the named "
+                         "two (their rows are deterministic: docs/model.md); alone: those and "
+                         "the named configuration with resolve in the generated rooms")
     ap.add_argument("--seeds", type=int, metavar="N", default=None,
                     help="only the named configuration and it with --ambiguity-gate resolve on "
                          "the bundled walk, with N draws of the odometry and render noise: the "
                          "targets' figures per draw")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
+    if args.joint and not args.seeds:
+        print(joint_rooms(args.rooms, args.looks))
+        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+        return 0
     if args.seeds:
-        print(seeds(args.seeds))
+        print(seeds(args.seeds, JOINT_CONFIGS if args.joint else None))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")
         return 0
     if args.ten_looks:

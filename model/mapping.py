@@ -44,6 +44,7 @@ from .kalman import (consider_update, covariance_intersection, kalman_gain,
                      measurement_covariance_a29, measurement_covariance_a30,
                      feature_variance_factors, normalised_innovation, robust_variance_factor,
                      static_update)
+from .joint import JointFilter
 from .matching import MATCHERS, MatchResult
 from .pose import ESTIMATORS, PoseEstimate, PoseRefused, estimate
 from .symbolic import SymbolicModel
@@ -67,6 +68,9 @@ TRUTH_SNAP_FT = 0.3           # an observation within this of a true corner IS t
 WRONG_MATCH_FT = 0.3          # a pair whose true points differ by more is a wrong correspondence
 FEATURE_GATE_CHI2 = 16.27     # the feature gate's default: chi-square 99.9 %, 3 degrees of freedom
 CONSIDER_MODES = ("bound", "joseph")
+# the static update as written (a30), its alternatives (a29, ci), and the joint filter of
+# pose and features (model.joint)
+KALMAN_CHOICES = ("a30", "a29", "ci", "joint")
 AMBIGUITY_NEAREST_FT = 1.0   # the ambiguity gate searches disparities from max_range_ft to this
 CONSISTENT_CHI2 = 11.345      # a look consistent with its feature: chi-square 99 %, 3 degrees of freedom
 
@@ -146,6 +150,10 @@ class WalkConfig:
     # that look at all; "track": they may match features the model already holds (the
     # prediction from the prior pose picks the period) but start no feature
     ambiguity_gate: str | None = None
+    # --kalman joint only: the joint filter's own validation gate (chi-square, 3 degrees of
+    # freedom) on each used pair's innovation against its JOINT covariance (pose, feature and
+    # their cross terms; model.joint.JointFilter.update); None: every used pair is fused
+    joint_gate: float | None = FEATURE_GATE_CHI2
 
 
 @dataclass
@@ -366,8 +374,12 @@ class Walker:
         for m in self.methods:
             if m not in ESTIMATORS:
                 raise ValueError(f"unknown pose method {m!r}; one of {', '.join(ESTIMATORS)}")
-        if config.kalman not in ("a30", "a29", "ci"):
-            raise ValueError(f"unknown Kalman mode {config.kalman!r}; a30, a29 or ci")
+        if config.kalman not in KALMAN_CHOICES:
+            raise ValueError(f"unknown Kalman mode {config.kalman!r}; one of "
+                             f"{', '.join(KALMAN_CHOICES)}")
+        if config.kalman == "joint" and config.consider is not None:
+            raise ValueError("the consider covariance follows the static filter's gain: use it "
+                             "with --kalman a30 or a29, not joint")
         self.matcher = MATCHERS.get(config.model_matcher)
         if self.matcher is None:
             raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
@@ -403,6 +415,7 @@ class Walker:
         self.last_dead = None             # the dead-reckoned pose at the last look
         self.pending = SymbolicModel()    # --ambiguity-gate resolve: last look's unresolved candidates
         self.resolved = 0                 # ambiguous edges moved to another period by the model
+        self.joint = None                 # --kalman joint: the stochastic map (model.joint)
 
     def result(self) -> WalkResult:
         return WalkResult(self.config, self.records, self.model, self.history)
@@ -490,6 +503,10 @@ class Walker:
         else:
             prior_xzh, P = early_prior if early_prior is not None else _predict(
                 prev_xzh, P, dr_prev, dr, config)
+            if self.joint is not None:
+                self.joint.drop([vid for vid in self.joint.ids if vid not in model.vertices])
+                _, F_step, Q_step = _odometry_step(prev_xzh, dr_prev, dr, config)
+                self.joint.predict(prior_xzh, F_step, Q_step)
             prior_R = _rotation(prior_xzh[2], config.camera_pitch_deg)
             prior_left = left_centre((prior_xzh[0], 0.0, prior_xzh[1]), prior_R)
             cov6 = _cov6(P)
@@ -535,6 +552,15 @@ class Walker:
         estimates["dead_reckoning"] = (dr.x, dr.z, dr.heading_deg)
         t_up = time.perf_counter()
         kalman = config.kalman if pose_est.method != "prior" else "a29"
+        joint_log = None
+        if config.kalman == "joint":
+            # the joint filter: the fused fix decided which pairs are used; the model is
+            # placed and bookkept at the prior, the joint state then moves everything
+            kalman, joint_log = "joint", {"pairs": [], "new": []}
+            if k == 0:
+                self.joint = JointFilter(prior_xzh, np.zeros((3, 3)), config.camera_pitch_deg)
+            fused_est, pose_est = pose_est, self.joint.pose_estimate(
+                "given" if k == 0 else "prior")
         # scored before the update: the feature gate may retire a vertex of these pairs
         wrong = _wrong(model, match.pairs, obs_truth)
         used_wrong = _wrong(model, pairs_used, obs_truth)
@@ -546,7 +572,12 @@ class Walker:
                               surface_observations(edges, look.left_bi),
                               pose_floor=config.pose_sigma_floor if k > 0 else None,
                               honest=honest, consider=config.consider,
-                              feature_gate=config.feature_gate, no_new=no_new)
+                              feature_gate=config.feature_gate, no_new=no_new,
+                              joint_log=joint_log)
+        if joint_log is not None:
+            pose_est, P = self._joint_update(obs, joint_log, k, fused_est.method)
+            estimates["fused"] = (float(pose_est.centre[0]), float(pose_est.centre[2]),
+                                  pose_est.heading_deg)
         if ((config.retire_unseen is not None or config.confirm is not None) and k > 0
                 and pose_est.method == "fused"):
             _retire_unseen(model, match.pairs, pose_est, k, rows, config)
@@ -570,6 +601,32 @@ class Walker:
         self.prev_xzh, self.prev_cov, self.P, self.last_dead = prev_xzh, prev_cov, P, dr
         self.records.append(rec)
         return rec
+
+    def _joint_update(self, obs, log, k, fused_method):
+        """``--kalman joint``: the look's new features augmented at the prior pose, then
+        the used pairs' observations in one update of the joint state (model.joint); every
+        feature's mean and covariance written back to the symbolic model.  Returns the
+        pose (a PoseEstimate of method "fused" where a fix was used, else the prior's) and
+        its (x, z, heading) covariance."""
+        joint, model = self.joint, self.model
+        joint.add_many([(vid, obs[i].q, obs[i].cov) for vid, i in log["new"]])
+        joint.update([(vid, obs[i].q, obs[i].cov) for vid, i in log["pairs"]
+                      if vid in model.vertices and vid in joint], self.config.joint_gate)
+        joint.drop([vid for vid in joint.ids if vid not in model.vertices])
+        for vid in joint.ids:
+            v = model.vertices[vid]
+            v.mean, v.cov = joint.feature(vid)
+        for vid, _ in [*log["pairs"], *log["new"]]:
+            v = model.vertices.get(vid)
+            if v is None or v.truth is None:
+                continue
+            err = float(np.linalg.norm(v.mean - v.truth))
+            if v.first_look == k:
+                self.history[vid] = [err]
+            else:
+                self.history.setdefault(vid, []).append(err)
+        method = "given" if k == 0 else ("fused" if fused_method == "fused" else "prior")
+        return joint.pose_estimate(method), joint.pose_cov
 
     def _resolve(self, look, edges, prior):
         """``--ambiguity-gate resolve``: Chapter III's cure for the picket fence, "resolve
@@ -654,6 +711,13 @@ def _predict(prev_xzh, P, dr_prev, dr_now, config: WalkConfig):
     """The prior pose and its covariance: the last pose moved by the odometry's
     step; the step's noise (a share of the distance, degrees per turn) and the
     heading's uncertainty carried into position by the usual linearisation."""
+    xzh, F, Q = _odometry_step(prev_xzh, dr_prev, dr_now, config)
+    return xzh, F @ P @ F.T + Q
+
+
+def _odometry_step(prev_xzh, dr_prev, dr_now, config: WalkConfig):
+    """The odometry's step composed on the last pose: (the new pose, the Jacobian F of
+    the step w.r.t. the last (x, z, heading rad), the process noise G Q G^T)."""
     xzh, step_ft, turn = compose_step(prev_xzh, dr_prev, dr_now)
     h = np.radians(xzh[2])
     F = np.array([[1.0, 0.0, step_ft * np.cos(h)], [0.0, 1.0, -step_ft * np.sin(h)], [0, 0, 1.0]])
@@ -661,7 +725,7 @@ def _predict(prev_xzh, P, dr_prev, dr_now, config: WalkConfig):
     sd = config.odometry_distance_fraction * step_ft
     st = np.radians(config.odometry_turn_deg) if turn > 0 else 0.0
     Q = np.diag([sd ** 2 + 0.01 ** 2, st ** 2 + np.radians(0.1) ** 2])
-    return xzh, F @ P @ F.T + G @ Q @ G.T
+    return xzh, F, G @ Q @ G.T
 
 
 def _cov6(P) -> np.ndarray:
@@ -793,20 +857,24 @@ def _wrong(model, pairs, obs_truth) -> int:
 def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalman: str,
                   look: int, obs_truth, obs_truth_id, history, surfaces=(), pose_floor=None,
                   honest=None, consider: str | None = None,
-                  feature_gate: float | None = None, no_new=frozenset()) -> int:
+                  feature_gate: float | None = None, no_new=frozenset(),
+                  joint_log: dict | None = None) -> int:
     """Kalman-update the vertices the driving pose kept, add the observations
     no model vertex claimed, link boundary lines.  Returns how many were added.
     ``pose_floor`` (ft, degrees): the least sigma of the pose's floor position
     and heading in A-29's camera term.  ``honest`` (N,3,3): the observations'
     measured covariances, for the ``consider`` covariance (``WalkConfig``);
-    ``feature_gate``: the chi-square bound of the feature gate (``WalkConfig``)."""
+    ``feature_gate``: the chi-square bound of the feature gate (``WalkConfig``).
+    ``joint_log`` (``kalman`` "joint"): no feature is moved here; the pairs to fuse
+    and the new vertices (vertex id, observation index) are listed in it for
+    :class:`model.joint.JointFilter`, which updates them all."""
     if not obs:
         return 0
     q = np.array([o.q for o in obs])
     Cq = np.array([o.cov for o in obs])
     z = est.transform(q)
     Rm = measurement_covariance_a30(est.M, Cq)
-    if kalman in ("a29", "ci"):
+    if kalman in ("a29", "ci", "joint"):
         camera = est if pose_floor is None else floored_pose(est, *pose_floor)
         Rm = measurement_covariance_a29(est.M, Cq, camera.pose_covariance_at(q))
     claimed = {i for _, i in pairs}
@@ -830,7 +898,9 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
             K = kalman_gain(v.cov, Rm[i])
             v.report_cov = consider_update(K, v.report_cov, honest[i],
                                            correlated=consider == "bound")
-        if kalman == "ci":
+        if kalman == "joint":
+            joint_log["pairs"].append((vid, i))
+        elif kalman == "ci":
             m, P = covariance_intersection(v.mean, v.cov, z[i], Rm[i])
             v.mean, v.cov = m[0], P[0]
         else:
@@ -840,7 +910,7 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         v.last_look = look
         v.shape = obs[i].shape
         vertex_of[i] = vid
-        if v.truth is not None:
+        if v.truth is not None and joint_log is None:
             history.setdefault(vid, []).append(float(np.linalg.norm(v.mean - v.truth)))
     added = 0
     for i, o in enumerate(obs):
@@ -855,6 +925,8 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         v.seen_at = (float(o.col), float(o.row), int(o.line), float(o.disparity))
         history[v.id] = [float(np.linalg.norm(v.mean - v.truth))]
         vertex_of[i] = v.id
+        if joint_log is not None:
+            joint_log["new"].append((v.id, i))
         added += 1
     # boundary lines: one per vertical edge, its ends the vertices just placed
     index = {id(o): i for i, o in enumerate(obs)}

@@ -285,9 +285,9 @@ def cmd_walk(args) -> int:
         print("rig walk: --tilt-floor widens the consider covariance: use it with --consider",
               file=sys.stderr)
         return 2
-    if args.consider is not None and args.kalman == "ci":
+    if args.consider is not None and args.kalman in ("ci", "joint"):
         print("rig walk: --consider follows the Kalman gain: use it with --kalman a30 or a29, "
-              "not ci", file=sys.stderr)
+              f"not {args.kalman}", file=sys.stderr)
         return 2
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
                         match=args.match, look_interval_s=args.interval,
@@ -456,10 +456,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     w.add_argument("--methods", nargs="+", choices=ESTIMATORS, metavar="NAME",
                    help="methods to compare on the same correspondences (default all: "
                         + ", ".join(ESTIMATORS) + ")")
-    w.add_argument("--kalman", choices=("a30", "a29", "ci"), default="a30",
+    w.add_argument("--kalman", choices=("a30", "a29", "ci", "joint"), default="a30",
                    help="a30: camera error ignored, as written (default); a29: propagated; "
                         "ci: propagated and fused by covariance intersection (looks' errors "
-                        "correlated)")
+                        "correlated); joint: one EKF over the floor pose and every feature "
+                        "with their cross-covariances (model.joint), the same pairs used")
     w.add_argument("--column-error", type=_column_error, default=0.5, metavar="PX",
                    help="the column location bound of A-17 (two sigma), px: 0.5 is LCSL's "
                         "ELMAX, as written (default); 'calibrated' = 2.0, measured against the "

@@ -1,0 +1,298 @@
+"""The joint filter: one extended Kalman filter over the robot's floor pose and
+every feature of the model, with their full covariance (``rig walk --kalman
+joint``; a named alternative beyond Chapter III, never the default).
+
+What it adds to Chapter III.  The dissertation's static update ("Stochastic
+Updates", A-29/A-30, :mod:`model.kalman`) improves each feature on its own,
+and the camera's position (A-21..A-50, :mod:`model.pose`) is then fixed from
+those same features.  Neither keeps the covariance BETWEEN the pose and a
+feature, or between two features.  So an error the two share -- a feature
+first placed while the camera pose was off carries that pose error, and the
+pose later fixed from it carries it back -- is invisible to the filter and is
+never removed: pose and features drift together (docs/model.md, model7's
+trace of the z = -5 wall).  Keeping the cross-covariance (the stochastic map of
+Smith, Self & Cheeseman 1987, i.e. EKF SLAM) lets one observation move
+everything correlated with it: when the walk's second lap sees the first lap's
+features again, the pose AND the features placed from the drifted pose are
+pulled back together (loop closure).
+
+The state is ``(x, z, heading)`` of the rig centre -- the walk's
+floor-following case, height 0 and the rig's known mounting pitch, level roll,
+as the odometry's prior treats them -- then ``(X, Y, Z)`` of every feature in
+room axes.  One look is
+
+* **predict** (:meth:`JointFilter.predict`): the pose moved by the odometry's
+  step with the Jacobian ``F`` and process noise ``G Q G^T`` of the documented
+  odometry model (the walk's ``_odometry_step``); features are static, so only
+  the pose rows and columns change (``P_pf <- F P_pf``);
+* **augment** (:meth:`JointFilter.add`): a feature seen for the first time
+  enters at ``f = left(pose) + M q`` with ``J_pose P J_pose^T + M C_q M^T`` and
+  its cross-covariance ``J_pose P_p.`` to everything already held;
+* **update** (:meth:`JointFilter.update`): the look's matched observations in
+  camera axes, ``q = M^T (f - left(pose))`` (A-23 inverted), each with its
+  A-19/A-20 camera covariance ``C_q``; the Jacobians w.r.t. the feature
+  (``M^T``) and the pose, all pairs in one batch.
+
+WHICH observations are used is decided exactly as for the static filters (the
+matcher, the pose methods, the odometry gate, the feature gate, confirmation);
+only the estimator changes -- except for the filter's own validation gate
+(:meth:`JointFilter.update`, ``WalkConfig.joint_gate``): a pair inconsistent with the JOINT
+covariance is left out, as an EKF must (one wrong pair fused with its A-19/A-20 covariance
+turns the pose and, through it, every correlated feature).  The generic steps :func:`ekf_predict`,
+:func:`ekf_augment` and :func:`ekf_update` are plain linear-Gaussian algebra,
+tested against a batch weighted least squares solution.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
+from .pose import PoseEstimate
+
+POSE_DIM = 3                      # x, z, heading (radians)
+_DH = 1e-6                        # radians: the heading's finite difference (central)
+
+
+# --- the generic linear-Gaussian steps ------------------------------------------------
+
+def ekf_predict(cov, F, Q, k: int):
+    """The covariance after a motion of the first ``k`` state entries with
+    Jacobian ``F`` (k x k) and process noise ``Q`` (k x k); the rest is static."""
+    P = np.array(cov, dtype=np.float64)
+    P[:k, :] = F @ P[:k, :]
+    P[:, :k] = P[:, :k] @ F.T
+    P[:k, :k] += Q
+    return (P + P.T) / 2
+
+
+def ekf_augment(mean, cov, new_mean, J, R, G=None):
+    """The state grown by ``new_mean`` = g(state, v), ``J`` = dg/dstate (m x n),
+    ``v``'s covariance ``R`` entering through ``G`` = dg/dv (identity if None)."""
+    mean = np.asarray(mean, dtype=np.float64)
+    P = np.asarray(cov, dtype=np.float64)
+    J = np.asarray(J, dtype=np.float64).reshape(-1, len(mean))
+    G = np.eye(J.shape[0]) if G is None else np.asarray(G, dtype=np.float64)
+    cross = J @ P                                          # (m, n)
+    Pnn = J @ P @ J.T + G @ np.asarray(R, dtype=np.float64) @ G.T
+    top = np.hstack([P, cross.T])
+    bottom = np.hstack([cross, (Pnn + Pnn.T) / 2])
+    return np.concatenate([mean, np.asarray(new_mean, dtype=np.float64)]), np.vstack([top, bottom])
+
+
+def ekf_update(mean, cov, innovation, H, R):
+    """One Kalman update with all the look's measurements at once: ``K = P H^T
+    S^-1``, ``S = H P H^T + R``; ``P' = P - K S K^T`` (symmetrised)."""
+    P = np.asarray(cov, dtype=np.float64)
+    H = np.asarray(H, dtype=np.float64)
+    # a look touches the pose and its matched features only: P H^T from those columns
+    cols = np.flatnonzero(np.any(H != 0, axis=0))
+    PHt = P[:, cols] @ H[:, cols].T
+    S = H[:, cols] @ PHt[cols] + np.asarray(R, dtype=np.float64)
+    S = (S + S.T) / 2
+    K = np.linalg.solve(S, PHt.T).T
+    m = np.asarray(mean, dtype=np.float64) + K @ np.asarray(innovation, dtype=np.float64)
+    P = P - K @ S @ K.T
+    return m, (P + P.T) / 2
+
+
+# --- the walk's floor pose and point features ---------------------------------------
+
+def floor_rotation(heading_rad: float, pitch_deg: float = 0.0) -> np.ndarray:
+    return rotation_from_angles(float(np.degrees(heading_rad)), pitch_deg)
+
+
+def _left_and_M(pose, pitch_deg):
+    R = floor_rotation(pose[2], pitch_deg)
+    return left_centre((pose[0], 0.0, pose[1]), R), axes_matrix(R)
+
+
+def camera_point(pose, f, pitch_deg: float = 0.0) -> np.ndarray:
+    """The camera-axes point (A-23 inverted: ``q = M^T (f - left)``) of room point
+    ``f`` seen from the floor pose ``(x, z, heading rad)``."""
+    left, M = _left_and_M(pose, pitch_deg)
+    return M.T @ (np.asarray(f, dtype=np.float64) - left)
+
+
+def room_point(pose, q, pitch_deg: float = 0.0) -> np.ndarray:
+    """A-23: the room point of camera point ``q`` from the floor pose."""
+    left, M = _left_and_M(pose, pitch_deg)
+    return left + M @ np.asarray(q, dtype=np.float64)
+
+
+def _heading_derivative(fun, pose, arg, pitch_deg):
+    hi, lo = np.array(pose, float), np.array(pose, float)
+    hi[2] += _DH
+    lo[2] -= _DH
+    return (fun(hi, arg, pitch_deg) - fun(lo, arg, pitch_deg)) / (2 * _DH)
+
+
+def camera_point_jacobians(pose, f, pitch_deg: float = 0.0):
+    """(d q / d pose (3x3), d q / d f (3x3)) of :func:`camera_point`."""
+    _, M = _left_and_M(pose, pitch_deg)
+    Jp = np.zeros((3, 3))
+    Jp[:, 0] = -M.T[:, 0]                  # x moves the left camera along room X
+    Jp[:, 1] = -M.T[:, 2]                  # z along room Z
+    Jp[:, 2] = _heading_derivative(camera_point, pose, f, pitch_deg)
+    return Jp, M.T
+
+
+def room_point_jacobians(pose, q, pitch_deg: float = 0.0):
+    """(d f / d pose (3x3), d f / d q (3x3)) of :func:`room_point`."""
+    _, M = _left_and_M(pose, pitch_deg)
+    Jp = np.zeros((3, 3))
+    Jp[0, 0] = 1.0
+    Jp[2, 1] = 1.0
+    Jp[:, 2] = _heading_derivative(room_point, pose, q, pitch_deg)
+    return Jp, M
+
+
+class JointFilter:
+    """The stochastic map: the floor pose and the features' 3-D positions, one
+    mean and one dense covariance.  Features are named by the symbolic model's
+    vertex ids."""
+
+    def __init__(self, pose_xzh_deg, pose_cov, pitch_deg: float = 0.0):
+        x, z, h = pose_xzh_deg
+        self.mean = np.array([x, z, np.radians(h)], dtype=np.float64)
+        self.cov = np.array(pose_cov, dtype=np.float64).reshape(POSE_DIM, POSE_DIM)
+        self.pitch_deg = float(pitch_deg)
+        self.ids: list[int] = []
+        self._slot: dict[int, int] = {}
+
+    def __contains__(self, vid) -> bool:
+        return int(vid) in self._slot
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+    def _index(self, vid) -> int:
+        return POSE_DIM + 3 * self._slot[int(vid)]
+
+    @property
+    def pose_xzh(self) -> tuple[float, float, float]:
+        return (float(self.mean[0]), float(self.mean[1]),
+                float(wrap_deg(np.degrees(self.mean[2]))))
+
+    @property
+    def pose_cov(self) -> np.ndarray:
+        return self.cov[:POSE_DIM, :POSE_DIM].copy()
+
+    def feature(self, vid) -> tuple[np.ndarray, np.ndarray]:
+        i = self._index(vid)
+        return self.mean[i:i + 3].copy(), self.cov[i:i + 3, i:i + 3].copy()
+
+    def predict(self, new_xzh_deg, F, Q) -> None:
+        """The odometry's step: the pose becomes ``new_xzh_deg`` (the step composed on
+        the last estimate), its covariance ``F P F^T + Q``, its cross terms ``F P_pf``."""
+        self.mean[:POSE_DIM] = (new_xzh_deg[0], new_xzh_deg[1], np.radians(new_xzh_deg[2]))
+        self.cov = ekf_predict(self.cov, F, Q, POSE_DIM)
+
+    def add(self, vid, q, Cq) -> None:
+        """A new feature from camera point ``q`` (covariance ``Cq``) at the current pose."""
+        self.add_many([(vid, q, Cq)])
+
+    def add_many(self, observations) -> None:
+        """New features ``(vid, q, Cq)`` at the current pose, in one augmentation (their
+        cross-covariances to each other come through the pose)."""
+        observations = list(observations)
+        if not observations:
+            return
+        pose = self.mean[:POSE_DIM]
+        k = len(observations)
+        J = np.zeros((3 * k, len(self.mean)))
+        G = np.zeros((3 * k, 3 * k))
+        R = np.zeros((3 * k, 3 * k))
+        new = np.zeros(3 * k)
+        for j, (vid, q, Cq) in enumerate(observations):
+            if int(vid) in self._slot:
+                raise ValueError(f"feature {vid} is already in the joint state")
+            rows = slice(3 * j, 3 * j + 3)
+            Jp, Jq = room_point_jacobians(pose, q, self.pitch_deg)
+            J[rows, :POSE_DIM] = Jp
+            G[rows, rows] = Jq
+            R[rows, rows] = Cq
+            new[rows] = room_point(pose, q, self.pitch_deg)
+        self.mean, self.cov = ekf_augment(self.mean, self.cov, new, J, R, G)
+        for vid, _, _ in observations:
+            self._slot[int(vid)] = len(self.ids)
+            self.ids.append(int(vid))
+
+    def drop(self, vids) -> None:
+        """Forget features (marginalising a Gaussian is deleting its rows and columns)."""
+        gone = {int(v) for v in vids} & set(self._slot)
+        if not gone:
+            return
+        keep = list(range(POSE_DIM))
+        ids = []
+        for vid in self.ids:
+            if vid not in gone:
+                i = self._index(vid)
+                keep += [i, i + 1, i + 2]
+                ids.append(vid)
+        self.mean = self.mean[keep]
+        self.cov = self.cov[np.ix_(keep, keep)]
+        self.ids = ids
+        self._slot = {vid: k for k, vid in enumerate(ids)}
+
+    def update(self, observations, gate_chi2: float | None = None) -> list[int]:
+        """All of one look's matched observations ``(vid, q, Cq)`` in one batch.
+        ``gate_chi2``: the filter's own validation gate -- an observation whose
+        innovation lies outside this chi-square bound of its joint innovation
+        covariance ``H_k P H_k^T + C_q`` (the pose's, the feature's and their cross
+        terms) is left out.  Returns the ids left out."""
+        observations = list(observations)
+        if not observations:
+            return []
+        pose = self.mean[:POSE_DIM]
+        rows_H, rows_r, Cqs, ids, out = [], [], [], [], []
+        for vid, q, Cq in observations:
+            i = self._index(vid)
+            f = self.mean[i:i + 3]
+            Jp, Jf = camera_point_jacobians(pose, f, self.pitch_deg)
+            r = np.asarray(q, dtype=np.float64) - camera_point(pose, f, self.pitch_deg)
+            if gate_chi2 is not None:
+                at = [0, 1, 2, i, i + 1, i + 2]
+                Hk = np.hstack([Jp, Jf])
+                S = Hk @ self.cov[np.ix_(at, at)] @ Hk.T + Cq
+                if float(r @ np.linalg.solve(S, r)) > gate_chi2:
+                    out.append(int(vid))
+                    continue
+            rows_H.append((i, Jp, Jf))
+            rows_r.append(r)
+            Cqs.append(Cq)
+            ids.append(int(vid))
+        if not ids:
+            return out
+        n, m = len(self.mean), 3 * len(ids)
+        H = np.zeros((m, n))
+        R = np.zeros((m, m))
+        for k, (i, Jp, Jf) in enumerate(rows_H):
+            rows = slice(3 * k, 3 * k + 3)
+            H[rows, :POSE_DIM] = Jp
+            H[rows, i:i + 3] = Jf
+            R[rows, rows] = Cqs[k]
+        self.mean, self.cov = ekf_update(self.mean, self.cov, np.concatenate(rows_r), H, R)
+        self.mean[2] = np.radians(wrap_deg(np.degrees(self.mean[2])))
+        return out
+
+    def pose_estimate(self, method: str = "fused") -> PoseEstimate:
+        """The pose as the walk's other code takes it: the left camera, the axes, and
+        the 6x6 (left camera position, rotation vector) covariance from the floor
+        pose's (height and tilt known: zero)."""
+        pose = self.mean[:POSE_DIM]
+        left, M = _left_and_M(pose, self.pitch_deg)
+        J = np.zeros((6, 3))
+        J[0, 0] = 1.0
+        J[2, 1] = 1.0
+        hi, lo = pose.copy(), pose.copy()
+        hi[2] += _DH
+        lo[2] -= _DH
+        J[:3, 2] = (_left_and_M(hi, self.pitch_deg)[0] - _left_and_M(lo, self.pitch_deg)[0]) / (2 * _DH)
+        J[4, 2] = 1.0                      # heading = rotation about room Y
+        cov6 = J @ self.pose_cov @ J.T
+        return PoseEstimate(method, left, M, np.zeros(0, bool), covariance6=(cov6 + cov6.T) / 2)
+
+
+__all__ = ["JointFilter", "ekf_predict", "ekf_augment", "ekf_update", "camera_point",
+           "room_point", "camera_point_jacobians", "room_point_jacobians"]

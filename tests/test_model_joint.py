@@ -1,0 +1,245 @@
+"""The joint filter of pose and features (model.joint, ``rig walk --kalman joint``).
+
+External truths: (a) a linear walk whose filter result must equal the batch weighted
+least squares solution of all its measurements, computed independently from the normal
+equations; (b) a hand-made loop closure whose true geometry is known exactly; the
+Jacobians against finite differences; (c) the command end to end."""
+
+import json
+
+import numpy as np
+import pytest
+
+from model.joint import (JointFilter, camera_point, camera_point_jacobians, ekf_augment,
+                         ekf_predict, ekf_update, room_point, room_point_jacobians)
+from model.kalman import static_update
+
+
+# --- (a) linear: the filter equals batch weighted least squares -----------------------
+
+def test_linear_joint_filter_equals_batch_weighted_least_squares():
+    """A 2-D robot (x, y) moves by noisy odometry and measures three 2-D landmarks
+    relative to itself (z = f - x + noise); the filter's final pose and landmarks, and
+    their joint covariance, are the batch solution over every pose and landmark
+    (the information matrix A^T W A inverted, its final-pose and landmark block)."""
+    rng = np.random.default_rng(7)
+    d = 2
+    p0, q, r = 0.02, np.diag([0.04, 0.01]), np.diag([0.09, 0.05])
+    odometry = [np.array([1.0, 0.2]), np.array([0.8, -0.1]), np.array([-1.5, 0.3])]
+    # (look, landmark) pairs: the last look re-observes landmark 0 (a loop)
+    seen = {0: [0, 1], 1: [0, 2], 2: [1, 2], 3: [0]}
+    z = {(t, j): rng.normal(size=d) * 3 for t in seen for j in seen[t]}
+    T, N = len(odometry) + 1, 3
+
+    # the filter: state (pose, landmarks in the order first seen)
+    mean, cov = np.zeros(d), p0 * np.eye(d)
+    order = []
+    for t in range(T):
+        if t:
+            mean = mean.copy()
+            mean[:d] += odometry[t - 1]
+            cov = ekf_predict(cov, np.eye(d), q, d)
+        old = [j for j in seen[t] if j in order]
+        if old:
+            H = np.zeros((d * len(old), len(mean)))
+            innov = np.zeros(d * len(old))
+            R = np.zeros((d * len(old), d * len(old)))
+            for k, j in enumerate(old):
+                i = d + d * order.index(j)
+                rows = slice(d * k, d * k + d)
+                H[rows, :d] = -np.eye(d)
+                H[rows, i:i + d] = np.eye(d)
+                R[rows, rows] = r
+                innov[rows] = z[t, j] - (mean[i:i + d] - mean[:d])
+            mean, cov = ekf_update(mean, cov, innov, H, R)
+        for j in seen[t]:
+            if j not in order:
+                J = np.zeros((d, len(mean)))
+                J[:, :d] = np.eye(d)
+                mean, cov = ekf_augment(mean, cov, mean[:d] + z[t, j], J, r)
+                order.append(j)
+
+    # the batch: unknowns x_0..x_{T-1}, f_0..f_{N-1}
+    n = d * (T + N)
+    rows_A, rows_b, rows_W = [], [], []
+
+    def row(coeffs, b, W):
+        A = np.zeros((d, n))
+        for idx, c in coeffs:
+            A[:, d * idx:d * idx + d] += c * np.eye(d)
+        rows_A.append(A), rows_b.append(b), rows_W.append(np.linalg.inv(W))
+    row([(0, 1.0)], np.zeros(d), p0 * np.eye(d))
+    for t in range(1, T):
+        row([(t, 1.0), (t - 1, -1.0)], odometry[t - 1], q)
+    for (t, j), zz in z.items():
+        row([(T + j, 1.0), (t, -1.0)], zz, r)
+    A = np.vstack(rows_A)
+    b = np.concatenate(rows_b)
+    W = np.zeros((len(b), len(b)))
+    for k, Wk in enumerate(rows_W):
+        W[d * k:d * k + d, d * k:d * k + d] = Wk
+    info = A.T @ W @ A
+    theta = np.linalg.solve(info, A.T @ W @ b)
+    C = np.linalg.inv(info)
+    keep = list(range(d * (T - 1), d * T)) + [d * (T + j) + a for j in order for a in range(d)]
+    np.testing.assert_allclose(mean, theta[keep], atol=1e-10)
+    np.testing.assert_allclose(cov, C[np.ix_(keep, keep)], atol=1e-10)
+
+
+# --- the floor pose's measurement functions -------------------------------------------
+
+@pytest.mark.parametrize("pose", [(0.0, 0.0, 0.0), (1.5, -2.0, np.radians(37.0)),
+                                  (-3.0, 4.0, np.radians(-160.0))])
+@pytest.mark.parametrize("pitch", [0.0, -8.0])
+def test_measurement_and_augmentation_jacobians_match_finite_differences(pose, pitch):
+    f = np.array([2.0, -1.2, 7.5])
+    q = camera_point(pose, f, pitch)
+    np.testing.assert_allclose(room_point(pose, q, pitch), f, atol=1e-12)
+    for fun, arg, jac in ((camera_point, f, camera_point_jacobians),
+                          (room_point, q, room_point_jacobians)):
+        Jp, Ja = jac(pose, arg, pitch)
+        eps = 1e-6
+        for c in range(3):
+            dp = np.zeros(3)
+            dp[c] = eps
+            num = (fun(np.add(pose, dp), arg, pitch) - fun(np.subtract(pose, dp), arg, pitch)) / (2 * eps)
+            np.testing.assert_allclose(Jp[:, c], num, atol=1e-6)
+            num = (fun(pose, arg + dp, pitch) - fun(pose, arg - dp, pitch)) / (2 * eps)
+            np.testing.assert_allclose(Ja[:, c], num, atol=1e-6)
+
+
+# --- (b) loop closure -------------------------------------------------------------------
+
+def test_reobserving_the_first_feature_pulls_the_pose_and_the_other_features_back():
+    """Look 0 at the known start sees A; the odometry then claims 1.3 ft to the right
+    where the robot moved 1.0; look 1 sees B and C for the first time (placed 0.3 ft off,
+    with the pose's error); look 2, not moving, sees A again.  The joint filter pulls the
+    pose and B and C back to their true places; the per-feature static update (A-29:
+    the pose's covariance in the measurement) improves only A, and B and C keep their
+    0.3 ft."""
+    A, B, C = np.array([0.0, 0.0, 8.0]), np.array([3.0, 0.5, 9.0]), np.array([-1.0, -0.4, 6.0])
+    true0, true1 = np.array([0.0, 0.0, 0.0]), np.array([1.0, 0.0, 0.0])
+    Cq = np.diag([0.02, 0.005, 0.005]) ** 2
+    Q = np.diag([0.3, 0.3, np.radians(0.5)]) ** 2          # the step's noise, honest to 0.3 ft
+
+    jf = JointFilter((0.0, 0.0, 0.0), np.zeros((3, 3)))
+    jf.add(0, camera_point(true0, A), Cq)
+    jf.predict((1.3, 0.0, 0.0), np.eye(3), Q)
+    jf.add(1, camera_point(true1, B), Cq)
+    jf.add(2, camera_point(true1, C), Cq)
+    before = {vid: np.linalg.norm(jf.feature(vid)[0] - X) for vid, X in ((1, B), (2, C))}
+    assert before[1] == pytest.approx(0.3, abs=1e-9) and before[2] == pytest.approx(0.3, abs=1e-9)
+    assert jf.cov[0, 3 + 3] > 0                  # B's x shares the pose's x error
+    jf.predict((1.3, 0.0, 0.0), np.eye(3), np.diag([1e-4, 1e-4, 1e-6]))
+    jf.update([(0, camera_point(true1, A), Cq)])
+    assert abs(jf.mean[0] - 1.0) < 0.02 and abs(jf.mean[1]) < 0.02
+    for vid, X in ((1, B), (2, C)):
+        assert np.linalg.norm(jf.feature(vid)[0] - X) < 0.05
+    assert np.linalg.norm(jf.feature(0)[0] - A) < 0.02
+
+    # the per-feature update: A's look-2 observation placed from the odometry's pose
+    # (1.3, 0, 0) with its 0.3 ft in the measurement covariance; B and C are not touched
+    Rp = Q[0, 0] * np.diag([1.0, 0.0, 1.0]) + np.diag([0.0, 1e-12, 0.0])
+    zA = room_point((1.3, 0.0, 0.0), camera_point(true1, A))
+    mA, _ = static_update(A, Cq, zA, Cq + Rp)
+    assert np.linalg.norm(mA - A) < 0.01        # A stays, being the surer
+    # the per-feature model's B and C are where the drifted pose placed them
+    for X in (B, C):
+        placed = room_point((1.3, 0.0, 0.0), camera_point(true1, X))
+        assert np.linalg.norm(placed - X) == pytest.approx(0.3, abs=1e-9)
+
+
+def test_drop_marginalises_a_feature():
+    jf = JointFilter((0.0, 0.0, 0.0), np.diag([0.01, 0.01, 0.001]))
+    jf.add_many([(5, np.array([6.0, 0.1, 0.2]), np.eye(3) * 0.01),
+                 (9, np.array([8.0, -0.5, 0.0]), np.eye(3) * 0.02)])
+    m9, c9 = jf.feature(9)
+    cross = jf.cov[:3, 6:9].copy()
+    jf.drop([5])
+    assert jf.ids == [9] and 5 not in jf and len(jf.mean) == 6
+    np.testing.assert_allclose(jf.feature(9)[0], m9)
+    np.testing.assert_allclose(jf.feature(9)[1], c9)
+    np.testing.assert_allclose(jf.cov[:3, 3:6], cross)
+    with pytest.raises(ValueError, match="already"):
+        jf.add(9, np.array([5.0, 0.0, 0.0]), np.eye(3))
+
+
+# --- (c) the command ----------------------------------------------------------------------
+
+def test_rig_walk_kalman_joint_end_to_end(tmp_path):
+    from rig.main import main
+    rc = main(["walk", "--looks", "5", "--kalman", "joint", "--confirm", "2",
+               "--out", str(tmp_path / "o"), "--json", str(tmp_path / "w.json"), "--quiet"])
+    assert rc == 0
+    doc = json.loads((tmp_path / "w.json").read_text())
+    assert [lk["look"] for lk in doc["looks"]] == [0, 1, 2, 3, 4]
+    fused = [lk["methods"]["fused"] for lk in doc["looks"]]
+    assert fused[0]["position_error_ft"] == 0.0
+    assert max(f["position_error_ft"] for f in fused) < 0.5
+    assert max(f["heading_error_deg"] for f in fused) < 3.0
+    model = doc["model"]
+    assert model["features"] > 50 and 0.5 < model["inside_2sigma"] <= 1
+    full = json.loads((tmp_path / "o" / "model.json").read_text())
+    assert len(full["model_tables"]["vertices"]) == model["features"]
+
+
+def test_joint_filter_keeps_the_model_and_the_state_in_step():
+    """After a short walk the symbolic model's vertices are exactly the joint state's
+    features, each with the state's marginal mean and covariance."""
+    from model.mapping import Walker, WalkConfig
+    from world.odometry import OdometryNoise, dead_reckon
+    from world.render import render_look
+    from world.room import bundled_lab
+    from world.walk import bundled_walk
+    room, poses = bundled_lab(), bundled_walk()[:4]
+    dr = dead_reckon(poses, OdometryNoise(seed=1985))
+    w = Walker(room, WalkConfig(kalman="joint", methods=("robust",)))
+    for k, p in enumerate(poses):
+        w.step(render_look(room, p, seed=1985 + k), p, dr[k], dr[k - 1] if k else None)
+    assert sorted(w.joint.ids) == sorted(w.model.vertices)
+    for vid, v in w.model.vertices.items():
+        m, c = w.joint.feature(vid)
+        np.testing.assert_array_equal(v.mean, m)
+        np.testing.assert_array_equal(v.cov, c)
+    np.testing.assert_allclose(w.records[-1].pose_covariance, w.joint.pose_cov)
+    assert np.all(np.linalg.eigvalsh(w.joint.cov) > -1e-9)
+
+
+def test_joint_with_the_consider_covariance_is_refused(tmp_path, capsys):
+    from model.mapping import Walker, WalkConfig
+    from rig.main import main
+    from world.room import bundled_lab
+    with pytest.raises(ValueError, match="joint"):
+        Walker(bundled_lab(), WalkConfig(kalman="joint", consider="bound"))
+    rc = main(["walk", "--looks", "2", "--kalman", "joint", "--consider", "bound",
+               "--out", str(tmp_path / "o"), "--quiet"])
+    assert rc == 2 and "--consider" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_joint_gate_leaves_out_an_observation_far_outside_its_joint_covariance():
+    """A re-observation 2 ft off where pose and feature are sure to centimetres is left out
+    (nothing moves); the same 2 ft inside a wide pose covariance passes and is fused."""
+    f = np.array([1.0, 0.0, 8.0])
+    Cq = np.eye(3) * 0.02 ** 2
+    for pose_sigma, left_out in ((0.01, True), (3.0, False)):
+        jf = JointFilter((0.0, 0.0, 0.0), np.zeros((3, 3)))
+        jf.add(3, camera_point((0.0, 0.0, 0.0), f), Cq)
+        jf.predict((0.0, 0.0, 0.0), np.eye(3), np.diag([pose_sigma, pose_sigma, 1e-4]) ** 2)
+        before = jf.mean.copy()
+        out = jf.update([(3, camera_point((2.0, 0.0, 0.0), f), Cq)], gate_chi2=16.27)
+        assert (out == [3]) is left_out
+        assert np.array_equal(jf.mean, before) is left_out
+
+
+def test_seed_tables_carry_the_model_update_time_where_the_rows_have_it():
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    import walk as bw
+    f = dict(position_ft=0.1, heading_deg=0.5, ten_look_features=20, ten_look_ratio=0.3,
+             leave_one_out=(0.25, 0.35), inside_2sigma=0.75, features=500, look_ms=150.0,
+             update_ms=97.0, update_ms_last10=122.0, final_model=591)
+    text = bw.seed_tables([("joint", 1985, f)])
+    assert "| 75.0 % of 500 | 150 | 97, 122 (591) |" in text
+    assert "model update ms" in text
