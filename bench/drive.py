@@ -33,7 +33,15 @@ uncertain cells that expired to unknown after N looks had them in view with no h
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
-obstacle cells it shows free, and the passable cells each kind costs.
+obstacle cells it shows free, and the passable cells each kind costs.  It
+also traces those free obstacle cells (``free_obstacle_cells`` per room,
+``free_obstacle_cells_total``): which carving freed each (a sight line to a
+hit, the columns between edges, the blank-column assumption, the two-look
+sides, the floor in view, the start spot, the vehicle's track), how much of
+the cell the obstacle covers and how deep inside it the cell's centre lies,
+and the standing spots they open that are truly too near an obstacle
+(``opened_unsafe``: a disc of the planning radius; ``..._turning_circle``:
+of the vehicle's own).
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
@@ -142,6 +150,9 @@ def free_obstacle_report(room, res, model, cfg):
     out = tally_free_obstacle_cells(cells)
     out.update(standing_opened(fm, cells, room.obstacles, room.bounds,
                                DEFAULT.planning_radius_ft))
+    strict = standing_opened(fm, cells, room.obstacles, room.bounds, DEFAULT.planning_radius_ft,
+                             reach=DEFAULT.radius_ft)
+    out["opened_unsafe_turning_circle"] = strict["opened_unsafe"]
     return out
 
 
@@ -203,7 +214,10 @@ def main(argv=None) -> int:
     ap.add_argument("--losses", action="store_true",
                     help="also sort the final map's wrongly blocked cells (cell rounding of "
                          "hits, growth, false matches) and the passable cells each costs, "
-                         "against the true room (planner.floormap.map_losses)")
+                         "against the true room (planner.floormap.map_losses); and trace the "
+                         "true obstacle cells it shows free: which carving freed each, how "
+                         "much of it the obstacle covers, the standing spots they open "
+                         "(planner.evidence.free_obstacle_cells)")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")

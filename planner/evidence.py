@@ -104,8 +104,9 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
     dead-reckoned ``track`` (its ``footprint`` at each pose) or the start
     spot (``start_clear_ft`` about the first pose) lies on it
     (:func:`planner.motion._mark_track_free`, the loop's own marking).
-    Each item: ``{"ij", "xz", "coverage", "misses": {mechanism: n},
-    "mechanisms": [names]}``."""
+    Each item: ``{"ij", "xz", "coverage", "depth_ft", "misses": {mechanism: n},
+    "mechanisms": [names]}``, ``depth_ft`` how far inside an obstacle the
+    cell's centre lies (0: outside it, a cell the obstacle covers in part)."""
     from .floormap import true_floor_map
     from .motion import _mark_track_free
     ex = fm.extent()
@@ -129,18 +130,23 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
     cols = provenance.columns(res, band)
     i0, j0 = int(round(fm.z0 / res)), int(round(fm.x0 / res))
     cover = cell_coverage(fm, obstacles, bounds, ij)
+    obs = np.asarray(obstacles, float).reshape(-1, 4)
     out = []
     for (i, j), c in zip(ij.tolist(), cover.tolist()):
         misses = dict(cols.get((j + j0, i + i0), {}))
         for name, mask in marks.items():
             if mask[i, j]:
                 misses[name] = 1
-        out.append({"ij": (i, j), "xz": tuple(fm.centre(i, j)), "coverage": c,
+        x, z = (float(v) for v in fm.centre(i, j))
+        # how deep the cell's centre lies inside an obstacle (0: outside, a part cell)
+        depth = max([min(x - a, b - x, z - d, e - z) for a, b, d, e in obs], default=0.0)
+        out.append({"ij": (i, j), "xz": (x, z), "coverage": c, "depth_ft": max(depth, 0.0),
                     "misses": misses, "mechanisms": [m for m in MECHANISMS if m in misses]})
     return out
 
 
-def standing_opened(fm: FloorMap, cells, obstacles, bounds, radius: float) -> dict:
+def standing_opened(fm: FloorMap, cells, obstacles, bounds, radius: float,
+                    reach: float | None = None) -> dict:
     """What the cells of :func:`free_obstacle_cells` cost in safety: the
     cells where the vehicle's centre may stand on ``fm`` (the loop's
     clearance, :func:`planner.search.clearance_map` grown by ``radius``,
@@ -159,29 +165,35 @@ def standing_opened(fm: FloorMap, cells, obstacles, bounds, radius: float) -> di
     opened = np.argwhere(ok & ~clearance_map(shut, radius, "free", uncertain="blocked").ok)
     cx, cz = fm.centre(opened[:, 0], opened[:, 1])
     bx0, bx1, bz0, bz1 = bounds
-    unsafe = (cx - radius < bx0) | (cx + radius > bx1) | (cz - radius < bz0) | \
-        (cz + radius > bz1)
+    r = radius if reach is None else reach
+    unsafe = (cx - r < bx0) | (cx + r > bx1) | (cz - r < bz0) | (cz + r > bz1)
     for ox0, ox1, oz0, oz1 in np.asarray(obstacles, float).reshape(-1, 4):
         dx = np.maximum(np.maximum(ox0 - cx, cx - ox1), 0.0)
         dz = np.maximum(np.maximum(oz0 - cz, cz - oz1), 0.0)
-        unsafe |= np.hypot(dx, dz) < radius
+        unsafe |= np.hypot(dx, dz) < r
     return {"opened": int(len(opened)), "opened_unsafe": int(unsafe.sum())}
 
 
 def tally_free_obstacle_cells(cells) -> dict:
     """:func:`free_obstacle_cells` summed: cells per mechanism that had a
     hand in them (``any``), per mechanism that alone made them free
-    (``only``), and by the share of the cell the obstacle covers (``sliver``
+    (``only``), by the share of the cell the obstacle covers (``sliver``
     under a quarter, ``part`` up to three quarters, ``most`` short of the
-    whole, ``whole``), overall and per mechanism."""
+    whole, ``whole``), overall and per mechanism, and by how deep inside the
+    obstacle the cell's centre lies (``depth``)."""
     def share(c):
         return "whole" if c >= 0.999 else "most" if c >= 0.75 else "part" if c >= 0.25 \
             else "sliver"
+    def inside(d):
+        return "outside" if d <= 0 else "<0.25 ft" if d < 0.25 else "<0.5 ft" if d < 0.5 \
+            else "<1 ft" if d < 1.0 else ">=1 ft"
     t = {"cells": len(cells), "any": {}, "only": {}, "coverage": {},
-         "coverage_by_mechanism": {}}
+         "coverage_by_mechanism": {}, "depth": {}}
     for c in cells:
         s = share(c["coverage"])
         t["coverage"][s] = t["coverage"].get(s, 0) + 1
+        d = inside(c.get("depth_ft", 0.0))
+        t["depth"][d] = t["depth"].get(d, 0) + 1
         ms = c["mechanisms"] or ["none"]
         for m in ms:
             t["any"][m] = t["any"].get(m, 0) + 1
