@@ -146,7 +146,8 @@ def free_obstacle_report(room, res, model, cfg):
     from vehicle.profile import DEFAULT
     fm = res.cycles[-1].fmap
     cells = free_obstacle_cells(fm, room.obstacles, room.bounds, model.provenance, cfg.band,
-                                res.estimate_track, DEFAULT.footprint, cfg.start_clear_ft)
+                                res.estimate_track, DEFAULT.footprint, cfg.start_clear_ft,
+                                model.hit_keys)
     out = tally_free_obstacle_cells(cells)
     out.update(standing_opened(fm, cells, room.obstacles, room.bounds,
                                DEFAULT.planning_radius_ft))

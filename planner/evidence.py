@@ -95,7 +95,8 @@ def cell_coverage(fm: FloorMap, obstacles, bounds, ij, sub: int = 16) -> np.ndar
 
 
 def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvenance, band,
-                        track=(), footprint=(0.0, 0.0), start_clear_ft: float = 0.0) -> list:
+                        track=(), footprint=(0.0, 0.0), start_clear_ft: float = 0.0,
+                        hit_keys=None) -> list:
     """Every cell of the floor map ``fm`` that shows FREE where the true room
     (:func:`~planner.floormap.true_floor_map` of ``obstacles`` and the walls
     ``bounds``) has an obstacle, with the share of the cell the obstacle
@@ -106,7 +107,9 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
     (:func:`planner.motion._mark_track_free`, the loop's own marking).
     Each item: ``{"ij", "xz", "coverage", "depth_ft", "misses": {mechanism: n},
     "mechanisms": [names]}``, ``depth_ft`` how far inside an obstacle the
-    cell's centre lies (0: outside it, a cell the obstacle covers in part)."""
+    cell's centre lies (0: outside it, a cell the obstacle covers in part).
+    Given ``hit_keys`` (:attr:`Perception.hit_keys`: the cells any look hit),
+    each item also says whether any look ever hit its column (``"hit"``)."""
     from .floormap import true_floor_map
     from .motion import _mark_track_free
     ex = fm.extent()
@@ -131,6 +134,10 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
     i0, j0 = int(round(fm.z0 / res)), int(round(fm.x0 / res))
     cover = cell_coverage(fm, obstacles, bounds, ij)
     obs = np.asarray(obstacles, float).reshape(-1, 4)
+    hit_cols = None
+    if hit_keys is not None:
+        hk = _unpack(np.asarray(hit_keys, np.int64))
+        hit_cols = set(zip(hk[:, 0].tolist(), hk[:, 2].tolist()))
     out = []
     for (i, j), c in zip(ij.tolist(), cover.tolist()):
         misses = dict(cols.get((j + j0, i + i0), {}))
@@ -140,8 +147,11 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
         x, z = (float(v) for v in fm.centre(i, j))
         # how deep the cell's centre lies inside an obstacle (0: outside, a part cell)
         depth = max([min(x - a, b - x, z - d, e - z) for a, b, d, e in obs], default=0.0)
-        out.append({"ij": (i, j), "xz": (x, z), "coverage": c, "depth_ft": max(depth, 0.0),
-                    "misses": misses, "mechanisms": [m for m in MECHANISMS if m in misses]})
+        item = {"ij": (i, j), "xz": (x, z), "coverage": c, "depth_ft": max(depth, 0.0),
+                "misses": misses, "mechanisms": [m for m in MECHANISMS if m in misses]}
+        if hit_cols is not None:
+            item["hit"] = (j + j0, i + i0) in hit_cols
+        out.append(item)
     return out
 
 
@@ -180,7 +190,8 @@ def tally_free_obstacle_cells(cells) -> dict:
     (``only``), by the share of the cell the obstacle covers (``sliver``
     under a quarter, ``part`` up to three quarters, ``most`` short of the
     whole, ``whole``), overall and per mechanism, and by how deep inside the
-    obstacle the cell's centre lies (``depth``)."""
+    obstacle the cell's centre lies (``depth``); ``ever_hit`` counts those
+    some look had hit (when the cells say)."""
     def share(c):
         return "whole" if c >= 0.999 else "most" if c >= 0.75 else "part" if c >= 0.25 \
             else "sliver"
@@ -194,6 +205,8 @@ def tally_free_obstacle_cells(cells) -> dict:
         t["coverage"][s] = t["coverage"].get(s, 0) + 1
         d = inside(c.get("depth_ft", 0.0))
         t["depth"][d] = t["depth"].get(d, 0) + 1
+        if "hit" in c:
+            t["ever_hit"] = t.get("ever_hit", 0) + int(c["hit"])
         ms = c["mechanisms"] or ["none"]
         for m in ms:
             t["any"][m] = t["any"].get(m, 0) + 1

@@ -12,7 +12,7 @@ from planner.evidence import BETWEEN_EDGES, BLANK_ASSUMPTION, SIGHT_TO_HIT, STAR
     standing_opened, tally_free_obstacle_cells
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig
-from planner.octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest
+from planner.octree import FREE, OCCUPIED, UNKNOWN, VolumeOfInterest, cell_keys
 from planner.perception import CX_128, FOCAL_128, TwoLookSides
 from rig.scan import Point
 from vehicle.sim import State
@@ -50,7 +50,7 @@ def _model(traced=True, two_looks=False, blank_ft=8.0):
 def _free_cells(m, box, track=()):
     fm = m.floor_map([(0.0, 0.0), (0.0, 8.0)])
     return fm, free_obstacle_cells(fm, box, BOUNDS, m.provenance, DriveConfig.band, track,
-                                   (0.8, 1.0), 2.5)
+                                   (0.8, 1.0), 2.5, m.hit_keys)
 
 
 def test_cell_coverage_is_the_share_of_the_cell_under_the_obstacle():
@@ -77,12 +77,14 @@ def test_a_sight_line_through_a_box_to_a_hit_behind_it_is_traced_to_that_line():
     assert all(c["mechanisms"] == [SIGHT_TO_HIT] for c in cells)
     assert max(c["coverage"] for c in cells) == 1.0        # a whole cell, not a sliver
     assert max(c["depth_ft"] for c in cells) > 0.125
+    assert not any(c["hit"] for c in cells)              # no look located the box
     # the tracer changes nothing: the same look untraced makes the same map
     plain = _model(traced=False, blank_ft=None)
     plain.update(look, State(0.0, 0.0, 0.0), Pose, 0.0)
     assert np.array_equal(plain.floor_map([(0.0, 0.0), (0.0, 8.0)]).cells, fm.cells)
     t = tally_free_obstacle_cells(cells)
     assert t["only"] == {SIGHT_TO_HIT: len(cells)} and t["cells"] == len(cells)
+    assert t["ever_hit"] == 0
 
 
 def test_columns_between_two_edges_are_told_from_the_edges_own_lines():
@@ -119,10 +121,12 @@ def test_the_track_and_the_start_spot_are_named_where_no_look_carved():
     fm.cells[20, 20] = FREE                # (0.125, 0.125): on the first pose's footprint
     fm.cells[20, 28] = FREE                # (2.125, 0.125): 2.1 ft off, in the start spot only
     boxes = [(0.0, 0.25, 0.0, 0.25), (2.0, 2.25, 0.0, 0.25)]
+    hit = cell_keys(np.array([[0.125, 0.0, 0.125]]), 0.25)   # a look once hit (0.125, 0.125)
     cells = free_obstacle_cells(fm, boxes, BOUNDS, m.provenance, DriveConfig.band,
-                                [State(0.0, 0.0, 0.0)], (0.8, 1.0), 2.5)
+                                [State(0.0, 0.0, 0.0)], (0.8, 1.0), 2.5, hit)
     by = {c["ij"]: c["mechanisms"] for c in cells}
     assert by == {(20, 20): [START_SPOT, TRACK], (20, 28): [START_SPOT]}
+    assert {c["ij"]: c["hit"] for c in cells} == {(20, 20): True, (20, 28): False}
 
 
 def _wall_map():
