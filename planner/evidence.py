@@ -10,6 +10,12 @@ assumption carved only where it is allowed (``blank_carve``, ``blank_px``,
 ``blank_sides``).  ``occupied="model"`` draws the occupied cells from floor
 features fused look by look instead (:mod:`planner.features`).  The loop that
 drives on this map is :mod:`planner.loop`.
+
+A diagnostic beside it: a :class:`Perception` given a :class:`FreeProvenance`
+records which carving freed each cell, and :func:`free_obstacle_cells` names,
+for every true obstacle cell the final map shows free, the mechanism, how much
+of the cell the obstacle covers, and :func:`standing_opened` what that costs
+in safety (``bench/drive.py --losses``).
 """
 
 from __future__ import annotations
@@ -85,8 +91,7 @@ def cell_coverage(fm: FloorMap, obstacles, bounds, ij, sub: int = 16) -> np.ndar
     obs = np.asarray(obstacles, float).reshape(-1, 4)
     bx0, bx1, bz0, bz1 = bounds
     for n, (i, j) in enumerate(ij):
-        x = fm.x0 + (j + t)[None, :] * fm.cell + 0 * t[:, None]
-        z = fm.z0 + (i + t)[:, None] * fm.cell + 0 * t[None, :]
+        x, z = np.meshgrid(fm.x0 + (j + t) * fm.cell, fm.z0 + (i + t) * fm.cell)
         cov = (x < bx0) | (x > bx1) | (z < bz0) | (z > bz1)
         for ox0, ox1, oz0, oz1 in obs:
             cov |= (x > ox0) & (x < ox1) & (z > oz0) & (z < oz1)
