@@ -33,7 +33,15 @@ uncertain cells that expired to unknown after N looks had them in view with no h
 
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
-obstacle cells it shows free, and the passable cells each kind costs.
+obstacle cells it shows free, and the passable cells each kind costs.  It
+also traces those free obstacle cells (``free_obstacle_cells`` per room,
+``free_obstacle_cells_total``): which carving freed each (a sight line to a
+hit, the columns between edges, the blank-column assumption, the two-look
+sides, the floor in view, the start spot, the vehicle's track), how much of
+the cell the obstacle covers and how deep inside it the cell's centre lies,
+and the standing spots they open that are truly too near an obstacle
+(``opened_unsafe``: a disc of the planning radius; ``..._turning_circle``:
+of the vehicle's own).
 
 The camera estimate's error (``--pose``: the symbolic model's fused pose or
 dead reckoning) is reported against the true track, with the dead-reckoned
@@ -112,6 +120,51 @@ def final_map_losses(room, fmap, radius):
     return map_losses(fmap, true_floor_map(room.obstacles, room.bounds, fmap.cell, margin), radius)
 
 
+def traced_run(room, start, cfg, noise):
+    """planner.loop.run with its Perception keeping a FreeProvenance (which
+    carving freed each cell; the drive is the same): (result, perception)."""
+    from unittest import mock
+
+    import planner.loop as loop
+    from planner.evidence import FreeProvenance
+    made = []
+
+    class Traced(loop.Perception):
+        def __init__(self, *a, **k):
+            super().__init__(*a, **k)
+            self.provenance = FreeProvenance()
+            made.append(self)
+    with mock.patch.object(loop, "Perception", Traced):
+        res = loop.run(room, start, cfg, noise=noise)
+    return res, made[0]
+
+
+def free_obstacle_report(room, res, model, cfg):
+    """planner.evidence.free_obstacle_cells of the final map, summed, with
+    the standing spots they open (planner.evidence.standing_opened)."""
+    from planner.evidence import free_obstacle_cells, standing_opened, tally_free_obstacle_cells
+    from vehicle.profile import DEFAULT
+    fm = res.cycles[-1].fmap
+    cells = free_obstacle_cells(fm, room.obstacles, room.bounds, model.provenance, cfg.band,
+                                res.estimate_track, DEFAULT.footprint, cfg.start_clear_ft,
+                                model.hit_keys)
+    out = tally_free_obstacle_cells(cells)
+    out.update(standing_opened(fm, cells, room.obstacles, room.bounds,
+                               DEFAULT.planning_radius_ft))
+    strict = standing_opened(fm, cells, room.obstacles, room.bounds, DEFAULT.planning_radius_ft,
+                             reach=DEFAULT.radius_ft)
+    out["opened_unsafe_turning_circle"] = strict["opened_unsafe"]
+    return out
+
+
+def _add_tally(total, t):
+    for k, v in t.items():
+        if isinstance(v, dict):
+            _add_tally(total.setdefault(k, {}), v)
+        else:
+            total[k] = total.get(k, 0) + v
+
+
 def seeded_tasks(args):
     """(seed, room, start state, goal or None) for the seeded rooms the bench runs."""
     from planner.planning import random_goal
@@ -162,7 +215,10 @@ def main(argv=None) -> int:
     ap.add_argument("--losses", action="store_true",
                     help="also sort the final map's wrongly blocked cells (cell rounding of "
                          "hits, growth, false matches) and the passable cells each costs, "
-                         "against the true room (planner.floormap.map_losses)")
+                         "against the true room (planner.floormap.map_losses); and trace the "
+                         "true obstacle cells it shows free: which carving freed each, how "
+                         "much of it the obstacle covers, the standing spots they open "
+                         "(planner.evidence.free_obstacle_cells)")
     ap.add_argument("--out", help="write per-room results and the summary as JSON")
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
@@ -185,7 +241,11 @@ def main(argv=None) -> int:
             print(f"{seed:>4} no reachable goal; skipped")
             continue
         cfg = loop_config(args, goal, ap.error)
-        res = run(room, start, cfg, noise=None if args.no_noise else OdometryNoise(seed=seed))
+        noise = None if args.no_noise else OdometryNoise(seed=seed)
+        if args.losses:
+            res, model = traced_run(room, start, cfg, noise)
+        else:
+            res = run(room, start, cfg, noise=noise)
         last = res.cycles[-1] if res.cycles else None
         # both searches on the final model, from the start to the goal
         side = search_side_by_side(last.fmap, (start.x, start.z), goal,
@@ -218,6 +278,7 @@ def main(argv=None) -> int:
             row["expired_uncertain"] = res.expired_uncertain
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
+            row["free_obstacle_cells"] = free_obstacle_report(room, res, model, cfg)
         rows.append(row)
 
         def f(v, w, d=1):
@@ -299,6 +360,11 @@ def main(argv=None) -> int:
         keys = [k for k in rows[0].get("map_losses", {}) if k != "cell_ft"]
         summary["map_losses_total"] = {k: sum(r["map_losses"][k] for r in rows
                                               if "map_losses" in r) for k in keys}
+        total = {}
+        for r in rows:
+            if "free_obstacle_cells" in r:
+                _add_tally(total, r["free_obstacle_cells"])
+        summary["free_obstacle_cells_total"] = total
     print()
     for k, v in summary.items():
         print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")

@@ -10,10 +10,17 @@ assumption carved only where it is allowed (``blank_carve``, ``blank_px``,
 ``blank_sides``).  ``occupied="model"`` draws the occupied cells from floor
 features fused look by look instead (:mod:`planner.features`).  The loop that
 drives on this map is :mod:`planner.loop`.
+
+A diagnostic beside it: a :class:`Perception` given a :class:`FreeProvenance`
+records which carving freed each cell, and :func:`free_obstacle_cells` names,
+for every true obstacle cell the final map shows free, the mechanism, how much
+of the cell the obstacle covers, and :func:`standing_opened` what that costs
+in safety (``bench/drive.py --losses``).
 """
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -25,9 +32,194 @@ from .features import FloorFeatures, pose_point_covariance
 from .floormap import FloorMap, project_octree
 from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, _pack, _unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
-    logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, new_octree, \
-    spans_cells
+    _sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
+    new_octree, spans_cells
 from .perception import CX_128, FOCAL_128, floor_scan
+
+
+# The mechanisms that make a floor-map cell FREE (free_obstacle_cells names them)
+SIGHT_TO_HIT = "sight line to a hit"            # a column's line to its located point
+BETWEEN_EDGES = "columns between edges"         # free_ends the look proves (not assumed)
+BLANK_ASSUMPTION = "blank-column assumption"    # FloorScan.assumed, mark_assumed_free
+TWO_LOOK_SIDES = "two-look sides"               # TwoLookSides.confirm
+FLOOR_IN_VIEW = "floor in view"                 # floor_eyes (planner.appearance)
+START_SPOT = "start spot"                       # the clear disc the vehicle was set down in
+TRACK = "vehicle's track"                       # its footprint at every dead-reckoned pose
+MECHANISMS = (SIGHT_TO_HIT, BETWEEN_EDGES, BLANK_ASSUMPTION, TWO_LOOK_SIDES, FLOOR_IN_VIEW,
+              START_SPOT, TRACK)
+
+
+class FreeProvenance:
+    """Which carving marked each octree cell free, and in which looks: a
+    diagnostic a :class:`Perception` keeps when its ``provenance`` is one
+    (the map it builds is the same)."""
+
+    def __init__(self):
+        self.misses: dict[int, dict[str, int]] = {}   # packed key -> mechanism -> misses
+        self.first_look: dict[int, int] = {}
+
+    def add(self, keys, mechanism: str, look_no: int) -> None:
+        for k in np.asarray(keys, np.int64).tolist():
+            m = self.misses.setdefault(k, {})
+            m[mechanism] = m.get(mechanism, 0) + 1
+            self.first_look.setdefault(k, look_no)
+
+    def columns(self, res: float, band) -> dict[tuple[int, int], dict[str, int]]:
+        """The misses summed over each floor column (x key, z key) of the
+        cells in the height ``band`` (room Y top, bottom)."""
+        out: dict[tuple[int, int], dict[str, int]] = {}
+        if not self.misses:
+            return out
+        keys = np.fromiter(self.misses.keys(), np.int64, len(self.misses))
+        k = _unpack(keys)
+        y = (k[:, 1] + 0.5) * res
+        inband = (y + res / 2 > band[0]) & (y - res / 2 < band[1])
+        for key, (kx, _, kz) in zip(keys[inband].tolist(), k[inband].tolist()):
+            col = out.setdefault((int(kx), int(kz)), {})
+            for m, n in self.misses[key].items():
+                col[m] = col.get(m, 0) + n
+        return out
+
+
+def cell_coverage(fm: FloorMap, obstacles, bounds, ij, sub: int = 16) -> np.ndarray:
+    """The share of each cell ``ij`` ((N, 2) rows i, columns j of ``fm``)
+    that the obstacle footprints (x0, x1, z0, z1) or the outside of the
+    walls ``bounds`` cover, on a ``sub`` x ``sub`` grid of points in the cell."""
+    ij = np.asarray(ij, int).reshape(-1, 2)
+    t = (np.arange(sub) + 0.5) / sub
+    out = np.zeros(len(ij))
+    obs = np.asarray(obstacles, float).reshape(-1, 4)
+    bx0, bx1, bz0, bz1 = bounds
+    for n, (i, j) in enumerate(ij):
+        x, z = np.meshgrid(fm.x0 + (j + t) * fm.cell, fm.z0 + (i + t) * fm.cell)
+        cov = (x < bx0) | (x > bx1) | (z < bz0) | (z > bz1)
+        for ox0, ox1, oz0, oz1 in obs:
+            cov |= (x > ox0) & (x < ox1) & (z > oz0) & (z < oz1)
+        out[n] = cov.mean()
+    return out
+
+
+def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvenance, band,
+                        track=(), footprint=(0.0, 0.0), start_clear_ft: float = 0.0,
+                        hit_keys=None) -> list:
+    """Every cell of the floor map ``fm`` that shows FREE where the true room
+    (:func:`~planner.floormap.true_floor_map` of ``obstacles`` and the walls
+    ``bounds``) has an obstacle, with the share of the cell the obstacle
+    covers (:func:`cell_coverage`) and what made it free: the octree's misses
+    in its column per mechanism (``provenance``), and whether the vehicle's
+    dead-reckoned ``track`` (its ``footprint`` at each pose) or the start
+    spot (``start_clear_ft`` about the first pose) lies on it
+    (:func:`planner.motion._mark_track_free`, the loop's own marking).
+    Each item: ``{"ij", "xz", "coverage", "depth_ft", "misses": {mechanism: n},
+    "mechanisms": [names]}``, ``depth_ft`` how far inside an obstacle the
+    cell's centre lies (0: outside it, a cell the obstacle covers in part).
+    Given ``hit_keys`` (:attr:`Perception.hit_keys`: the cells any look hit),
+    each item also says whether any look ever hit its column (``"hit"``)."""
+    from .floormap import true_floor_map
+    from .motion import _mark_track_free
+    ex = fm.extent()
+    margin = max(bounds[0] - ex[0], ex[1] - bounds[1], bounds[2] - ex[2], ex[3] - bounds[3],
+                 0.0) + fm.cell
+    truth = true_floor_map(obstacles, bounds, fm.cell, margin)
+    di = int(round((fm.z0 - truth.z0) / fm.cell))
+    dj = int(round((fm.x0 - truth.x0) / fm.cell))
+    nz, nx = fm.shape
+    occ = truth.cells[di:di + nz, dj:dj + nx] == OCCUPIED
+    ij = np.argwhere(occ & (fm.cells == FREE))
+    marks = {}
+    track = list(track)
+    for name, poses, disc, fp in ((START_SPOT, track[:1], start_clear_ft, footprint),
+                                  (TRACK, track, 0.0, footprint)):
+        m = type(fm)(np.full(fm.shape, UNKNOWN, np.uint8), fm.x0, fm.z0, fm.cell)
+        if poses:
+            _mark_track_free(m, poses, fp, disc)
+        marks[name] = m.cells == FREE
+    res = fm.cell
+    cols = provenance.columns(res, band)
+    i0, j0 = int(round(fm.z0 / res)), int(round(fm.x0 / res))
+    cover = cell_coverage(fm, obstacles, bounds, ij)
+    obs = np.asarray(obstacles, float).reshape(-1, 4)
+    hit_cols = None
+    if hit_keys is not None:
+        hk = _unpack(np.asarray(hit_keys, np.int64))
+        hit_cols = set(zip(hk[:, 0].tolist(), hk[:, 2].tolist()))
+    out = []
+    for (i, j), c in zip(ij.tolist(), cover.tolist()):
+        misses = dict(cols.get((j + j0, i + i0), {}))
+        for name, mask in marks.items():
+            if mask[i, j]:
+                misses[name] = 1
+        x, z = (float(v) for v in fm.centre(i, j))
+        # how deep the cell's centre lies inside an obstacle (0: outside, a part cell)
+        depth = max([min(x - a, b - x, z - d, e - z) for a, b, d, e in obs], default=0.0)
+        item = {"ij": (i, j), "xz": (x, z), "coverage": c, "depth_ft": max(depth, 0.0),
+                "misses": misses, "mechanisms": [m for m in MECHANISMS if m in misses]}
+        if hit_cols is not None:
+            item["hit"] = (j + j0, i + i0) in hit_cols
+        out.append(item)
+    return out
+
+
+def standing_opened(fm: FloorMap, cells, obstacles, bounds, radius: float,
+                    reach: float | None = None) -> dict:
+    """What the cells of :func:`free_obstacle_cells` cost in safety: the
+    cells where the vehicle's centre may stand on ``fm`` (the loop's
+    clearance, :func:`planner.search.clearance_map` grown by ``radius``,
+    unknown free, uncertain blocked) that would not be passable were those
+    cells shown OCCUPIED (``opened``), and of those, the ones where a disc of
+    ``radius`` about the cell's centre truly reaches into an obstacle or past
+    a wall (``opened_unsafe``).  Zero ``opened_unsafe``: the growth by the
+    vehicle's radius around the obstacle's other cells covers them."""
+    from .search import clearance_map
+    ok = clearance_map(fm, radius, "free", uncertain="blocked").ok
+    if not len(cells):
+        return {"opened": 0, "opened_unsafe": 0}
+    shut = FloorMap(fm.cells.copy(), fm.x0, fm.z0, fm.cell)
+    ij = np.array([c["ij"] for c in cells], int)
+    shut.cells[ij[:, 0], ij[:, 1]] = OCCUPIED
+    opened = np.argwhere(ok & ~clearance_map(shut, radius, "free", uncertain="blocked").ok)
+    cx, cz = fm.centre(opened[:, 0], opened[:, 1])
+    bx0, bx1, bz0, bz1 = bounds
+    r = radius if reach is None else reach
+    unsafe = (cx - r < bx0) | (cx + r > bx1) | (cz - r < bz0) | (cz + r > bz1)
+    for ox0, ox1, oz0, oz1 in np.asarray(obstacles, float).reshape(-1, 4):
+        dx = np.maximum(np.maximum(ox0 - cx, cx - ox1), 0.0)
+        dz = np.maximum(np.maximum(oz0 - cz, cz - oz1), 0.0)
+        unsafe |= np.hypot(dx, dz) < r
+    return {"opened": int(len(opened)), "opened_unsafe": int(unsafe.sum())}
+
+
+def tally_free_obstacle_cells(cells) -> dict:
+    """:func:`free_obstacle_cells` summed: cells per mechanism that had a
+    hand in them (``any``), per mechanism that alone made them free
+    (``only``), by the share of the cell the obstacle covers (``sliver``
+    under a quarter, ``part`` up to three quarters, ``most`` short of the
+    whole, ``whole``), overall and per mechanism, and by how deep inside the
+    obstacle the cell's centre lies (``depth``); ``ever_hit`` counts those
+    some look had hit (when the cells say)."""
+    def share(c):
+        return "whole" if c >= 0.999 else "most" if c >= 0.75 else "part" if c >= 0.25 \
+            else "sliver"
+    def inside(d):
+        return "outside" if d <= 0 else "<0.25 ft" if d < 0.25 else "<0.5 ft" if d < 0.5 \
+            else "<1 ft" if d < 1.0 else ">=1 ft"
+    t = {"cells": len(cells), "any": {}, "only": {}, "coverage": {},
+         "coverage_by_mechanism": {}, "depth": {}}
+    for c in cells:
+        s = share(c["coverage"])
+        t["coverage"][s] = t["coverage"].get(s, 0) + 1
+        d = inside(c.get("depth_ft", 0.0))
+        t["depth"][d] = t["depth"].get(d, 0) + 1
+        if "hit" in c:
+            t["ever_hit"] = t.get("ever_hit", 0) + int(c["hit"])
+        ms = c["mechanisms"] or ["none"]
+        for m in ms:
+            t["any"][m] = t["any"].get(m, 0) + 1
+            d = t["coverage_by_mechanism"].setdefault(m, {})
+            d[s] = d.get(s, 0) + 1
+        if len(ms) == 1:
+            t["only"][ms[0]] = t["only"].get(ms[0], 0) + 1
+    return t
 
 
 def across_sight_cov(points, covs, origin, res: float) -> np.ndarray:
@@ -85,6 +277,32 @@ class Perception:
         self.lo = None
         self.hi = None
         self.pending = []
+        self.provenance = None            # a FreeProvenance: which carving freed each cell
+        self.look_no = 0                  # looks taken into the model
+
+    @contextmanager
+    def _carving(self, tag):
+        """Record in :attr:`provenance` (when tracing) every cell the batch
+        updates inside this block mark free, under ``tag`` (a mechanism's
+        name, or a function of the packed keys returning ``(keys, name)``
+        pairs); the updates themselves are unchanged."""
+        prov, tree = self.provenance, self.tree
+        if prov is None:
+            yield
+            return
+
+        def record(values, update, lazy_eval=False):
+            out = type(tree).updateNodes(tree, values, update, lazy_eval)
+            if not update and values is not None and len(values):
+                keys = _pack(tree._key_of(values))
+                for ks, name in (tag(keys) if callable(tag) else [(keys, tag)]):
+                    prov.add(ks, name, self.look_no)
+            return out
+        tree.updateNodes = record
+        try:
+            yield
+        finally:
+            del tree.updateNodes
 
     def estimate(self, look, dead: State) -> State:
         return dead
@@ -134,6 +352,7 @@ class Perception:
         diagnostic depth eyes, :mod:`planner.depth_eyes`) replaces the floor
         scan of ``scan_points`` by :func:`~planner.depth_eyes.depth_floor_scan`;
         the rest of the update is the same."""
+        self.look_no += 1
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -172,7 +391,8 @@ class Perception:
                 else np.zeros(len(fs.free_ends), bool)
             if top is not None:
                 # the floor in view replaces the blank-column assumption
-                self._carve_floor(fs, rays, top, left, res)
+                with self._carving(FLOOR_IN_VIEW):
+                    self._carve_floor(fs, rays, top, left, res)
                 assumed = fs.assumed if fs.assumed is not None else assumed
                 proven = fs.free_ends[~assumed]
                 # "add": the assumption carves as well, under its own rules
@@ -180,11 +400,14 @@ class Perception:
             else:
                 proven = fs.free_ends[~assumed]
                 ends = fs.free_ends[assumed]
-            mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]), start_ft=self.near_ft)
+            with self._carving(self._split_seen(left, fs.hits, proven, res)):
+                mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]),
+                               start_ft=self.near_ft)
             # by assumption only into unknown cells, never past a cell hit (this look too)
             if known is not None and len(ends):
                 ends = ends[_near_free(known, left, ends, self.near_ft)]
-            mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
+            with self._carving(BLANK_ASSUMPTION):
+                mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
             far_ends = fs.far_ends if self.two_look_sides is not None and \
                 fs.far_ends is not None else fs.free_ends[:0]
             if len(far_ends):
@@ -193,8 +416,9 @@ class Perception:
                     far_ends = far_ends[_near_free(known, left, far_ends, self.near_ft)]
                 keys = assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
                                          start_ft=self.near_ft)
-                mark_keys_free(self.tree, self.two_look_sides.confirm(
-                    keys, (est.x, est.z, est.heading_deg)))
+                with self._carving(TWO_LOOK_SIDES):
+                    mark_keys_free(self.tree, self.two_look_sides.confirm(
+                        keys, (est.x, est.z, est.heading_deg)))
             if self.occupied == "looks":
                 if len(grown):
                     mark_occupied(self.tree, grown)
@@ -215,6 +439,26 @@ class Perception:
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
+
+    def _split_seen(self, left, hits, proven, res: float):
+        """The tag of :meth:`update`'s one seen-sight-line batch: the keys on
+        the lines to the look's hits, and those on the lines of the columns
+        between edges (a key on both counts under both)."""
+        if self.provenance is None:
+            return None
+
+        def keys_of(ends):
+            along = _sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
+            return np.zeros(0, np.int64) if along is None else \
+                np.unique(_pack(self.tree._key_of(cell_centres(along[0], res))))
+
+        to_hits, between = keys_of(hits), keys_of(proven)
+
+        def split(keys):
+            a, b = np.isin(keys, to_hits), np.isin(keys, between)
+            return [(keys[a], SIGHT_TO_HIT), (keys[b], BETWEEN_EDGES),
+                    (keys[~a & ~b], SIGHT_TO_HIT)]     # (none expected: the same sampling)
+        return split
 
     def expire_in_view(self, fs, R, left, look_keys) -> int:
         """Count this look against every uncertain cell (hit by earlier looks,
