@@ -82,7 +82,8 @@ from .evidence import Perception, _floor_stats, _mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _mark_track_free, \
-    _pivot_seen_free, _safe_prefix, looked_free, near_visible_ft
+    _pivot_seen_free, _safe_prefix, first_unseen_on_band, look_ahead, looked_free, \
+    near_visible_ft
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, TwoLookSides
 from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
@@ -228,6 +229,11 @@ class DriveConfig:
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
                                           # them and look again, never driven near (plan())
+    look_ahead: bool = False              # (a named option, not 1985) before a move, the
+                                          # first never-seen cell on the path's swept band
+                                          # (the next step + near_visible_ft): the move cut
+                                          # while it can still show, a pivot to bring it in
+                                          # view, a look (motion.look_ahead); each cell once
 
 
 @dataclass
@@ -418,6 +424,29 @@ def true_range_points(points, look):
 
 
 
+def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
+                  prof: VehicleProfile, pivot_sweep, done: set):
+    """(commands, note) of ``DriveConfig.look_ahead`` for this cycle's safe
+    ``seg``, or None to drive ``seg`` as it is: the first never-seen cell on
+    the swept band of the path's next step + ``near_ft`` (+ two cells), not
+    turned to before (``done``), looked at while it can still show
+    (:func:`planner.motion.look_ahead`); the new commands must pass
+    :func:`planner.motion._safe_prefix` whole (its pivot included)."""
+    half_width = prof.width_ft / 2 + prof.margin_ft
+    cell = first_unseen_on_band(fm, pts, half_width, prof.step_ft + near_ft + 2 * fm.cell)
+    if cell is None or fm.index(*cell) in done:
+        return None
+    new = look_ahead(seg, est, cell, near_ft, fm.cell)
+    if not new:
+        return None
+    ok = _safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
+                      prof.length_ft / 2 + prof.margin_ft, prof.radius_ft, pivot_sweep)
+    if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):
+        return None                       # its pivot (or move) breaks the safety rules
+    done.add(fm.index(*cell))
+    return new, f" (looking ahead at ({cell[0]:.1f}, {cell[1]:.1f}))"
+
+
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True
         ) -> DriveResult:
     """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room)."""
@@ -482,6 +511,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
     pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else None
     tried: dict = {}                      # blocker cell -> places it was looked at from
+    ahead_cells: set = set()              # cells the look-ahead has turned to (each once)
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []
@@ -542,7 +572,14 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    prof.length_ft / 2 + prof.margin_ft,
                                    prof.radius_ft, pivot_sweep)
                 left = path_length(pts)
-                if not any(isinstance(c, Forward) for c in seg) and \
+                if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
+                    got = _looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
+                                        pivot_sweep, ahead_cells)
+                    if got is not None:
+                        seg, how = got
+                        note += how
+                        fetching = True   # its pivot is the look: no sweep instead
+                if not fetching and not any(isinstance(c, Forward) for c in seg) and \
                         cfg.look_around == "evidence":
                     got = _fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
                     if got is not None:

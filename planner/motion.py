@@ -365,3 +365,92 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
         return None
     return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
                  f"({vp[-1][0]:.1f}, {vp[-1][1]:.1f}))")
+
+
+def first_unseen_on_band(fm: FloorMap, pts, half_width: float, ahead_ft: float):
+    """The first cell along the planned path ``pts`` (a polyline from the
+    vehicle) whose square the vehicle's swept width (``half_width`` each side of
+    the centre line, sampled a quarter cell apart along and across, as
+    :func:`_band_seen` does) enters within the first ``ahead_ft`` of the path,
+    and that no look has ever seen (UNKNOWN): its centre (x, z), or None when
+    that whole band has been seen (cells off the map are left to
+    :func:`_safe_prefix`)."""
+    left = ahead_ft
+    q = fm.cell / 4
+    offs = np.arange(-half_width, half_width + 1e-9, q)
+    for a, b in zip(pts[:-1], pts[1:]):
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        length = float(np.hypot(*(b - a)))
+        if length < 1e-9:
+            continue
+        if length > left:
+            b, length = a + (b - a) * (left / length), left
+        hr = math.atan2(b[0] - a[0], b[1] - a[1])
+        right = np.array([math.cos(hr), -math.sin(hr)])
+        s = segment_samples(tuple(a), tuple(b), q)
+        p = s[:, None, :] + offs[None, :, None] * right[None, None, :]
+        i = np.floor((p[..., 1] - fm.z0) / fm.cell).astype(int)
+        j = np.floor((p[..., 0] - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        unseen = np.zeros(i.shape, bool)
+        unseen[inside] = fm.cells[i[inside], j[inside]] == UNKNOWN
+        rows = np.flatnonzero(unseen.any(1))
+        if len(rows):
+            k = rows[0]
+            # of that sample's unseen cells, the one nearest the centre line
+            c = np.flatnonzero(unseen[k])[np.argmin(np.abs(offs[unseen[k]]))]
+            cx, cz = fm.centre(i[k, c], j[k, c])
+            return float(cx), float(cz)
+        left -= length
+        if left <= 1e-9:
+            break
+    return None
+
+
+LOOK_AHEAD_FOV_MARGIN_DEG = 4.0    # the cell turned this far inside the view's edge
+
+
+def look_ahead(seg, est: State, cell, near_ft: float, cell_ft: float):
+    """The anticipatory look (``DriveConfig.look_ahead``, a named option, not
+    1985): the cycle's commands ``seg`` cut where the vehicle would come nearer
+    than ``near_ft`` + ``cell_ft`` to ``cell`` (the first never-seen cell on the
+    path's swept band, :func:`first_unseen_on_band`: nearer, no look shows it),
+    followed by the smallest pivot that brings ``cell`` inside the view
+    (``HALF_FOV_DEG`` less a margin), so the next look, taken there, shows it.
+    Returns the new commands, or None when nothing changes: the cell is
+    already too near to show (the look came too late), or the commands never
+    bring the vehicle that near and so need no cut.  Only pivots and straight
+    moves are cut (an ARC leaves ``seg`` as it is).  The caller checks the
+    result against the safety rules (:func:`_safe_prefix`)."""
+    far = near_ft + cell_ft
+    x, z, h = est.x, est.z, est.heading_deg
+    if math.hypot(cell[0] - x, cell[1] - z) < far:
+        return None
+    out = []
+    for c in seg:
+        if isinstance(c, Turn):
+            out.append(c)
+            h = wrap(h + c.angle_deg)
+            continue
+        if not isinstance(c, Forward):
+            return None
+        hr = math.radians(h)
+        ux, uz = math.sin(hr), math.cos(hr)
+        # the travel t at which |p + t u - cell| falls to far (the smaller root)
+        rx, rz = cell[0] - x, cell[1] - z
+        along = rx * ux + rz * uz
+        disc = along * along - (rx * rx + rz * rz - far * far)
+        if disc > 0 and along - math.sqrt(disc) < c.distance_ft:
+            t = max(0.0, along - math.sqrt(disc))
+            t = math.floor(t * 100) / 100          # never past the point
+            if t > 0.05:
+                out.append(Forward(round(t, 2)))
+                x, z = x + t * ux, z + t * uz
+            off = wrap(heading_to((x, z), cell) - h)
+            need = abs(off) - (HALF_FOV_DEG - LOOK_AHEAD_FOV_MARGIN_DEG)
+            if need > 0:
+                out.append(Turn(round(math.copysign(need, off), 2)))
+            return out
+        out.append(c)
+        x, z = x + c.distance_ft * ux, z + c.distance_ft * uz
+    return None

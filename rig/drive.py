@@ -265,6 +265,10 @@ def add_loop_options(p) -> None:
                    help="for --blank-sides two-looks: the two looks at least FT apart or "
                         f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
                         f"{C.sides_apart[1]:g} deg)")
+    p.add_argument("--look-ahead", action="store_true",
+                   help="before a move, find the first never-seen cell on the planned path's "
+                        "swept band; while it is still far enough to show, cut the move there, "
+                        "pivot until it is in view and look (not 1985; default off)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -296,6 +300,7 @@ def loop_config(args, goal, fail):
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,
+                       look_ahead=args.look_ahead,
                        uncertain=args.uncertain, track_free=args.track_free,
                        goal_region=args.goal_region, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,
