@@ -34,7 +34,7 @@ def path_legend(result, driver: str) -> tuple[str, str, str]:
     """The map's three path labels: true, estimated (named by how the pose was
     estimated: the driving fix fused with odometry, or the joint filter), dead reckoning."""
     if getattr(result.config, "kalman", None) == "joint":
-        estimated = f"estimated (joint filter of pose + features; pairs from {driver})"
+        estimated = "estimated (kalman joint: pose + features)"
     else:
         estimated = f"estimated (fused: {driver} + odometry)"
     return "true path (arrows: heading)", estimated, "dead reckoning"

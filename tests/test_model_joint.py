@@ -337,7 +337,7 @@ def test_the_map_legend_names_the_kalman_mode():
     from types import SimpleNamespace
     from rig.walkpictures import path_legend
     joint = path_legend(SimpleNamespace(config=SimpleNamespace(kalman="joint")), "robust")
-    assert "joint filter" in joint[1] and "fused" not in joint[1]
+    assert "kalman joint" in joint[1] and "fused" not in joint[1]
     static = path_legend(SimpleNamespace(config=SimpleNamespace(kalman="a29")), "robust")
     assert static[1] == "estimated (fused: robust + odometry)"
 
@@ -368,3 +368,14 @@ def test_seed_tables_carry_the_model_update_time_where_the_rows_have_it():
     text = bw.seed_tables([("joint", 1985, f)])
     assert "| 75.0 % of 500 | 150 | 97, 122 (591) |" in text
     assert "model update ms" in text
+
+
+def test_bench_joint_consider_rows_are_the_joint_rows_with_the_consider_covariance():
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    import walk as bw
+    rows = bw.joint_consider_configs("joseph")
+    assert list(rows) == [f"{n} + consider joseph" for n in bw.JOINT_CONFIGS]
+    for (name, kw), plain in zip(rows.items(), bw.JOINT_CONFIGS.values()):
+        assert kw == dict(plain, consider="joseph")
