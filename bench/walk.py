@@ -585,8 +585,14 @@ JOINT_CONFIGS = {"joint + confirm": dict(kalman="joint", confirm=2,
                                                    ambiguity_gate="resolve")}
 """``--seeds N --joint``: the joint filter of pose and features (model.joint), with the
 calibrated column error (with LCSL's 0.5 px the filter believes its pairs too much and the
-pose diverges: docs/model.md); the consider covariance and its tilt floor follow the static
-filter's gain, so not with joint."""
+pose diverges: docs/model.md).  ``--consider MODE``: the same with the joint filter's consider
+covariance (model.joint.consider_joint_update); its poses and means are the plain rows'."""
+
+
+def joint_consider_configs(mode: str) -> dict:
+    """JOINT_CONFIGS with the joint consider covariance ``mode`` (joseph or bound)."""
+    return {f"{name} + consider {mode}": dict(kw, consider=mode)
+            for name, kw in JOINT_CONFIGS.items()}
 
 
 def seed_tables(rows) -> str:
@@ -632,16 +638,20 @@ def seeds(n: int, configs=None) -> str:
         for seed in range(1985, 1985 + n):
             res, took = one_walk(bundled_lab(), bundled_walk(), seed=seed, **kw)
             rows.append((name, seed, target_figures(res)))
-            print(f"{name}, seed {seed}: {took:.0f} s", file=sys.stderr)
+            f = rows[-1][2]
+            print(f"{name}, seed {seed}: {took:.0f} s; {f['position_ft']:.2f} ft, "
+                  f"{f['heading_deg']:.2f} deg, inside {100 * f['inside_2sigma']:.1f} %, "
+                  f"look {f['look_ms']:.0f} ms", file=sys.stderr)
     return seed_tables(rows)
 
 
-def joint_rooms(n: int, looks: int) -> str:
+def joint_rooms(n: int, looks: int, consider: str | None = None) -> str:
     """``--joint`` without ``--seeds``: the generated rooms 1..n for the named configuration with
     resolve and the joint filter's configurations (JOINT_CONFIGS): the fused pose's median and
     worst error, the share of truths inside 2 sigma (all features; the track-confirmed ones),
     the ten-look ratio over the rooms together and the median time per look."""
-    configs = {"named + resolve": SEED_CONFIGS["named + resolve"], **JOINT_CONFIGS}
+    configs = {"named + resolve": SEED_CONFIGS["named + resolve"],
+               **(joint_consider_configs(consider) if consider else JOINT_CONFIGS)}
     results = {name: [] for name in configs}
     for seed in range(1, n + 1):
         room = generate_room(seed)
@@ -690,6 +700,10 @@ def main(argv=None) -> int:
                          "with confirmation, and with the resolve gate, instead of the named "
                          "two (their rows are deterministic: docs/model.md); alone: those and "
                          "the named configuration with resolve in the generated rooms")
+    ap.add_argument("--consider", choices=("joseph", "bound"), default=None,
+                    help="with --joint: the joint filter's configurations with its consider "
+                         "covariance (--kalman joint --consider MODE); the poses and means are "
+                         "the plain ones, only the reported covariance differs")
     ap.add_argument("--seeds", type=int, metavar="N", default=None,
                     help="only the named configuration and it with --ambiguity-gate resolve on "
                          "the bundled walk, with N draws of the odometry and render noise: the "
@@ -697,11 +711,12 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
     if args.joint and not args.seeds:
-        print(joint_rooms(args.rooms, args.looks))
+        print(joint_rooms(args.rooms, args.looks, args.consider))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")
         return 0
     if args.seeds:
-        print(seeds(args.seeds, JOINT_CONFIGS if args.joint else None))
+        joint = joint_consider_configs(args.consider) if args.consider else JOINT_CONFIGS
+        print(seeds(args.seeds, joint if args.joint else None))
         print(f"\n({time.perf_counter() - t0:.0f} s in all)")
         return 0
     if args.ten_looks:

@@ -41,6 +41,11 @@ covariance is left out, as an EKF must (one wrong pair fused with its A-19/A-20 
 turns the pose and, through it, every correlated feature).  The generic steps :func:`ekf_predict`,
 :func:`ekf_augment` and :func:`ekf_update` are plain linear-Gaussian algebra,
 tested against a batch weighted least squares solution.
+
+``--consider joseph|bound`` (:func:`consider_joint_update`): the consider covariance of the
+joint state -- a second dense covariance through the same predictions and gains with the
+measured measurement covariance -- reported and scored as the features' covariance, never
+gated with (tested against a Monte Carlo of a linear walk).
 """
 
 from __future__ import annotations
@@ -83,6 +88,12 @@ def ekf_augment(mean, cov, new_mean, J, R, G=None):
 def ekf_update(mean, cov, innovation, H, R):
     """One Kalman update with all the look's measurements at once: ``K = P H^T
     S^-1``, ``S = H P H^T + R``; ``P' = P - K S K^T`` (symmetrised)."""
+    m, P, _ = ekf_update_with_gain(mean, cov, innovation, H, R)
+    return m, P
+
+
+def ekf_update_with_gain(mean, cov, innovation, H, R):
+    """:func:`ekf_update`, also returning the gain ``K`` (for the consider covariance)."""
     P = np.asarray(cov, dtype=np.float64)
     H = np.asarray(H, dtype=np.float64)
     # a look touches the pose and its matched features only: P H^T from those columns
@@ -93,7 +104,51 @@ def ekf_update(mean, cov, innovation, H, R):
     K = np.linalg.solve(S, PHt.T).T
     m = np.asarray(mean, dtype=np.float64) + K @ np.asarray(innovation, dtype=np.float64)
     P = P - K @ S @ K.T
-    return m, (P + P.T) / 2
+    return m, (P + P.T) / 2, K
+
+
+CONSIDER_STEPS = 21               # model.kalman.consider_update's grid of weights
+
+
+def consider_joint_update(consider_cov, K, H, R_true, mode: str = "joseph",
+                          steps: int = CONSIDER_STEPS) -> np.ndarray:
+    """The joint filter's consider covariance after one update: the covariance of the
+    filter's error when its gain ``K`` (computed from its own covariance and the
+    A-19/A-20 ``R``) meets errors whose covariance is ``R_true`` (the measured one).
+
+    The filter's error moves by ``e' = (I - K H) e + K e_z``, so with ``consider_cov``
+    the covariance of ``e``:
+
+    * ``"joseph"``: ``A + B``, ``A = (I-KH) Pc (I-KH)^T``, ``B = K R_true K^T`` -- exact
+      when the look's error is independent of the state's (Joseph form);
+    * ``"bound"``: ``A / w + B / (1 - w)``, holding whatever their correlation,
+      ``w`` on :func:`model.kalman.consider_update`'s grid minimising the trace
+      (covariance intersection's argument applied to the two terms, one ``w`` for
+      the whole state).
+
+    ``A`` is formed from the columns H touches (``Pc - K H Pc - (K H Pc)^T + K H Pc
+    H^T K^T``): the same O(n^2 m) work as the filter's own update, never an n x n
+    product with ``I - K H``."""
+    Pc = np.asarray(consider_cov, dtype=np.float64)
+    H = np.asarray(H, dtype=np.float64)
+    cols = np.flatnonzero(np.any(H != 0, axis=0))
+    Hc = H[:, cols]
+    HPc = Hc @ Pc[cols, :]                                  # (m, n)
+    KHPc = K @ HPc                                          # (n, n)
+    Sc = HPc[:, cols] @ Hc.T                                # H Pc H^T (m, m)
+    R_true = np.asarray(R_true, dtype=np.float64)
+    if mode == "joseph":
+        P = Pc - KHPc - KHPc.T + K @ (Sc + R_true) @ K.T
+    elif mode == "bound":
+        A = Pc - KHPc - KHPc.T + K @ Sc @ K.T
+        B = K @ R_true @ K.T
+        w = np.linspace(0.0, 1.0, steps + 2)[1:-1]         # open interval
+        tA, tB = float(np.trace(A)), float(np.trace(B))
+        best = float(w[np.argmin(tA / w + tB / (1 - w))])
+        P = A / best + B / (1 - best)
+    else:
+        raise ValueError(f"unknown consider covariance {mode!r}; one of joseph, bound")
+    return (P + P.T) / 2
 
 
 # --- the walk's floor pose and point features ---------------------------------------
@@ -150,13 +205,25 @@ def room_point_jacobians(pose, q, pitch_deg: float = 0.0):
 class JointFilter:
     """The stochastic map: the floor pose and the features' 3-D positions, one
     mean and one dense covariance.  Features are named by the symbolic model's
-    vertex ids."""
+    vertex ids.
 
-    def __init__(self, pose_xzh_deg, pose_cov, pitch_deg: float = 0.0):
+    ``consider`` ("joseph" or "bound"; None: off): a second dense covariance beside the
+    filter's, ``consider_cov``, propagated with the SAME predictions, Jacobians and
+    gains but the measured measurement covariances the caller passes (``honest``):
+    the covariance of the filter's mean under the errors as measured
+    (:func:`consider_joint_update`).  Reported only: the mean, the gains and the gate
+    use the filter's own ``cov``, so they are the same with it on or off."""
+
+    def __init__(self, pose_xzh_deg, pose_cov, pitch_deg: float = 0.0,
+                 consider: str | None = None):
         x, z, h = pose_xzh_deg
         self.mean = np.array([x, z, np.radians(h)], dtype=np.float64)
         self.cov = np.array(pose_cov, dtype=np.float64).reshape(POSE_DIM, POSE_DIM)
         self.pitch_deg = float(pitch_deg)
+        if consider not in (None, "joseph", "bound"):
+            raise ValueError(f"unknown consider covariance {consider!r}; one of joseph, bound")
+        self.consider = consider
+        self.consider_cov = self.cov.copy() if consider else None
         self.ids: list[int] = []
         self._slot: dict[int, int] = {}
 
@@ -182,19 +249,29 @@ class JointFilter:
         i = self._index(vid)
         return self.mean[i:i + 3].copy(), self.cov[i:i + 3, i:i + 3].copy()
 
+    def consider_feature(self, vid) -> np.ndarray:
+        """The feature's marginal block of the consider covariance."""
+        i = self._index(vid)
+        return self.consider_cov[i:i + 3, i:i + 3].copy()
+
     def predict(self, new_xzh_deg, F, Q) -> None:
         """The odometry's step: the pose becomes ``new_xzh_deg`` (the step composed on
         the last estimate), its covariance ``F P F^T + Q``, its cross terms ``F P_pf``."""
         self.mean[:POSE_DIM] = (new_xzh_deg[0], new_xzh_deg[1], np.radians(new_xzh_deg[2]))
         self.cov = ekf_predict(self.cov, F, Q, POSE_DIM)
+        if self.consider:
+            self.consider_cov = ekf_predict(self.consider_cov, F, Q, POSE_DIM)
 
     def add(self, vid, q, Cq) -> None:
         """A new feature from camera point ``q`` (covariance ``Cq``) at the current pose."""
         self.add_many([(vid, q, Cq)])
 
-    def add_many(self, observations) -> None:
+    def add_many(self, observations, honest=None) -> None:
         """New features ``(vid, q, Cq)`` at the current pose, in one augmentation (their
-        cross-covariances to each other come through the pose)."""
+        cross-covariances to each other come through the pose).  ``honest``: with
+        ``consider``, each observation's measured covariance (camera axes), entering
+        the consider covariance through the same Jacobians (exactly, in both modes:
+        a new feature's error is the pose's error and its own)."""
         observations = list(observations)
         if not observations:
             return
@@ -213,7 +290,13 @@ class JointFilter:
             G[rows, rows] = Jq
             R[rows, rows] = Cq
             new[rows] = room_point(pose, q, self.pitch_deg)
-        self.mean, self.cov = ekf_augment(self.mean, self.cov, new, J, R, G)
+        mean, self.cov = ekf_augment(self.mean, self.cov, new, J, R, G)
+        if self.consider:
+            R_true = np.zeros_like(R)
+            for j, C in enumerate(self._honest(honest, k)):
+                R_true[3 * j:3 * j + 3, 3 * j:3 * j + 3] = C
+            _, self.consider_cov = ekf_augment(self.mean, self.consider_cov, new, J, R_true, G)
+        self.mean = mean
         for vid, _, _ in observations:
             self._slot[int(vid)] = len(self.ids)
             self.ids.append(int(vid))
@@ -232,21 +315,33 @@ class JointFilter:
                 ids.append(vid)
         self.mean = self.mean[keep]
         self.cov = self.cov[np.ix_(keep, keep)]
+        if self.consider:
+            self.consider_cov = self.consider_cov[np.ix_(keep, keep)]
         self.ids = ids
         self._slot = {vid: k for k, vid in enumerate(ids)}
 
-    def update(self, observations, gate_chi2: float | None = None) -> list[int]:
+    def _honest(self, honest, k: int) -> list:
+        if honest is None or len(honest) != k:
+            raise ValueError("the consider covariance needs one measured covariance per "
+                             "observation")
+        return [np.asarray(C, dtype=np.float64).reshape(3, 3) for C in honest]
+
+    def update(self, observations, gate_chi2: float | None = None,
+               honest=None) -> list[int]:
         """All of one look's matched observations ``(vid, q, Cq)`` in one batch.
         ``gate_chi2``: the filter's own validation gate -- an observation whose
         innovation lies outside this chi-square bound of its joint innovation
         covariance ``H_k P H_k^T + C_q`` (the pose's, the feature's and their cross
-        terms) is left out.  Returns the ids left out."""
+        terms) is left out.  ``honest``: with ``consider``, each observation's measured
+        covariance (camera axes) for the consider covariance.  Returns the ids left out."""
         observations = list(observations)
         if not observations:
             return []
+        if self.consider:
+            honest = self._honest(honest, len(observations))
         pose = self.mean[:POSE_DIM]
-        rows_H, rows_r, Cqs, ids, out = [], [], [], [], []
-        for vid, q, Cq in observations:
+        rows_H, rows_r, Cqs, ids, out, Cts = [], [], [], [], [], []
+        for n_obs, (vid, q, Cq) in enumerate(observations):
             i = self._index(vid)
             f = self.mean[i:i + 3]
             Jp, Jf = camera_point_jacobians(pose, f, self.pitch_deg)
@@ -262,6 +357,8 @@ class JointFilter:
             rows_r.append(r)
             Cqs.append(Cq)
             ids.append(int(vid))
+            if self.consider:
+                Cts.append(honest[n_obs])
         if not ids:
             return out
         n, m = len(self.mean), 3 * len(ids)
@@ -272,7 +369,14 @@ class JointFilter:
             H[rows, :POSE_DIM] = Jp
             H[rows, i:i + 3] = Jf
             R[rows, rows] = Cqs[k]
-        self.mean, self.cov = ekf_update(self.mean, self.cov, np.concatenate(rows_r), H, R)
+        self.mean, self.cov, K = ekf_update_with_gain(self.mean, self.cov,
+                                                      np.concatenate(rows_r), H, R)
+        if self.consider:
+            R_true = np.zeros((m, m))
+            for k, C in enumerate(Cts):
+                R_true[3 * k:3 * k + 3, 3 * k:3 * k + 3] = C
+            self.consider_cov = consider_joint_update(self.consider_cov, K, H, R_true,
+                                                      self.consider)
         self.mean[2] = np.radians(wrap_deg(np.degrees(self.mean[2])))
         return out
 
@@ -294,5 +398,6 @@ class JointFilter:
         return PoseEstimate(method, left, M, np.zeros(0, bool), covariance6=(cov6 + cov6.T) / 2)
 
 
-__all__ = ["JointFilter", "ekf_predict", "ekf_augment", "ekf_update", "camera_point",
+__all__ = ["JointFilter", "ekf_predict", "ekf_augment", "ekf_update", "ekf_update_with_gain",
+           "consider_joint_update", "camera_point",
            "room_point", "camera_point_jacobians", "room_point_jacobians"]

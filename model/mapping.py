@@ -121,7 +121,8 @@ class WalkConfig:
     # calibrated column error, the measured pose floor in A-29's camera term), "bound" holding
     # whatever the looks' correlation, "joseph" for independent looks
     # (model.kalman.consider_update).  Reported and scored; the matcher and the pose keep
-    # using the filter's own
+    # using the filter's own.  With kalman "joint": the joint state's second covariance
+    # (model.joint.consider_joint_update), the same gains, the measured camera-axes bounds
     consider: str | None = None
     # with the consider covariance: a floor (ft, degrees) under the camera's height and tilt
     # sigma in its camera term (None: the pose's own; MEASURED_TILT_SIGMA_FLOOR measured)
@@ -377,9 +378,10 @@ class Walker:
         if config.kalman not in KALMAN_CHOICES:
             raise ValueError(f"unknown Kalman mode {config.kalman!r}; one of "
                              f"{', '.join(KALMAN_CHOICES)}")
-        if config.kalman == "joint" and config.consider is not None:
-            raise ValueError("the consider covariance follows the static filter's gain: use it "
-                             "with --kalman a30 or a29, not joint")
+        if config.kalman == "joint" and config.tilt_floor is not None:
+            raise ValueError("the tilt floor widens the static consider covariance's camera "
+                             "term; the joint filter carries the pose in its state: not with "
+                             "--kalman joint")
         self.matcher = MATCHERS.get(config.model_matcher)
         if self.matcher is None:
             raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
@@ -558,20 +560,22 @@ class Walker:
             # placed and bookkept at the prior, the joint state then moves everything
             kalman, joint_log = "joint", {"pairs": [], "new": []}
             if k == 0:
-                self.joint = JointFilter(prior_xzh, np.zeros((3, 3)), config.camera_pitch_deg)
+                self.joint = JointFilter(prior_xzh, np.zeros((3, 3)), config.camera_pitch_deg,
+                                         consider=config.consider)
             fused_est, pose_est = pose_est, self.joint.pose_estimate(
                 "given" if k == 0 else "prior")
         # scored before the update: the feature gate may retire a vertex of these pairs
         wrong = _wrong(model, match.pairs, obs_truth)
         used_wrong = _wrong(model, pairs_used, obs_truth)
         honest = None
-        if config.consider is not None:
+        if config.consider is not None and joint_log is None:
             honest = _measured_covariances(obs, pose_est, config, lines, given=k == 0)
         added = _update_model(model, edges, obs, match.pairs, pairs_used, pose_est,
                               kalman, k, obs_truth, obs_truth_id, history,
                               surface_observations(edges, look.left_bi),
                               pose_floor=config.pose_sigma_floor if k > 0 else None,
-                              honest=honest, consider=config.consider,
+                              honest=honest,
+                              consider=config.consider if joint_log is None else None,
                               feature_gate=config.feature_gate, no_new=no_new,
                               joint_log=joint_log)
         if joint_log is not None:
@@ -609,13 +613,23 @@ class Walker:
         pose (a PoseEstimate of method "fused" where a fix was used, else the prior's) and
         its (x, z, heading) covariance."""
         joint, model = self.joint, self.model
-        joint.add_many([(vid, obs[i].q, obs[i].cov) for vid, i in log["new"]])
-        joint.update([(vid, obs[i].q, obs[i].cov) for vid, i in log["pairs"]
-                      if vid in model.vertices and vid in joint], self.config.joint_gate)
+        # --consider: the observations' camera-axes covariances under the measured errors
+        # (the pose is in the joint state: no camera term)
+        honest = (_measured_camera_covariances(obs, self.config, self.lines)
+                  if joint.consider else None)
+        new = log["new"]
+        joint.add_many([(vid, obs[i].q, obs[i].cov) for vid, i in new],
+                       None if honest is None else [honest[i] for _, i in new])
+        used = [(vid, i) for vid, i in log["pairs"] if vid in model.vertices and vid in joint]
+        joint.update([(vid, obs[i].q, obs[i].cov) for vid, i in used], self.config.joint_gate,
+                     None if honest is None else [honest[i] for _, i in used])
         joint.drop([vid for vid in joint.ids if vid not in model.vertices])
         for vid in joint.ids:
             v = model.vertices[vid]
             v.mean, v.cov = joint.feature(vid)
+            if joint.consider:
+                # reported and scored; never gated with
+                v.report_cov = joint.consider_feature(vid)
         for vid, _ in [*log["pairs"], *log["new"]]:
             v = model.vertices.get(vid)
             if v is None or v.truth is None:
@@ -807,6 +821,20 @@ def _measured_covariances(obs, est: PoseEstimate, config: WalkConfig, lines,
     For the consider covariance."""
     if not obs:
         return np.zeros((0, 3, 3))
+    cq = _measured_camera_covariances(obs, config, lines)
+    if given:
+        return measurement_covariance_a30(est.M, cq)
+    q = np.array([o.q for o in obs])
+    camera = floored_pose(est, *(config.pose_sigma_floor or MEASURED_POSE_SIGMA_FLOOR),
+                          *(config.tilt_floor or (0.0, 0.0)))
+    return measurement_covariance_a29(est.M, cq, camera.pose_covariance_at(q))
+
+
+def _measured_camera_covariances(obs, config: WalkConfig, lines) -> np.ndarray:
+    """The observations' camera-axes (A-19/A-20) covariances under the measured bounds:
+    the calibrated column error, the measured disparity and row errors (N, 3, 3)."""
+    if not obs:
+        return np.zeros((0, 3, 3))
     step = float(np.median(np.diff(lines))) if len(lines) > 1 else 1.0
     cq = []
     for o in obs:
@@ -816,13 +844,7 @@ def _measured_covariances(obs, est: PoseEstimate, config: WalkConfig, lines,
                          e_col=max(config.column_error_px, CALIBRATED_COLUMN_ERROR_PX),
                          e_disp=MEASURED_DISPARITY_ERROR_PX)
         cq.append(o.cov if located is None else located[1])
-    cq = np.array(cq)
-    if given:
-        return measurement_covariance_a30(est.M, cq)
-    q = np.array([o.q for o in obs])
-    camera = floored_pose(est, *(config.pose_sigma_floor or MEASURED_POSE_SIGMA_FLOOR),
-                          *(config.tilt_floor or (0.0, 0.0)))
-    return measurement_covariance_a29(est.M, cq, camera.pose_covariance_at(q))
+    return np.array(cq)
 
 
 def _retire_unseen(model, pairs, est: PoseEstimate, look: int, rows, config: WalkConfig) -> None:
@@ -884,8 +906,9 @@ def _update_model(model, edges, obs, pairs, pairs_used, est: PoseEstimate, kalma
         # the innovation against what the feature and the observation claim (their
         # consider covariances where kept): the feature gate's test, the variance factor's
         # and confirmation's evidence
-        nis = normalised_innovation(v.mean, v.cov if v.report_cov is None else v.report_cov,
-                                    z[i], Rm[i] if honest is None else honest[i])
+        # (joint: the filter's own, so --consider leaves which pairs are fused unchanged)
+        nis = normalised_innovation(v.mean, v.cov if v.report_cov is None or joint_log is not None
+                                    else v.report_cov, z[i], Rm[i] if honest is None else honest[i])
         if feature_gate is not None:
             # far outside, the pair is a wrong merge
             if nis > feature_gate:

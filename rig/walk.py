@@ -285,9 +285,14 @@ def cmd_walk(args) -> int:
         print("rig walk: --tilt-floor widens the consider covariance: use it with --consider",
               file=sys.stderr)
         return 2
-    if args.consider is not None and args.kalman in ("ci", "joint"):
-        print("rig walk: --consider follows the Kalman gain: use it with --kalman a30 or a29, "
-              f"not {args.kalman}", file=sys.stderr)
+    if args.consider is not None and args.kalman == "ci":
+        print("rig walk: --consider follows the Kalman gain: use it with --kalman a30, a29 "
+              "or joint, not ci", file=sys.stderr)
+        return 2
+    if args.tilt_floor is not None and args.kalman == "joint":
+        print("rig walk: --tilt-floor widens the static consider covariance's camera term; "
+              "the joint filter carries the pose in its state: not with --kalman joint",
+              file=sys.stderr)
         return 2
     config = WalkConfig(methods=methods, driver=args.method, kalman=args.kalman,
                         match=args.match, look_interval_s=args.interval,
@@ -482,11 +487,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "their view, and did not see, leaves the model (off by default: the "
                         "model remembers everything, as written)")
     w.add_argument("--consider", choices=("bound", "joseph"), default=None,
-                   help="with --kalman a30 or a29: every feature also carries the consider "
-                        "covariance of its mean under the measured errors (calibrated column "
-                        "error, measured pose floor), reported and scored but not used for "
-                        "matching or the pose; bound: holds whatever the looks' correlation; "
-                        "joseph: for independent looks (off by default)")
+                   help="with --kalman a30, a29 or joint: every feature also carries the "
+                        "consider covariance of its mean under the measured errors (calibrated "
+                        "column error, measured disparity and row errors; a30/a29: the measured "
+                        "pose floor), reported and scored but not used for matching, gating or "
+                        "the pose; bound: holds whatever the looks' correlation; joseph: for "
+                        "independent looks (off by default; with joint it doubles the dense "
+                        "covariance work)")
     w.add_argument("--tilt-floor", type=_tilt_floor, default=None, metavar="FT,DEG",
                    help="with --consider: the least sigma of the camera's height (ft) and tilt "
                         "(degrees about each horizontal axis) in the consider covariance's "

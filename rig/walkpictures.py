@@ -30,6 +30,16 @@ def _text(img, s, org, scale=0.5, colour=BLACK, thick=1):
     cv2.putText(img, s, org, cv2.FONT_HERSHEY_SIMPLEX, scale, colour, thick, cv2.LINE_AA)
 
 
+def path_legend(result, driver: str) -> tuple[str, str, str]:
+    """The map's three path labels: true, estimated (named by how the pose was
+    estimated: the driving fix fused with odometry, or the joint filter), dead reckoning."""
+    if getattr(result.config, "kalman", None) == "joint":
+        estimated = "estimated (kalman joint: pose + features)"
+    else:
+        estimated = f"estimated (fused: {driver} + odometry)"
+    return "true path (arrows: heading)", estimated, "dead reckoning"
+
+
 def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.ndarray:
     x0, x1, z0, z1 = room.bounds
     span = max(x1 - x0, z1 - z0)
@@ -101,8 +111,7 @@ def walk_map(room, result, driver: str, px_per_ft: float | None = None) -> np.nd
         _text(img, f"{len(result.model.vertices)} vertices, ellipses at 2 sigma (x-z); "
                    f"grey: true walls and obstacles", (left, 52), 0.45)
     y = H - bottom + 40
-    for label, col in (("true path (arrows: heading)", TRUE_C),
-                       (f"estimated (fused: {driver} + odometry)", EST_C), ("dead reckoning", DR_C)):
+    for label, col in zip(path_legend(result, driver), (TRUE_C, EST_C, DR_C)):
         cv2.line(img, (left, y - 5), (left + 30, y - 5), col, 3)
         _text(img, label, (left + 40, y), 0.5)
         y += 24

@@ -205,16 +205,141 @@ def test_joint_filter_keeps_the_model_and_the_state_in_step():
     assert np.all(np.linalg.eigvalsh(w.joint.cov) > -1e-9)
 
 
-def test_joint_with_the_consider_covariance_is_refused(tmp_path, capsys):
+def test_joint_with_the_tilt_floor_is_refused(tmp_path, capsys):
+    """The tilt floor widens the static consider's camera term; the joint state carries
+    the pose itself: one clear error, nothing written."""
     from model.mapping import Walker, WalkConfig
     from rig.main import main
     from world.room import bundled_lab
     with pytest.raises(ValueError, match="joint"):
-        Walker(bundled_lab(), WalkConfig(kalman="joint", consider="bound"))
+        Walker(bundled_lab(), WalkConfig(kalman="joint", consider="bound", tilt_floor=(0.3, 3)))
     rc = main(["walk", "--looks", "2", "--kalman", "joint", "--consider", "bound",
-               "--out", str(tmp_path / "o"), "--quiet"])
-    assert rc == 2 and "--consider" in capsys.readouterr().err
+               "--tilt-floor", "measured", "--out", str(tmp_path / "o"), "--quiet"])
+    assert rc == 2 and "--tilt-floor" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+# --- the consider covariance of the joint filter ------------------------------------------
+
+def _linear_walk(rng, R_true, trials, r, q, consider):
+    """A linear 2-D walk (the batch test's): the robot moves by odometry with noise q
+    and sees landmarks relative to itself; the filter's gains come from ``r``, the
+    measurements' errors are drawn with ``R_true``.  Returns (the filter's errors over
+    ``trials`` draws (trials, n), its own covariance, the consider covariance)."""
+    from model.joint import consider_joint_update, ekf_update_with_gain
+    d = 2
+    truth_f = np.array([[3.0, 1.0], [-2.0, 4.0], [1.0, -3.0]])
+    odometry = [np.array([1.0, 0.2]), np.array([0.8, -0.1]), np.array([-1.5, 0.3])]
+    seen = {0: [0, 1], 1: [0, 2], 2: [1, 2], 3: [0, 1]}
+    Lq, Lt = np.linalg.cholesky(q), np.linalg.cholesky(R_true)
+    errors = []
+    for _ in range(trials):
+        x = np.zeros(d)
+        mean, cov, Pc, order = np.zeros(d), np.zeros((d, d)), np.zeros((d, d)), []
+        for t in range(len(seen)):
+            if t:
+                x = x + odometry[t - 1] + Lq @ rng.normal(size=d)     # the true motion
+                mean = mean.copy()
+                mean[:d] += odometry[t - 1]
+                cov = ekf_predict(cov, np.eye(d), q, d)
+                Pc = ekf_predict(Pc, np.eye(d), q, d)
+            z = {j: truth_f[j] - x + Lt @ rng.normal(size=d) for j in seen[t]}
+            old = [j for j in seen[t] if j in order]
+            if old:
+                m = d * len(old)
+                H, innov = np.zeros((m, len(mean))), np.zeros(m)
+                for k, j in enumerate(old):
+                    i = d + d * order.index(j)
+                    H[d * k:d * k + d, :d] = -np.eye(d)
+                    H[d * k:d * k + d, i:i + d] = np.eye(d)
+                    innov[d * k:d * k + d] = z[j] - (mean[i:i + d] - mean[:d])
+                R = np.kron(np.eye(len(old)), r)
+                mean, cov, K = ekf_update_with_gain(mean, cov, innov, H, R)
+                Pc = consider_joint_update(Pc, K, H, np.kron(np.eye(len(old)), R_true),
+                                           consider)
+            for j in seen[t]:
+                if j not in order:
+                    J = np.zeros((d, len(mean)))
+                    J[:, :d] = np.eye(d)
+                    _, Pc = ekf_augment(mean, Pc, mean[:d] + z[j], J, R_true)
+                    mean, cov = ekf_augment(mean, cov, mean[:d] + z[j], J, r)
+                    order.append(j)
+        errors.append(mean - np.concatenate([x, *truth_f[order]]))
+    return np.array(errors), cov, Pc
+
+
+def test_joseph_consider_covariance_equals_a_monte_carlo_of_the_filters_error():
+    """Hand test (linear, so the gains do not depend on the draws): the filter computes
+    its gains with r, the true measurement noise is three times the variance and
+    correlated; over 3000 draws the covariance of the filter's error equals the Joseph
+    consider covariance within 10 % on the diagonal, while the filter's own covariance
+    is well below it."""
+    rng = np.random.default_rng(1985)
+    q, r = np.diag([0.04, 0.01]), np.diag([0.09, 0.05])
+    R_true = np.array([[0.27, 0.05], [0.05, 0.15]])
+    err, own, Pc = _linear_walk(rng, R_true, 3000, r, q, "joseph")
+    mc = np.cov(err.T)
+    np.testing.assert_allclose(np.diag(Pc), np.diag(mc), rtol=0.10)
+    assert np.all(np.diag(own) < 0.8 * np.diag(mc))
+    # the bound covers it too (positive semidefinite difference, within sampling noise)
+    _, _, Pb = _linear_walk(np.random.default_rng(1), R_true, 1, r, q, "bound")
+    assert np.linalg.eigvalsh(Pb - 1.05 * mc).min() > -1e-3 * np.trace(mc)
+    assert np.all(np.diag(Pb) >= np.diag(Pc))
+
+
+def test_consider_joint_update_with_the_filters_own_noise_is_the_filters_covariance():
+    """With R_true = R the Joseph form equals the filter's P - K S K^T (the optimal gain)."""
+    from model.joint import consider_joint_update, ekf_update_with_gain
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(7, 7))
+    P = A @ A.T + np.eye(7)
+    H = np.zeros((4, 7))
+    H[:, [0, 1, 4, 5]] = rng.normal(size=(4, 4))
+    R = np.diag([0.5, 0.2, 0.3, 0.4])
+    _, P1, K = ekf_update_with_gain(np.zeros(7), P, rng.normal(size=4), H, R)
+    np.testing.assert_allclose(consider_joint_update(P, K, H, R, "joseph"), P1, atol=1e-10)
+    # and the dense (I-KH) P (I-KH)^T + K R K^T written out
+    I_KH = np.eye(7) - K @ H
+    np.testing.assert_allclose(consider_joint_update(P, K, H, 2 * R, "joseph"),
+                               I_KH @ P @ I_KH.T + K @ (2 * R) @ K.T, atol=1e-10)
+
+
+@pytest.mark.parametrize("mode", ["joseph", "bound"])
+def test_joint_consider_leaves_means_and_poses_unchanged_end_to_end(tmp_path, mode):
+    """``rig walk --kalman joint --consider MODE``: every pose and every feature mean
+    equal plain joint's to the digit; the features report the consider covariance (wider
+    than the filter's), and it is what is scored."""
+    from rig.main import main
+    docs = {}
+    for name, extra in (("plain", []), (mode, ["--consider", mode])):
+        rc = main(["walk", "--looks", "4", "--kalman", "joint", "--confirm", "2",
+                   "--column-error", "calibrated", *extra, "--out", str(tmp_path / name),
+                   "--json", str(tmp_path / f"{name}.json"), "--quiet"])
+        assert rc == 0
+        docs[name] = (json.loads((tmp_path / f"{name}.json").read_text()),
+                      json.loads((tmp_path / name / "model.json").read_text()))
+    (plain, plain_model), (cons, cons_model) = docs["plain"], docs[mode]
+    for a, b in zip(plain["looks"], cons["looks"]):
+        for key in ("x", "z", "heading_deg"):
+            assert a["methods"]["fused"][key] == b["methods"]["fused"][key]
+    va, vb = plain_model["model_tables"]["vertices"], cons_model["model_tables"]["vertices"]
+    assert len(va) == len(vb) > 50
+    for a, b in zip(va, vb):
+        assert a["mean"] == b["mean"] and a["cov"] == b["cov"]
+        assert a["report_cov"] is None and b["report_cov"] is not None
+    trace = [(np.trace(np.array(b["report_cov"])), np.trace(np.array(b["cov"]))) for b in vb]
+    assert np.median([c / f for c, f in trace]) > 1.2
+    assert cons["model"]["inside_2sigma"] > plain["model"]["inside_2sigma"]
+    assert cons["model"]["filter_inside_2sigma"] == plain["model"]["inside_2sigma"]
+
+
+def test_the_map_legend_names_the_kalman_mode():
+    from types import SimpleNamespace
+    from rig.walkpictures import path_legend
+    joint = path_legend(SimpleNamespace(config=SimpleNamespace(kalman="joint")), "robust")
+    assert "kalman joint" in joint[1] and "fused" not in joint[1]
+    static = path_legend(SimpleNamespace(config=SimpleNamespace(kalman="a29")), "robust")
+    assert static[1] == "estimated (fused: robust + odometry)"
 
 
 def test_the_joint_gate_leaves_out_an_observation_far_outside_its_joint_covariance():
@@ -243,3 +368,14 @@ def test_seed_tables_carry_the_model_update_time_where_the_rows_have_it():
     text = bw.seed_tables([("joint", 1985, f)])
     assert "| 75.0 % of 500 | 150 | 97, 122 (591) |" in text
     assert "model update ms" in text
+
+
+def test_bench_joint_consider_rows_are_the_joint_rows_with_the_consider_covariance():
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    import walk as bw
+    rows = bw.joint_consider_configs("joseph")
+    assert list(rows) == [f"{n} + consider joseph" for n in bw.JOINT_CONFIGS]
+    for (name, kw), plain in zip(rows.items(), bw.JOINT_CONFIGS.values()):
+        assert kw == dict(plain, consider="joseph")
