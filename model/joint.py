@@ -61,14 +61,21 @@ _DH = 1e-6                        # radians: the heading's finite difference (ce
 
 # --- the generic linear-Gaussian steps ------------------------------------------------
 
-def ekf_predict(cov, F, Q, k: int):
+def ekf_predict(cov, F, Q, k: int, in_place: bool = False):
     """The covariance after a motion of the first ``k`` state entries with
-    Jacobian ``F`` (k x k) and process noise ``Q`` (k x k); the rest is static."""
-    P = np.array(cov, dtype=np.float64)
-    P[:k, :] = F @ P[:k, :]
-    P[:, :k] = P[:, :k] @ F.T
-    P[:k, :k] += Q
-    return (P + P.T) / 2
+    Jacobian ``F`` (k x k) and process noise ``Q`` (k x k); the rest is static.
+
+    Only the first ``k`` rows and columns change (``[F P_kk F^T + Q, F P_k.]`` and
+    its transpose), so they are all that is computed: O(k n), where copying and
+    symmetrising the whole n x n covariance cost a fifth of a 600-feature look.
+    ``in_place``: write into ``cov`` itself (a float64 array), not a copy."""
+    P = cov if in_place else np.array(cov, dtype=np.float64)
+    rows = F @ P[:k, :]                                    # F P_k.   (k, n)
+    block = rows[:, :k] @ F.T + Q
+    rows[:, :k] = (block + block.T) / 2
+    P[:k, :] = rows
+    P[:, :k] = rows.T
+    return P
 
 
 def ekf_augment(mean, cov, new_mean, J, R, G=None):
@@ -258,9 +265,9 @@ class JointFilter:
         """The odometry's step: the pose becomes ``new_xzh_deg`` (the step composed on
         the last estimate), its covariance ``F P F^T + Q``, its cross terms ``F P_pf``."""
         self.mean[:POSE_DIM] = (new_xzh_deg[0], new_xzh_deg[1], np.radians(new_xzh_deg[2]))
-        self.cov = ekf_predict(self.cov, F, Q, POSE_DIM)
+        ekf_predict(self.cov, F, Q, POSE_DIM, in_place=True)
         if self.consider:
-            self.consider_cov = ekf_predict(self.consider_cov, F, Q, POSE_DIM)
+            ekf_predict(self.consider_cov, F, Q, POSE_DIM, in_place=True)
 
     def add(self, vid, q, Cq) -> None:
         """A new feature from camera point ``q`` (covariance ``Cq``) at the current pose."""

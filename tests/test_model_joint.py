@@ -15,6 +15,28 @@ from model.joint import (JointFilter, camera_point, camera_point_jacobians, ekf_
 from model.kalman import static_update
 
 
+def test_predict_moves_only_the_pose_rows_and_columns_as_the_full_product_does():
+    rng = np.random.default_rng(3)
+    n, k = 12, 3
+    A = rng.normal(size=(n, n))
+    P = A @ A.T + n * np.eye(n)
+    F = np.array([[1.0, 0.0, 0.4], [0.0, 1.0, -0.2], [0.0, 0.0, 1.0]])
+    Q = np.diag([0.01, 0.02, 0.003])
+    Fn = np.eye(n)
+    Fn[:k, :k] = F
+    Qn = np.zeros((n, n))
+    Qn[:k, :k] = Q
+    want = Fn @ P @ Fn.T + Qn                   # the textbook product over the whole state
+    got = ekf_predict(P, F, Q, k)
+    assert np.allclose(got, want, rtol=0, atol=1e-12)
+    assert np.array_equal(got, got.T)
+    assert np.array_equal(got[k:, k:], P[k:, k:])   # the features' own block untouched
+    same = P.copy()
+    out = ekf_predict(same, F, Q, k, in_place=True)
+    assert out is same and np.array_equal(same, got)
+    assert not np.array_equal(P, got)           # the plain call left its argument alone
+
+
 # --- (a) linear: the filter equals batch weighted least squares -----------------------
 
 def test_linear_joint_filter_equals_batch_weighted_least_squares():
