@@ -81,9 +81,8 @@ from vehicle.sim import State, Vehicle, odometry_covariance
 from .evidence import Perception, _floor_stats, _mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _mark_track_free, \
-    _pivot_seen_free, _safe_prefix, first_unseen_on_band, look_ahead, looked_free, \
-    near_visible_ft
+from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
+    _mark_track_free, _pivot_seen_free, _safe_prefix, looked_free, near_visible_ft
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, TwoLookSides
 from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
@@ -422,29 +421,6 @@ def true_range_points(points, look):
 
 
 
-
-
-def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
-                  prof: VehicleProfile, pivot_sweep, done: set):
-    """(commands, note) of ``DriveConfig.look_ahead`` for this cycle's safe
-    ``seg``, or None to drive ``seg`` as it is: the first never-seen cell on
-    the swept band of the path's next step + ``near_ft`` (+ two cells), not
-    turned to before (``done``), looked at while it can still show
-    (:func:`planner.motion.look_ahead`); the new commands must pass
-    :func:`planner.motion._safe_prefix` whole (its pivot included)."""
-    half_width = prof.width_ft / 2 + prof.margin_ft
-    cell = first_unseen_on_band(fm, pts, half_width, prof.step_ft + near_ft + 2 * fm.cell)
-    if cell is None or fm.index(*cell) in done:
-        return None
-    new = look_ahead(seg, est, cell, near_ft, fm.cell)
-    if not new:
-        return None
-    ok = _safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
-                      prof.length_ft / 2 + prof.margin_ft, prof.radius_ft, pivot_sweep)
-    if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):
-        return None                       # its pivot (or move) breaks the safety rules
-    done.add(fm.index(*cell))
-    return new, f" (looking ahead at ({cell[0]:.1f}, {cell[1]:.1f}))"
 
 
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True

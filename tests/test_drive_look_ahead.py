@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from planner.floormap import FloorMap
-from planner.loop import DriveConfig, _looked_ahead, run
-from planner.motion import HALF_FOV_DEG, first_unseen_on_band, look_ahead, near_visible_ft
+from planner.loop import DriveConfig, run
+from planner.motion import HALF_FOV_DEG, _looked_ahead, first_unseen_on_band, look_ahead, \
+    near_visible_ft
 from planner.octree import FREE, UNKNOWN
 from planner.search import clearance_map
 from vehicle.commands import Forward, Turn
