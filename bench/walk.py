@@ -710,31 +710,22 @@ def main(argv=None) -> int:
                          "targets' figures per draw")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    if args.joint and not args.seeds:
-        print(joint_rooms(args.rooms, args.looks, args.consider))
-        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
-        return 0
-    if args.seeds:
+
+    def seed_report():
         joint = joint_consider_configs(args.consider) if args.consider else JOINT_CONFIGS
-        print(seeds(args.seeds, joint if args.joint else None))
-        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
-        return 0
-    if args.ten_looks:
-        print(ten_looks())
-        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
-        return 0
-    if args.outside:
-        print(outside(args.rooms, args.looks))
-        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
-        return 0
-    if args.breakdown:
-        print(breakdown(args.rooms, args.looks))
-        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
-        return 0
-    if args.calibrate:
-        print(calibrate(args.rooms, args.looks))
-        print(f"\n({time.perf_counter() - t0:.0f} s in all)")
-        return 0
+        return seeds(args.seeds, joint if args.joint else None)
+    # the modes that print one report instead of the tables, the first one asked for
+    for wanted, report in ((args.joint and not args.seeds,
+                            lambda: joint_rooms(args.rooms, args.looks, args.consider)),
+                           (args.seeds, seed_report),
+                           (args.ten_looks, ten_looks),
+                           (args.outside, lambda: outside(args.rooms, args.looks)),
+                           (args.breakdown, lambda: breakdown(args.rooms, args.looks)),
+                           (args.calibrate, lambda: calibrate(args.rooms, args.looks))):
+        if wanted:
+            print(report())
+            print(f"\n({time.perf_counter() - t0:.0f} s in all)")
+            return 0
     lab = bundled_lab()
     poses = bundled_walk()[:args.bundled_looks]
     bundled, took = one_walk(lab, poses)
