@@ -29,7 +29,7 @@ from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_be
     training_mask, vetoed
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
-from .floormap import FloorMap, project_octree
+from .floormap import FLOOR_Y, FloorMap, project_octree
 from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, _pack, _unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     _sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
@@ -249,6 +249,8 @@ class Perception:
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.blank_px = None              # DriveConfig.blank_px
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
+        self.sight_lines = "band"         # or "low" (DriveConfig.sight_lines)
+        self.seen_over = 0                # under "low": cells on sight lines not proven
         self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
@@ -376,7 +378,9 @@ class Perception:
         else:
             fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                             blank_ft=self.blank_ft, carve=self.carve, place=self.place,
-                            blank_px=self.blank_px, blank_limit=self.blank_limit)
+                            blank_px=self.blank_px, blank_limit=self.blank_limit,
+                            low_y=FLOOR_Y - self.lowest_ft if self.sight_lines == "low"
+                            else None)
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)
@@ -400,22 +404,42 @@ class Perception:
             else:
                 proven = fs.free_ends[~assumed]
                 ends = fs.free_ends[assumed]
+            # under sight_lines="low" each line proves the band only from its start on
+            low = fs.hit_start is not None
+            fstart = fs.free_start if low else None
             with self._carving(self._split_seen(left, fs.hits, proven, res)):
-                mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]),
-                               start_ft=self.near_ft)
+                if low:
+                    self._mark_low_rays(left, np.vstack([fs.hits, proven]), np.concatenate(
+                        [fs.hit_start, fstart[~assumed]]), res)
+                else:
+                    mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]),
+                                   start_ft=self.near_ft)
             # by assumption only into unknown cells, never past a cell hit (this look too)
+            # (ends, when any, are the assumed free ends: floor_eyes="add" or no floor eyes)
+            ends_start = (fstart[assumed] if len(ends) else np.zeros(0)) if low else None
             if known is not None and len(ends):
-                ends = ends[_near_free(known, left, ends, self.near_ft)]
+                ok = _near_free(known, left, ends, self.near_ft)
+                ends = ends[ok]
+                ends_start = None if ends_start is None else ends_start[ok]
             with self._carving(BLANK_ASSUMPTION):
-                mark_assumed_free(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)
+                if ends_start is not None:
+                    mark_keys_free(self.tree, self._assumed_low_keys(left, ends, ends_start))
+                else:
+                    mark_assumed_free(self.tree, left, ends, self.hit_keys,
+                                      start_ft=self.near_ft)
             far_ends = fs.far_ends if self.two_look_sides is not None and \
                 fs.far_ends is not None else fs.free_ends[:0]
             if len(far_ends):
                 # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
+                far_start = fs.far_start
                 if known is not None:
-                    far_ends = far_ends[_near_free(known, left, far_ends, self.near_ft)]
-                keys = assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
-                                         start_ft=self.near_ft)
+                    ok = _near_free(known, left, far_ends, self.near_ft)
+                    far_ends = far_ends[ok]
+                    far_start = None if far_start is None else far_start[ok]
+                keys = self._assumed_low_keys(left, far_ends, far_start) \
+                    if far_start is not None else \
+                    assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
+                                      start_ft=self.near_ft)
                 with self._carving(TWO_LOOK_SIDES):
                     mark_keys_free(self.tree, self.two_look_sides.confirm(
                         keys, (est.x, est.z, est.heading_deg)))
@@ -439,6 +463,40 @@ class Perception:
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
+
+    def _mark_low_rays(self, left, ends, starts, res: float) -> int:
+        """:func:`~planner.octree.mark_free_rays` from ``near_ft`` on, each
+        line only from its own ``starts`` (``FloorScan.hit_start`` /
+        ``free_start``: where its ray runs below the lowest obstacle's top)
+        on; the part nearer than that is seen over, not proven free, and
+        left as it was (counted in :attr:`seen_over`)."""
+        along = _sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
+        if along is None:
+            return 0
+        samples, dist, n = along
+        seg = np.repeat(np.arange(len(n)), n)
+        keep = dist >= np.asarray(starts, float)[seg]
+        over = np.unique(cell_keys(samples[~keep], res))
+        self.seen_over += int(len(np.setdiff1d(over, cell_keys(samples[keep], res))))
+        if not keep.any():
+            return 0
+        cells = cell_centres(samples[keep], res)
+        self.tree.updateNodes(np.ascontiguousarray(cells), False)
+        return len(cells)
+
+    def _assumed_low_keys(self, left, ends, starts) -> np.ndarray:
+        """:func:`~planner.octree.assumed_free_keys` of the assumed lines
+        ``ends``, each from its own start (``FloorScan.free_start`` /
+        ``far_start``, at least ``near_ft``) on: the blank columns beside a
+        hit are carved only where that hit's ray proves the band; lines
+        grouped by start, the keys united (one update per cell per look)."""
+        starts = np.asarray(starts, float)
+        out = [np.zeros(0, np.int64)]
+        for s in np.unique(starts[np.isfinite(starts)]):
+            sel = starts == s
+            out.append(assumed_free_keys(self.tree, left, ends[sel], self.hit_keys,
+                                         start_ft=max(self.near_ft, float(s))))
+        return np.unique(np.concatenate(out)).astype(np.int64)
 
     def _split_seen(self, left, hits, proven, res: float):
         """The tag of :meth:`update`'s one seen-sight-line batch: the keys on

@@ -84,7 +84,8 @@ from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
     _mark_track_free, _pivot_seen_free, _safe_prefix, looked_free, near_visible_ft
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
-from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, TwoLookSides
+from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
+    TwoLookSides
 from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
 from .search import NoPath, clearance_map, path_length
 from .trajectory import heading_to, wrap
@@ -233,6 +234,11 @@ class DriveConfig:
                                           # (the next step + near_visible_ft): the move cut
                                           # while it can still show, a pivot to bring it in
                                           # view, a look (motion.look_ahead); each cell once
+    sight_lines: str = "band"             # what a sight line to a hit frees: "band": the
+                                          # whole height band up to the hit; "low" (a named
+                                          # option, not 1985): only where its ray runs below
+                                          # the lowest obstacle's top (a box lower than the
+                                          # ray hides under it; perception.floor_scan's low_y)
 
 
 @dataclass
@@ -438,7 +444,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                           ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
                           ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
                           ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
-                          ("blank_sides", BLANK_SIDES),
+                          ("blank_sides", BLANK_SIDES), ("sight_lines", SIGHT_LINES),
                           ("occupied", OCCUPIEDS), ("hit_at", PLACES),
                           ("feature_pose", FEATURE_POSES)):
         if getattr(cfg, name) not in allowed:
@@ -468,6 +474,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
+    model.sight_lines = cfg.sight_lines
     if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
         model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied

@@ -141,17 +141,42 @@ class FloorScan:
                                         # columns it cut off (more than ``blank_px`` beside the
                                         # outermost located one), not in ``free_ends``
     far_cols: np.ndarray | None = None  # (K,) their picture columns (1-based)
+    hit_start: np.ndarray | None = None  # under ``low_y``: (H,) the horizontal distance from
+                                         # which each hit's sight line runs low enough to
+                                         # prove the band free (inf: nowhere)
+    free_start: np.ndarray | None = None  # (F,) the same for each free end (its bounding hits')
+    far_start: np.ndarray | None = None   # (K,) the same for each far end
 
 
 CARVE = ("range", "error")
 PLACES = ("axis", "point")
 BLANK_LIMITS = ("all", "sides")   # where floor_scan's blank_px applies
+SIGHT_LINES = ("band", "low")     # what a sight line to a hit frees (floor_scan's low_y)
+
+
+def low_start(points_room, origin, low_y: float) -> np.ndarray:
+    """The horizontal distance from ``origin`` (a camera centre, room Y down)
+    at which the ray to each of ``points_room`` has dropped to room Y
+    ``low_y`` (the top of the lowest obstacle the vehicle must not meet):
+    from there on an obstacle that tall standing on the ray's floor track
+    would cross the ray, so a ray that reached its point proves the band
+    free; nearer, such an obstacle could stand under the ray unseen.  A ray
+    level or rising never gets there (inf)."""
+    p = np.asarray(points_room, float).reshape(-1, 3)
+    o = np.asarray(origin, float)
+    drop = p[:, 1] - o[1]
+    run = np.hypot(p[:, 0] - o[0], p[:, 2] - o[2])
+    need = float(low_y) - o[1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(drop > 0, need * run / np.where(drop > 0, drop, 1.0), np.inf)
+    return np.where(need <= 0, 0.0, out)
 
 
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
                carve: str = "range", blank_alone: bool = True, place: str = "axis",
-               blank_px: int | None = None, blank_limit: str = "all") -> FloorScan:
+               blank_px: int | None = None, blank_limit: str = "all",
+               low_y: float | None = None) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -208,7 +233,22 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     (a named option) at the located point's own horizontal position, and the
     columns between and beside at the same horizontal distances (the forward
     one, ``range`` or ``blank_ft``, along the vehicle's horizontal heading:
-    the same as ``"axis"`` for a level camera)."""
+    the same as ``"axis"`` for a level camera).
+
+    ``low_y`` (a named option, ``DriveConfig.sight_lines="low"``; None: off)
+    is the room Y of the lowest obstacle's top (the floor less
+    ``lowest_obstacle_ft``).  A column's nearest point bounds the column only
+    along its own ray: where the ray runs above ``low_y`` an obstacle lower
+    than the ray may stand under it unseen (over a box lower than the camera
+    the point is the wall above it: the 1985 eyes match along scan lines and
+    do not locate the box's horizontal top edge).  So each hit gets
+    ``hit_start``: the horizontal distance from which the ray of the lowest
+    of its column's supported points at its horizontal distance (the
+    steepest one that reached that surface)
+    runs below ``low_y`` (:func:`low_start`); the columns between two hits
+    get the larger of the two, the blank columns beside the outermost hit
+    (free ends and far ends) its own: the free sight lines prove the band
+    only from there on.  A look that located nothing has no start (0)."""
     if carve not in CARVE:
         raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     if place not in PLACES:
@@ -222,11 +262,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     room = xyz_c @ R.T + origin
     keep &= (room[:, 1] >= band[0]) & (room[:, 1] <= band[1])
     xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]
+    line, room = line[keep], room[keep]
     empty = np.zeros((0, 3))
     if not len(xyz_c) and not blank_ft:
         return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [], np.zeros(0, bool))
     cols_all = np.unique(loc1)
-    cols, near = [], []
+    cols, near, lowest = [], [], []
     for c in cols_all:
         idx = np.flatnonzero(loc1 == c)
         z = xyz_c[idx, 2]
@@ -236,11 +277,20 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         if not len(supported):
             continue
         cols.append(c)
-        near.append(idx[supported[np.argmin(z[supported])]])
+        k = supported[np.argmin(z[supported])]
+        near.append(idx[k])
+        # the lowest line of the column's supported points as far away on the floor (a
+        # vertical edge's points lie at one horizontal distance; their ranges along the
+        # pitched axis grow downward): the steepest ray that reached the surface
+        hd = np.hypot(room[idx, 0] - origin[0], room[idx, 2] - origin[2])
+        same = supported[np.abs(hd[supported] - hd[k]) <= tol[k]]
+        lowest.append(idx[same[np.argmax(line[idx[same]])]])
     if not cols and (not blank_ft or not blank_alone):
         return FloorScan(origin, empty, np.zeros((0, 3, 3)), empty, [], np.zeros(0, bool))
     cols, near = np.array(cols, int), np.array(near, int)
     rng = xyz_c[near, 2]
+    start = low_start(room[np.array(lowest, int)], origin, low_y) if low_y is not None \
+        and len(cols) else np.zeros(len(cols))
     # how far a column bounded by this one is free
     reach = rng if carve == "range" else np.maximum(rng - ep[near], 0.0)
 
@@ -270,7 +320,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         ahead = (hits - origin) @ fwd
         reach = reach * ahead / np.maximum(rng, 1e-12)       # in forward feet, as the hit
     hit_cov = R @ cov_c[near] @ R.T
-    free_cols, free_rng, spans, assumed, far = [], [], [], [], []
+    free_cols, free_rng, spans, assumed, far, free_st = [], [], [], [], [], []
     far_ends = far_cols = None
     gap_px = 128 if blank_ft else max_gap_px
     for k in range(len(cols) - 1):
@@ -283,6 +333,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                 between = between[np.minimum(between - a, b - between) <= blank_px]
             free_cols.append(between)
             free_rng.append(np.full(len(between), min(reach[k], reach[k + 1])))
+            free_st.append(np.full(len(between), max(start[k], start[k + 1])))
             # a gap wider than max_gap_px is free only by the blank-column assumption
             assumed.append(np.full(len(between), wide))
             far.append(np.zeros(len(between), bool))
@@ -300,12 +351,14 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         sides = (np.arange(1, lo_c), np.arange(hi_c + 1, 129)) if len(cols) else \
             (np.arange(1, 129),)                      # (not the whole view twice)
         edges = (reach[0], reach[-1]) if len(cols) else (blank_ft,)
+        starts = (start[0], start[-1]) if len(cols) else (0.0,)
         side_far = [np.zeros(len(s), bool) for s in sides]
         if len(cols) and blank_px is not None:
             side_far = [sides[0] < lo_c - blank_px, sides[1] > hi_c + blank_px]
-        for side, edge_r, is_far in zip(sides, edges, side_far):
+        for side, edge_r, is_far, st in zip(sides, edges, side_far, starts):
             if len(side):
                 free_cols.append(side)
+                free_st.append(np.full(len(side), st))
                 free_rng.append(np.full(len(side), min(float(blank_ft), float(edge_r))))
                 assumed.append(np.ones(len(side), bool))
                 far.append(is_far)
@@ -314,13 +367,21 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         free_ends = to_room(fcols.astype(float), np.concatenate(free_rng))
         assumed = np.concatenate(assumed)
         far = np.concatenate(far)
+        fstart = np.concatenate(free_st)
+        far_start = None
         if blank_px is not None and len(cols):
-            far_ends, far_cols = free_ends[far], fcols[far]
+            far_ends, far_cols, far_start = free_ends[far], fcols[far], fstart[far]
             free_ends, assumed, fcols = free_ends[~far], assumed[~far], fcols[~far]
+            fstart = fstart[~far]
     else:
         free_ends, assumed, fcols = empty, np.zeros(0, bool), np.zeros(0, int)
+        fstart, far_start = np.zeros(0), None
+    if low_y is None:
+        return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
+                         far_ends, far_cols)
     return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
-                     far_ends, far_cols)
+                     far_ends, far_cols, start, fstart,
+                     far_start if far_ends is not None else None)
 
 
 BLANK_SIDES = ("cut", "two-looks")   # what becomes of the side columns blank_px cuts off

@@ -156,7 +156,7 @@ def add_loop_options(p) -> None:
     from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
     MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
     from planner.planning import GOALS, UNCERTAIN_PLANS
-    from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES
+    from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
     p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,
                    help="plan through never-seen space as free (default) or blocked; the vehicle "
@@ -265,6 +265,11 @@ def add_loop_options(p) -> None:
                    help="for --blank-sides two-looks: the two looks at least FT apart or "
                         f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
                         f"{C.sides_apart[1]:g} deg)")
+    p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
+                   help="what a sight line to a located point frees: 'band' (default): the "
+                        "whole height band up to it; 'low': only where its ray runs below the "
+                        "lowest obstacle's top (a box lower than the ray may hide under it: "
+                        "the 1985 eyes do not locate box tops; not 1985)")
     p.add_argument("--look-ahead", action="store_true",
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
@@ -307,6 +312,7 @@ def loop_config(args, goal, fail):
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
+                       sight_lines=args.sight_lines,
                        sides_apart=tuple(args.sides_apart),
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 

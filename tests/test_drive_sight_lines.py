@@ -1,0 +1,197 @@
+"""A sight line to a located point frees the height band only where its ray
+runs low (``DriveConfig.sight_lines="low"``, ``floor_scan(low_y=...)``,
+:func:`planner.perception.low_start`), on hand-made looks of the drive's own
+camera (3 ft up, pitched 25 deg down) whose answer is derived here from the
+ray's geometry: a ray through picture line ``l`` drops ``Y`` ft over ``D`` ft
+of floor, so at ``r`` ft it is ``Y * r / D`` below the camera, and an obstacle
+0.8 ft tall (top at room Y 2.2) would cross it from ``r = 2.2 * D / Y`` on."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.evidence import SIGHT_TO_HIT, FreeProvenance, Perception, free_obstacle_cells
+from planner.floormap import FLOOR_Y
+from planner.loop import DriveConfig
+from planner.octree import FREE, VolumeOfInterest
+from planner.perception import CX_128, CY_128, FOCAL_128, floor_scan, low_start
+from rig.scan import Point
+from vehicle.sim import State
+from world.pose import Pose
+
+PITCH = -25.0
+POSE = Pose(0.0, 0.0, 0.0, PITCH)
+R = POSE.rotation()
+LEFT = POSE.camera_centre("left")
+LOW_Y = FLOOR_Y - 0.8                     # the lowest obstacle's top (0.8 ft boxes)
+BAND = DriveConfig.band
+BOUNDS = (-10.0, 10.0, -4.0, 12.0)
+WALL_FT = 8.0                             # the located edge's horizontal distance
+
+
+def _ray(col, line):
+    """The room direction of picture column ``col`` (1-based), line ``line``."""
+    return R @ np.array([(col - 0.5 - CX_128) / FOCAL_128, (line + 0.5 - CY_128) / FOCAL_128,
+                         1.0])
+
+
+def _on_wall(col, line, dist=WALL_FT):
+    """(range dp, room point) of the point column ``col``, line ``line`` sees at
+    ``dist`` ft of floor from the left camera."""
+    u = _ray(col, line)
+    dp = dist / math.hypot(u[0], u[2])
+    return dp, LEFT + dp * u
+
+
+def _edge(col, lines, dist=WALL_FT, ep=0.1):
+    """A vertical edge at ``dist`` ft located on ``lines`` of column ``col``."""
+    return [Point(line, 1, col, col - 10, _on_wall(col, line, dist)[0], 0.0, 0.0, ep, 0.01,
+                  0.01) for line in lines]
+
+
+def _drop(line, dist=WALL_FT):
+    return _on_wall(64, line, dist)[1][1] - LEFT[1]
+
+
+def _lines_down_to(y_max, dist=WALL_FT):
+    """The drive's scan lines (8, 10, ... 112) whose point at ``dist`` lies in the
+    band no lower than room Y ``y_max``."""
+    return [ln for ln in range(8, 113, 2)
+            if BAND[0] <= _on_wall(64, ln, dist)[1][1] <= min(y_max, BAND[1])]
+
+
+def test_low_start_is_where_the_ray_drops_to_the_lowest_obstacles_top():
+    o = np.array([0.0, 0.0, 0.0])
+    pts = np.array([[0.0, 2.0, 8.0],          # drops 2 ft over 8: at 2.2 ft only past 8.8
+                    [6.0, 2.75, 8.0],         # 2.75 ft over 10 (6, 8): 2.2 ft at 8 ft
+                    [0.0, -0.3, 8.0],         # a rising ray never gets there
+                    [0.0, 0.0, 5.0]])         # nor a level one
+    assert low_start(pts, o, 2.2) == pytest.approx([8.8, 8.0, math.inf, math.inf])
+    assert low_start(pts, o, 0.0) == pytest.approx([0.0] * 4)   # nothing to hide under
+
+
+def _box_over_which(top_y, near=4.2, far=4.8):
+    """A box across column 64 from ``near`` to ``far`` ft whose top is at room Y
+    ``top_y``, and the scan lines of the wall edge behind it that still show
+    over it (their ray at the box's far face above its top)."""
+    x = LEFT[0] + (64 - 0.5 - CX_128) / FOCAL_128 * 4.5
+    box = np.array([[x - 0.3, x + 0.3, near, far]])
+    return box, _lines_down_to(top_y * WALL_FT / far)
+
+
+def _model(sight_lines, place="axis"):
+    m = Perception(VolumeOfInterest(32.0, 7), BAND, 12.0, 2, 1, near_ft=2.3, blank_ft=None)
+    m.blank_carve, m.carve, m.blank_px = "unknown", "error", 16
+    m.sight_lines, m.place = sight_lines, place
+    m.provenance = FreeProvenance()
+    return m
+
+
+def _free_along(m, col=64):
+    """The horizontal distances (ft from the left camera) of the FREE cells on
+    the floor map along column ``col``'s bearing, sampled every 0.05 ft."""
+    fm = m.floor_map([(0.0, 0.0), (0.0, 9.0)])
+    u = _ray(col, 60)
+    u = np.array([u[0], u[2]]) / math.hypot(u[0], u[2])
+    out = []
+    for r in np.arange(0.05, WALL_FT, 0.05):
+        i, j = fm.index(LEFT[0] + r * u[0], LEFT[2] + r * u[1])
+        if fm.cells[i, j] == FREE:
+            out.append(r)
+    return fm, np.array(out)
+
+
+def test_a_wall_point_over_a_low_box_no_longer_frees_the_box():
+    # a box 1.5 ft tall (top at Y 1.5) 4.2-4.8 ft away; the wall edge 8 ft away shows
+    # over it down to Y 1.5 * 8 / 4.8 = 2.5, so its lowest located point drops 2.5 ft
+    # over 8 (within a line's step) and its ray reaches Y 2.2 at 2.2 * 8 / 2.5 = 7.04 ft
+    box, lines = _box_over_which(FLOOR_Y - 1.5)
+    look = _edge(64, lines)
+    y_low = _drop(lines[-1])
+    assert 2.4 < y_low <= 2.5
+    fs = floor_scan(look, R, LEFT, BAND, low_y=LOW_Y)
+    assert fs.hit_start == pytest.approx([2.2 * WALL_FT / y_low], rel=1e-6)
+    assert fs.hit_start[0] > 7.0
+    # the floor scan is otherwise the same: the same hit where it was
+    plain = floor_scan(look, R, LEFT, BAND)
+    assert np.allclose(fs.hits, plain.hits) and plain.hit_start is None
+
+    band = _model("band")
+    band.update(look, State(0.0, 0.0, 0.0), Pose, PITCH)
+    fm = band.floor_map([(0.0, 0.0), (0.0, 9.0)])
+    freed = free_obstacle_cells(fm, box, BOUNDS, band.provenance, BAND)
+    assert freed and all(c["mechanisms"] == [SIGHT_TO_HIT] for c in freed)
+
+    low = _model("low")
+    low.update(look, State(0.0, 0.0, 0.0), Pose, PITCH)
+    fm, along = _free_along(low)
+    assert not free_obstacle_cells(fm, box, BOUNDS, low.provenance, BAND)
+    assert low.seen_over > 0                 # the rest of the line: seen over, not proven
+    # the loop's "axis" placement lays the hit along the pitched axis, short of 8 ft
+    # (the nearest supported point's range times about cos 25 deg): before 7.04 ft,
+    # so this line frees nothing at all
+    hit_d = math.hypot(fs.hits[0, 0] - LEFT[0], fs.hits[0, 2] - LEFT[2])
+    assert hit_d < fs.hit_start[0] and not len(along)
+    # placed at the point's own horizontal distance (8 ft), the line frees from 7.04 ft
+    # to a cell before the hit, and still nothing of the box
+    low = _model("low", place="point")
+    low.update(look, State(0.0, 0.0, 0.0), Pose, PITCH)
+    fm, along = _free_along(low)
+    assert not free_obstacle_cells(fm, box, BOUNDS, low.provenance, BAND)
+    assert len(along) and along.min() >= fs.hit_start[0] - 0.25
+    assert along.max() <= WALL_FT
+
+
+def test_a_bare_floor_still_frees_the_far_part_of_the_line():
+    # no box: the edge shows down to the band's bottom (Y 2.75); its lowest ray reaches
+    # Y 2.2 at 2.2 * 8 / y_low ft (about 0.8 of the way); the band rule freed from 2.3 ft
+    lines = _lines_down_to(BAND[1])
+    look = _edge(64, lines)
+    y_low = _drop(lines[-1])
+    assert 2.65 < y_low <= 2.75
+    start = 2.2 * WALL_FT / y_low
+    band, low = _model("band", "point"), _model("low", "point")
+    for m in (band, low):
+        m.update(look, State(0.0, 0.0, 0.0), Pose, PITCH)
+    _, along_band = _free_along(band)
+    _, along_low = _free_along(low)
+    assert along_band.min() < 2.6                            # from the near limit
+    assert along_low.min() == pytest.approx(start, abs=0.3)   # from where the ray runs low
+    # the far part is freed as before: every distance free there under "band" still is
+    far = along_band[along_band >= start + 0.25]
+    assert len(far) and np.isin(np.round(far, 2), np.round(along_low, 2)).all()
+
+
+def test_a_point_low_on_the_floor_frees_most_of_its_line():
+    # a located point 0.25 ft above the floor (Y 2.75) at 4 ft: free from 3.2 ft
+    lines = _lines_down_to(BAND[1], dist=4.0)
+    fs = floor_scan(_edge(64, lines, dist=4.0), R, LEFT, BAND, low_y=LOW_Y)
+    assert fs.hit_start[0] == pytest.approx(2.2 * 4.0 / _drop(lines[-1], 4.0), rel=1e-6)
+    assert 3.1 < fs.hit_start[0] < 3.4
+
+
+def test_columns_between_and_beside_take_their_bounding_hits_start():
+    # two edges 20 columns apart, one showing down to the band's bottom, one only to
+    # Y 2.0: the columns between take the later (larger) start, the blank ones beside
+    # each outermost edge that edge's own
+    low_lines, high_lines = _lines_down_to(BAND[1]), _lines_down_to(2.0)
+    look = _edge(50, low_lines) + _edge(70, high_lines)
+    fs = floor_scan(look, R, LEFT, BAND, blank_ft=8.0, blank_px=16, low_y=LOW_Y)
+    s50, s70 = fs.hit_start
+    assert s50 < s70
+    cols = np.asarray(fs.free_cols)
+    assert fs.free_start[(cols > 50) & (cols < 70)] == pytest.approx(s70)
+    assert fs.free_start[cols < 50] == pytest.approx(s50)
+    assert fs.free_start[cols > 70] == pytest.approx(s70)
+    assert fs.far_start[np.asarray(fs.far_cols) < 50] == pytest.approx(s50)
+
+
+def test_the_default_is_the_band_and_a_bad_value_is_refused():
+    assert DriveConfig((0.0, 0.0)).sight_lines == "band"
+    from planner.loop import run
+    from world.room import generate_room
+    room = generate_room(1)
+    s = room.start
+    with pytest.raises(ValueError, match="sight_lines"):
+        run(room, State(s.x, s.z, s.heading_deg), DriveConfig((0.0, 0.0), sight_lines="ray"))
