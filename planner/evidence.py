@@ -249,7 +249,7 @@ class Perception:
         self.carve = "range"              # or "error" (DriveConfig.carve)
         self.blank_px = None              # DriveConfig.blank_px
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
-        self.sight_lines = "band"         # or "low" (DriveConfig.sight_lines)
+        self.sight_lines = "band"         # or "low", "low-all" (DriveConfig.sight_lines)
         self.seen_over = 0                # under "low": cells on sight lines not proven
         self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
@@ -379,8 +379,8 @@ class Perception:
             fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                             blank_ft=self.blank_ft, carve=self.carve, place=self.place,
                             blank_px=self.blank_px, blank_limit=self.blank_limit,
-                            low_y=FLOOR_Y - self.lowest_ft if self.sight_lines == "low"
-                            else None)
+                            low_y=FLOOR_Y - self.lowest_ft if self.sight_lines != "band"
+                            else None, blind_low=self.sight_lines == "low-all")
         if len(fs.hits) or len(fs.free_ends):
             cov = fs.hit_cov if self.growth == "covariance" else \
                 across_sight_cov(fs.hits, fs.hit_cov, left, res)

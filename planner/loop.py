@@ -238,7 +238,10 @@ class DriveConfig:
                                           # whole height band up to the hit; "low" (a named
                                           # option, not 1985): only where its ray runs below
                                           # the lowest obstacle's top (a box lower than the
-                                          # ray hides under it; perception.floor_scan's low_y)
+                                          # ray hides under it; perception.floor_scan's low_y);
+                                          # "low-all": "low", and a look that located nothing
+                                          # frees only the far part of its blank view (as if
+                                          # a surface at blank_ft showed to the band's bottom)
 
 
 @dataclass

@@ -151,7 +151,8 @@ class FloorScan:
 CARVE = ("range", "error")
 PLACES = ("axis", "point")
 BLANK_LIMITS = ("all", "sides")   # where floor_scan's blank_px applies
-SIGHT_LINES = ("band", "low")     # what a sight line to a hit frees (floor_scan's low_y)
+SIGHT_LINES = ("band", "low", "low-all")   # what a sight line frees (floor_scan's low_y;
+                                           # "low-all": its blind_low too)
 
 
 def low_start(points_room, origin, low_y: float) -> np.ndarray:
@@ -176,7 +177,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
                carve: str = "range", blank_alone: bool = True, place: str = "axis",
                blank_px: int | None = None, blank_limit: str = "all",
-               low_y: float | None = None) -> FloorScan:
+               low_y: float | None = None, blind_low: bool = False) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -248,7 +249,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     runs below ``low_y`` (:func:`low_start`); the columns between two hits
     get the larger of the two, the blank columns beside the outermost hit
     (free ends and far ends) its own: the free sight lines prove the band
-    only from there on.  A look that located nothing has no start (0)."""
+    only from there on.  A look that located nothing has no start (0),
+    unless ``blind_low`` (``sight_lines="low-all"``): then its blank view is
+    taken as a surface at ``blank_ft`` seen down to the band's bottom, and
+    frees only where that surface's lowest ray would, from
+    ``blank_ft * (low_y - camera Y) / (band bottom - camera Y)`` on (6.4 of
+    8 ft for the drive's camera)."""
     if carve not in CARVE:
         raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     if place not in PLACES:
@@ -351,7 +357,9 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         sides = (np.arange(1, lo_c), np.arange(hi_c + 1, 129)) if len(cols) else \
             (np.arange(1, 129),)                      # (not the whole view twice)
         edges = (reach[0], reach[-1]) if len(cols) else (blank_ft,)
-        starts = (start[0], start[-1]) if len(cols) else (0.0,)
+        starts = (start[0], start[-1]) if len(cols) else \
+            (float(blank_ft) * (low_y - origin[1]) / (band[1] - origin[1])
+             if low_y is not None and blind_low else 0.0,)
         side_far = [np.zeros(len(s), bool) for s in sides]
         if len(cols) and blank_px is not None:
             side_far = [sides[0] < lo_c - blank_px, sides[1] > hi_c + blank_px]

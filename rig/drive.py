@@ -269,7 +269,9 @@ def add_loop_options(p) -> None:
                    help="what a sight line to a located point frees: 'band' (default): the "
                         "whole height band up to it; 'low': only where its ray runs below the "
                         "lowest obstacle's top (a box lower than the ray may hide under it: "
-                        "the 1985 eyes do not locate box tops; not 1985)")
+                        "the 1985 eyes do not locate box tops; not 1985); 'low-all': 'low', "
+                        "and a look that located nothing frees only the far part of its "
+                        "blank view (from 0.8 of --blank-ft)")
     p.add_argument("--look-ahead", action="store_true",
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "

@@ -195,3 +195,23 @@ def test_the_default_is_the_band_and_a_bad_value_is_refused():
     s = room.start
     with pytest.raises(ValueError, match="sight_lines"):
         run(room, State(s.x, s.z, s.heading_deg), DriveConfig((0.0, 0.0), sight_lines="ray"))
+
+
+def test_a_look_that_located_nothing_frees_only_the_far_part_under_low_all():
+    # nothing located, blank_ft 8: "low" keeps the assumption whole (start 0); "low-all"
+    # takes the blank view as a surface at 8 ft seen down to the band's bottom (Y 2.75):
+    # its lowest ray reaches Y 2.2 at 8 * 2.2 / 2.75 = 6.4 ft
+    low = floor_scan([], R, LEFT, BAND, blank_ft=8.0, low_y=LOW_Y)
+    assert len(low.free_ends) == 128 and np.all(low.free_start == 0.0)
+    both = floor_scan([], R, LEFT, BAND, blank_ft=8.0, low_y=LOW_Y, blind_low=True)
+    assert both.free_start == pytest.approx(np.full(128, 8.0 * 2.2 / 2.75))
+    # a look that located something is not changed by it
+    look = _edge(64, _lines_down_to(BAND[1]))
+    a = floor_scan(look, R, LEFT, BAND, blank_ft=8.0, blank_px=16, low_y=LOW_Y)
+    b = floor_scan(look, R, LEFT, BAND, blank_ft=8.0, blank_px=16, low_y=LOW_Y, blind_low=True)
+    assert np.array_equal(a.free_start, b.free_start)
+    m = _model("low-all")
+    m.blank_ft = 8.0
+    m.update([], State(0.0, 0.0, 0.0), Pose, PITCH)
+    _, along = _free_along(m)
+    assert len(along) and along.min() >= 6.4 - 0.25
