@@ -410,7 +410,8 @@ class Perception:
             with self._carving(self._split_seen(left, fs.hits, proven, res)):
                 if low:
                     self._mark_low_rays(left, np.vstack([fs.hits, proven]), np.concatenate(
-                        [fs.hit_start, fstart[~assumed]]), res)
+                        [fs.hit_start, fstart[~assumed]]), res, np.concatenate(
+                        [fs.hit_short, np.zeros(len(proven))]))
                 else:
                     mark_free_rays(self.tree, left, np.vstack([fs.hits, proven]),
                                    start_ft=self.near_ft)
@@ -464,18 +465,24 @@ class Perception:
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         return len(fs.hits)
 
-    def _mark_low_rays(self, left, ends, starts, res: float) -> int:
+    def _mark_low_rays(self, left, ends, starts, res: float, short=None) -> int:
         """:func:`~planner.octree.mark_free_rays` from ``near_ft`` on, each
         line only from its own ``starts`` (``FloorScan.hit_start`` /
         ``free_start``: where its ray runs below the lowest obstacle's top)
-        on; the part nearer than that is seen over, not proven free, and
-        left as it was (counted in :attr:`seen_over`)."""
+        on, and ending ``short`` (``FloorScan.hit_short``: the hit's error
+        bound), at least a cell, before its end; the part nearer than its
+        start is seen over, not proven free, and left as it was (counted in
+        :attr:`seen_over`)."""
         along = _sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
         if along is None:
             return 0
         samples, dist, n = along
         seg = np.repeat(np.arange(len(n)), n)
         keep = dist >= np.asarray(starts, float)[seg]
+        if short is not None:
+            ends = np.asarray(ends, float).reshape(-1, 3)
+            length = np.hypot(ends[:, 0] - left[0], ends[:, 2] - left[2])
+            keep &= dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
         over = np.unique(cell_keys(samples[~keep], res))
         self.seen_over += int(len(np.setdiff1d(over, cell_keys(samples[keep], res))))
         if not keep.any():

@@ -146,6 +146,9 @@ class FloorScan:
                                          # prove the band free (inf: nowhere)
     free_start: np.ndarray | None = None  # (F,) the same for each free end (its bounding hits')
     far_start: np.ndarray | None = None   # (K,) the same for each far end
+    hit_short: np.ndarray | None = None   # under ``low_y``: (H,) each hit's error bound (LCSL's
+                                          # two-sigma ep) in horizontal feet along its line:
+                                          # its line proves the band no nearer than that to it
 
 
 CARVE = ("range", "error")
@@ -249,7 +252,10 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     runs below ``low_y`` (:func:`low_start`); the columns between two hits
     get the larger of the two, the blank columns beside the outermost hit
     (free ends and far ends) its own: the free sight lines prove the band
-    only from there on.  A look that located nothing has no start (0),
+    only from there on, and a hit's own line ends ``hit_short`` before it
+    (the near end of its error bound, as ``carve="error"`` ends the columns
+    between: a low point on a box face may be located up to its bound behind
+    the face).  A look that located nothing has no start (0),
     unless ``blind_low`` (``sight_lines="low-all"``): then its blank view is
     taken as a surface at ``blank_ft`` seen down to the band's bottom, and
     frees only where that surface's lowest ray would, from
@@ -389,7 +395,9 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                          far_ends, far_cols)
     return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
                      far_ends, far_cols, start, fstart,
-                     far_start if far_ends is not None else None)
+                     far_start if far_ends is not None else None,
+                     ep[near] * np.hypot(hits[:, 0] - origin[0], hits[:, 2] - origin[2])
+                     / np.maximum(rng, 1e-12))
 
 
 BLANK_SIDES = ("cut", "two-looks")   # what becomes of the side columns blank_px cuts off

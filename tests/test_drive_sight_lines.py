@@ -215,3 +215,20 @@ def test_a_look_that_located_nothing_frees_only_the_far_part_under_low_all():
     m.update([], State(0.0, 0.0, 0.0), Pose, PITCH)
     _, along = _free_along(m)
     assert len(along) and along.min() >= 6.4 - 0.25
+
+
+def test_a_hits_line_ends_at_the_near_end_of_its_error_bound():
+    # a point 0.25 ft above the floor at 6 ft, located with a 2-sigma bound of 0.8 ft of
+    # range: along the floor that is 0.8 * 6 / range ft, and the line stops that far short
+    # (it may lie that far behind the face it is on); from 0.8 * 6 ft on it is low enough
+    lines = _lines_down_to(BAND[1], dist=6.0)
+    look = _edge(64, lines, dist=6.0, ep=0.8)
+    fs = floor_scan(look, R, LEFT, BAND, low_y=LOW_Y, place="point")
+    dp = min(p.dp for p in look)                           # the nearest supported range
+    assert fs.hit_short == pytest.approx([0.8 * 6.0 / dp], rel=1e-3)
+    m = _model("low", place="point")
+    m.update(look, State(0.0, 0.0, 0.0), Pose, PITCH)
+    _, along = _free_along(m)
+    assert len(along)
+    assert along.min() >= fs.hit_start[0] - 0.25
+    assert along.max() <= 6.0 - fs.hit_short[0] + 0.25 and along.max() < 5.6
