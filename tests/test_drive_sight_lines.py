@@ -232,3 +232,15 @@ def test_a_hits_line_ends_at_the_near_end_of_its_error_bound():
     assert len(along)
     assert along.min() >= fs.hit_start[0] - 0.25
     assert along.max() <= 6.0 - fs.hit_short[0] + 0.25 and along.max() < 5.6
+
+
+def test_the_depth_eyes_are_not_changed_by_it():
+    # the depth eyes see the box face itself in the band (every pixel has its range), so
+    # their floor scan has no start and "low" leaves their map as it was
+    rng = np.full((120, 128), 6.0)
+    maps = []
+    for v in ("band", "low"):
+        m = _model(v)
+        m.update([], State(0.0, 0.0, 0.0), Pose, PITCH, depth=rng)
+        maps.append(m.floor_map([(0.0, 0.0), (0.0, 9.0)]).cells)
+    assert np.array_equal(*maps) and (maps[0] == FREE).any()
