@@ -248,8 +248,8 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     do not locate the box's horizontal top edge).  So each hit gets
     ``hit_start``: the horizontal distance from which the ray of the lowest
     of its column's supported points at its horizontal distance (the
-    steepest one that reached that surface)
-    runs below ``low_y`` (:func:`low_start`); the columns between two hits
+    steepest one that reached that surface) runs below ``low_y``
+    (:func:`low_start`); the columns between two hits
     get the larger of the two, the blank columns beside the outermost hit
     (free ends and far ends) its own: the free sight lines prove the band
     only from there on, and a hit's own line ends ``hit_short`` before it
