@@ -422,6 +422,17 @@ class JointFilter:
         i = self._index(vid)
         return self.consider_cov[i:i + 3, i:i + 3].copy()
 
+    def marginals(self):
+        """Every feature's marginal at once, in ``ids`` order: (means (k, 3), covariances
+        (k, 3, 3), consider covariances (k, 3, 3) or None) -- :meth:`feature`'s and
+        :meth:`consider_feature`'s blocks, gathered in one indexing each."""
+        k = len(self.ids)
+        at = POSE_DIM + 3 * np.arange(k)[:, None, None]
+        rows, cols = at + np.arange(3)[:, None], at + np.arange(3)[None, :]
+        means = self.mean[POSE_DIM:].reshape(k, 3).copy()
+        return (means, self.cov[rows, cols],
+                self.consider_cov[rows, cols] if self.consider else None)
+
     def predict(self, new_xzh_deg, F, Q) -> None:
         """The odometry's step: the pose becomes ``new_xzh_deg`` (the step composed on
         the last estimate), its covariance ``F P F^T + Q``, its cross terms ``F P_pf``."""
