@@ -71,8 +71,6 @@ CONSIDER_MODES = ("bound", "joseph")
 # the static update as written (a30), its alternatives (a29, ci), and the joint filter of
 # pose and features (model.joint)
 KALMAN_CHOICES = ("a30", "a29", "ci", "joint")
-# when a feature enters the joint state (WalkConfig.joint_admit)
-JOINT_ADMIT_CHOICES = ("seen", "again")
 AMBIGUITY_NEAREST_FT = 1.0   # the ambiguity gate searches disparities from max_range_ft to this
 CONSISTENT_CHI2 = 11.345      # a look consistent with its feature: chi-square 99 %, 3 degrees of freedom
 
@@ -157,13 +155,6 @@ class WalkConfig:
     # freedom) on each used pair's innovation against its JOINT covariance (pose, feature and
     # their cross terms; model.joint.JointFilter.update); None: every used pair is fused
     joint_gate: float | None = FEATURE_GATE_CHI2
-    # --kalman joint only: when a feature enters the joint state.  "seen" (the joint
-    # filter's own): at its first look.  "again" (named alternative, for time): at its
-    # second -- the first look that matches it and is used -- augmented from that look's
-    # observation; until then it keeps its first look's placement at the prior pose (A-29's
-    # covariance, the measured one as its consider covariance), never fused: the dense state
-    # holds only features seen twice (the others, about a third, are never seen again)
-    joint_admit: str = "seen"
 
 
 @dataclass
@@ -391,11 +382,6 @@ class Walker:
             raise ValueError("the tilt floor widens the static consider covariance's camera "
                              "term; the joint filter carries the pose in its state: not with "
                              "--kalman joint")
-        if config.joint_admit not in JOINT_ADMIT_CHOICES:
-            raise ValueError(f"unknown joint admission {config.joint_admit!r}; one of "
-                             f"{', '.join(JOINT_ADMIT_CHOICES)}")
-        if config.joint_admit != "seen" and config.kalman != "joint":
-            raise ValueError("joint admission applies to --kalman joint only")
         self.matcher = MATCHERS.get(config.model_matcher)
         if self.matcher is None:
             raise ValueError(f"unknown model matcher {config.model_matcher!r}; one of "
@@ -632,21 +618,9 @@ class Walker:
         honest = (_measured_camera_covariances(obs, self.config, self.lines)
                   if joint.consider else None)
         new = log["new"]
-        if self.config.joint_admit == "again":
-            # a feature seen once stays out of the state (its placement is _update_model's
-            # at the prior pose); the one matched again joins from this look's observation
-            if joint.consider and new:
-                placed = _measured_covariances(obs, joint.pose_estimate(
-                    "given" if k == 0 else "prior"), self.config, self.lines, given=k == 0)
-                for vid, i in new:
-                    model.vertices[vid].report_cov = placed[i].copy()
-            new = [(vid, i) for vid, i in log["pairs"] if vid in model.vertices
-                   and vid not in joint]
         joint.add_many([(vid, obs[i].q, obs[i].cov) for vid, i in new],
                        None if honest is None else [honest[i] for _, i in new])
-        joining = {vid for vid, _ in new}
-        used = [(vid, i) for vid, i in log["pairs"] if vid in model.vertices and vid in joint
-                and vid not in joining]
+        used = [(vid, i) for vid, i in log["pairs"] if vid in model.vertices and vid in joint]
         joint.update([(vid, obs[i].q, obs[i].cov) for vid, i in used], self.config.joint_gate,
                      None if honest is None else [honest[i] for _, i in used])
         joint.drop([vid for vid in joint.ids if vid not in model.vertices])

@@ -302,8 +302,7 @@ def cmd_walk(args) -> int:
                         feature_gate=args.feature_gate, consider=args.consider,
                         retire_unseen=args.retire_unseen,
                         variance_factor=args.variance_factor, confirm=args.confirm,
-                        tilt_floor=args.tilt_floor, ambiguity_gate=args.ambiguity_gate,
-                        joint_admit=args.joint_admit)
+                        tilt_floor=args.tilt_floor, ambiguity_gate=args.ambiguity_gate)
     noise = OdometryNoise(seed=args.odometry_seed)
     dr = dead_reckon(poses, noise)
     out = Path(args.out)
@@ -319,8 +318,7 @@ def cmd_walk(args) -> int:
              if args.tilt_floor else "")
           + (", variance factor" if args.variance_factor else "")
           + (f", confirm {args.confirm}" if args.confirm else "")
-          + (f", ambiguity gate {args.ambiguity_gate}" if args.ambiguity_gate else "")
-          + (f", joint admission {args.joint_admit}" if args.joint_admit != "seen" else ""))
+          + (f", ambiguity gate {args.ambiguity_gate}" if args.ambiguity_gate else ""))
     bar = None
     if not args.quiet:
         from tqdm import tqdm
@@ -496,11 +494,6 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "the pose; bound: holds whatever the looks' correlation; joseph: for "
                         "independent looks (off by default; with joint it doubles the dense "
                         "covariance work)")
-    w.add_argument("--joint-admit", choices=("seen", "again"), default="seen",
-                   help="with --kalman joint: when a feature enters the joint state; seen (the "
-                        "default): at its first look; again: at its second (the first look that "
-                        "matches and uses it), so the dense state holds only features seen twice "
-                        "(faster; a feature seen once keeps its first placement)")
     w.add_argument("--tilt-floor", type=_tilt_floor, default=None, metavar="FT,DEG",
                    help="with --consider: the least sigma of the camera's height (ft) and tilt "
                         "(degrees about each horizontal axis) in the consider covariance's "

@@ -563,38 +563,3 @@ def test_the_bundled_walk_with_the_in_place_filter_is_the_plain_filters(monkeypa
         np.testing.assert_allclose(v.mean, u.mean, rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(v.report_cov, u.report_cov, rtol=1e-8, atol=1e-14)
 
-
-def test_joint_admit_again_holds_only_features_seen_twice():
-    """``joint_admit="again"``: a feature enters the joint state at the first look that
-    matches and uses it again (augmented from that look), one seen once keeps its first
-    look's placement untouched and is not in the dense state; with the consider covariance
-    it reports the measured one."""
-    from model.mapping import Walker, WalkConfig, CALIBRATED_COLUMN_ERROR_PX
-    from world.odometry import OdometryNoise, dead_reckon
-    from world.render import render_look
-    from world.room import bundled_lab
-    from world.walk import bundled_walk
-    room, poses = bundled_lab(), bundled_walk()[:6]
-    dr = dead_reckon(poses, OdometryNoise(seed=1985))
-    w = Walker(room, WalkConfig(kalman="joint", methods=("robust",), consider="bound",
-                                column_error_px=CALIBRATED_COLUMN_ERROR_PX,
-                                joint_admit="again"))
-    placed = {}
-    for k, p in enumerate(poses):
-        w.step(render_look(room, p, seed=1985 + k), p, dr[k], dr[k - 1] if k else None)
-        for vid, v in w.model.vertices.items():
-            placed.setdefault(vid, (v.mean.copy(), v.cov.copy()))
-    inside = set(w.joint.ids)
-    assert inside and inside < set(w.model.vertices)
-    for vid, v in w.model.vertices.items():
-        assert (vid in inside) is (v.looks >= 2)
-        if vid in inside:
-            m, c = w.joint.feature(vid)
-            assert np.array_equal(v.mean, m) and np.array_equal(v.cov, c)
-        else:
-            assert np.array_equal(v.mean, placed[vid][0])
-            assert np.array_equal(v.cov, placed[vid][1])
-            assert v.report_cov is not None and np.trace(v.report_cov) > np.trace(v.cov)
-    assert len(w.joint.mean) == 3 + 3 * len(inside)
-    with pytest.raises(ValueError, match="joint"):
-        Walker(room, WalkConfig(kalman="a29", joint_admit="again"))
