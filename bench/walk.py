@@ -43,17 +43,19 @@ leaving out one feature moves the ratio (``ten_look_census``, ``ten_look_ratio``
 ``--seeds N`` runs the same two on the bundled walk with N draws of its odometry and render
 noise (seeds 1985, 1986, ...): the five targets' figures per draw, and how many draws meet each;
 with ``--joint`` instead the joint filter of pose and features (``--kalman joint``, model.joint)
-with confirmation, and with the resolve gate.
+with confirmation, and with the resolve gate (``--consider MODE``: with the joint consider
+covariance; ``--resolve-only``: the resolve configurations alone).
 
 Run:  python bench/walk.py [--rooms 10] [--looks 20] [--json FILE]
                            [--calibrate | --breakdown | --outside | --ten-looks |
-                            --seeds N [--joint]]
+                            --seeds N [--joint [--consider M] [--resolve-only]]]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -595,6 +597,11 @@ def joint_consider_configs(mode: str) -> dict:
             for name, kw in JOINT_CONFIGS.items()}
 
 
+def resolve_configs(configs: dict) -> dict:
+    """``--resolve-only``: only the configurations with the resolve gate."""
+    return {name: kw for name, kw in configs.items() if kw.get("ambiguity_gate") == "resolve"}
+
+
 def seed_tables(rows) -> str:
     """``--seeds``: one row per configuration and draw (``rows``: (name, seed, figures)),
     then per configuration how many draws meet each target and the medians."""
@@ -634,14 +641,19 @@ def seeds(n: int, configs=None) -> str:
     """The bundled walk with ``n`` draws of its noise (odometry and render seeds 1985,
     1986, ...; 1985 is the walk every other figure uses) for each configuration."""
     rows = []
-    for name, kw in (configs or SEED_CONFIGS).items():
-        for seed in range(1985, 1985 + n):
+    configs = configs or SEED_CONFIGS
+    # each draw through every configuration in turn: their times interleaved
+    for seed in range(1985, 1985 + n):
+        for name, kw in configs.items():
             res, took = one_walk(bundled_lab(), bundled_walk(), seed=seed, **kw)
             rows.append((name, seed, target_figures(res)))
             f = rows[-1][2]
             print(f"{name}, seed {seed}: {took:.0f} s; {f['position_ft']:.2f} ft, "
                   f"{f['heading_deg']:.2f} deg, inside {100 * f['inside_2sigma']:.1f} %, "
-                  f"look {f['look_ms']:.0f} ms", file=sys.stderr)
+                  f"look {f['look_ms']:.0f} ms, load average {os.getloadavg()[0]:.1f}",
+                  file=sys.stderr)
+    order = list(configs)
+    rows.sort(key=lambda row: (order.index(row[0]), row[1]))
     return seed_tables(rows)
 
 
@@ -704,6 +716,8 @@ def main(argv=None) -> int:
                     help="with --joint: the joint filter's configurations with its consider "
                          "covariance (--kalman joint --consider MODE); the poses and means are "
                          "the plain ones, only the reported covariance differs")
+    ap.add_argument("--resolve-only", action="store_true",
+                    help="with --joint: only the joint configurations with the resolve gate")
     ap.add_argument("--seeds", type=int, metavar="N", default=None,
                     help="only the named configuration and it with --ambiguity-gate resolve on "
                          "the bundled walk, with N draws of the odometry and render noise: the "
@@ -713,6 +727,7 @@ def main(argv=None) -> int:
 
     def seed_report():
         joint = joint_consider_configs(args.consider) if args.consider else JOINT_CONFIGS
+        joint = resolve_configs(joint) if args.resolve_only else joint
         return seeds(args.seeds, joint if args.joint else None)
     # the modes that print one report instead of the tables, the first one asked for
     for wanted, report in ((args.joint and not args.seeds,

@@ -50,13 +50,37 @@ gated with (tested against a Monte Carlo of a linear walk).
 
 from __future__ import annotations
 
+from contextlib import nullcontext
+
 import numpy as np
+from scipy.linalg import solve_triangular
 
 from .geometry import axes_matrix, left_centre, rotation_from_angles, wrap_deg
 from .pose import PoseEstimate
 
 POSE_DIM = 3                      # x, z, heading (radians)
 _DH = 1e-6                        # radians: the heading's finite difference (central)
+
+# BLAS threads for the joint state's dense algebra.  One: on this project's two-core
+# machines a second OpenBLAS thread made the bundled walk's look 2.2 times SLOWER
+# (median 184 against 84 ms, load average 1-3; docs/model.md), the n^2 m products of a
+# few hundred features being too small to share and the other core busy with the rest.
+JOINT_BLAS_THREADS = 1
+_CAPACITY = POSE_DIM + 3 * 128    # the state's first allocation (features 128)
+_GROWTH = 1.5                     # a full state grows to 1.5 times what it must hold
+_blas_controller = None
+
+
+def _blas_limit():
+    """A context limiting BLAS to :data:`JOINT_BLAS_THREADS` threads (threadpoolctl; its
+    controller found once, since finding the libraries costs milliseconds)."""
+    global _blas_controller
+    if JOINT_BLAS_THREADS is None:
+        return nullcontext()
+    if _blas_controller is None:
+        from threadpoolctl import ThreadpoolController
+        _blas_controller = ThreadpoolController()
+    return _blas_controller.limit(limits=JOINT_BLAS_THREADS, user_api="blas")
 
 
 # --- the generic linear-Gaussian steps ------------------------------------------------
@@ -158,6 +182,88 @@ def consider_joint_update(consider_cov, K, H, R_true, mode: str = "joseph",
     return (P + P.T) / 2
 
 
+# --- the same steps in place: the joint filter's working form ----------------------------
+#
+# The plain steps above are the reference: each forms new n x n arrays (P - K S K^T, its
+# transpose, their mean; the consider's K H Pc, K Sc K^T, K R K^T).  On the bundled walk's
+# ~1800-entry state each such array is 26 MB, and the products cost 2 n^2 m multiplications
+# apiece.  The forms below do the same algebra in place, with symmetric rank-m products
+# (BLAS syrk: half the multiplications, exactly symmetric) into one scratch buffer;
+# tests/test_model_joint.py holds them equal to the plain steps to rounding.
+
+def _syrk(W, scratch) -> np.ndarray:
+    """``W W^T`` in ``scratch`` (a flat buffer of at least n*n): numpy's matmul of an array
+    with its own transpose is BLAS syrk, one triangle computed and mirrored."""
+    n = W.shape[0]
+    T = scratch[:n * n].reshape(n, n)
+    np.matmul(W, W.T, out=T)
+    return T
+
+
+def ekf_update_in_place(mean, P, innovation, Hc, cols, R, scratch) -> np.ndarray:
+    """:func:`ekf_update_with_gain` on ``mean`` and ``P`` in place; returns the gain K.
+
+    ``Hc`` = H's columns ``cols`` (the pose and the matched features: H is zero
+    elsewhere).  With S = L L^T (Cholesky), ``K S K^T = W W^T``, ``W = P H^T L^-T``: the
+    covariance is downdated by one syrk, ``P -= W W^T``, without an n x n temporary
+    beyond ``scratch``."""
+    PHt = P[:, cols] @ Hc.T                                 # (n, m)
+    S = Hc @ PHt[cols] + R
+    S = (S + S.T) / 2
+    try:
+        L = np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:                           # S not positive definite
+        K = np.linalg.solve(S, PHt.T).T
+        T = scratch[:P.shape[0] ** 2].reshape(P.shape)
+        np.matmul(K @ S, K.T, out=T)
+        P -= (T + T.T) / 2
+    else:
+        W = solve_triangular(L, PHt.T, lower=True, check_finite=False).T      # P H^T L^-T
+        K = solve_triangular(L, W.T, lower=True, trans="T", check_finite=False).T
+        P -= _syrk(W, scratch)
+    mean += K @ np.asarray(innovation, dtype=np.float64)
+    return K
+
+
+def consider_update_in_place(Pc, K, Hc, cols, R_true, mode: str, scratch,
+                             steps: int = CONSIDER_STEPS) -> None:
+    """:func:`consider_joint_update` on ``Pc`` in place.
+
+    With ``V = Pc H^T`` and ``Sc = H Pc H^T``, the Joseph form's change is
+    ``K Sc K^T - K V^T - V K^T + K R K^T = K Z^T + Z K^T``, ``Z = K (Sc + R) / 2 - V``
+    (and the bound's ``A/w + B/(1-w)`` the same with ``Z = (K Sc/2 - V)/w + K R / (2(1-w))``
+    and ``Pc`` scaled by ``1/w``; the traces that choose ``w`` come from K, V, Z without
+    forming A or B).  The symmetric rank-2m change is two syrks,
+    ``K Z^T + Z K^T = (X X^T - Y Y^T) / 2``, ``X, Y = a K +- Z / a`` (``a`` balances
+    their sizes against cancellation)."""
+    V = Pc[:, cols] @ Hc.T                                  # (n, m)
+    Sc = Hc @ V[cols]
+    Sc = (Sc + Sc.T) / 2
+    R_true = np.asarray(R_true, dtype=np.float64)
+    if mode == "joseph":
+        Z = K @ ((Sc + R_true) / 2) - V
+        scale = 1.0
+    elif mode == "bound":
+        Za = K @ (Sc / 2) - V
+        KR = K @ R_true
+        tA = float(np.trace(Pc)) + 2.0 * float(np.einsum("ij,ij->", K, Za))
+        tB = float(np.einsum("ij,ij->", K, KR))
+        w = np.linspace(0.0, 1.0, steps + 2)[1:-1]
+        best = float(w[np.argmin(tA / w + tB / (1 - w))])
+        Z = Za / best + KR / (2 * (1 - best))
+        scale = 1.0 / best
+    else:
+        raise ValueError(f"unknown consider covariance {mode!r}; one of joseph, bound")
+    nk, nz = float(np.linalg.norm(K)), float(np.linalg.norm(Z))
+    a = np.sqrt(nz / nk) if nk > 0 and nz > 0 else 1.0
+    X = (a * K + Z / a) / np.sqrt(2.0)
+    Y = (a * K - Z / a) / np.sqrt(2.0)
+    if scale != 1.0:
+        Pc *= scale
+    Pc += _syrk(X, scratch)
+    Pc -= _syrk(Y, scratch)
+
+
 # --- the walk's floor pose and point features ---------------------------------------
 
 def floor_rotation(heading_rad: float, pitch_deg: float = 0.0) -> np.ndarray:
@@ -219,20 +325,75 @@ class JointFilter:
     gains but the measured measurement covariances the caller passes (``honest``):
     the covariance of the filter's mean under the errors as measured
     (:func:`consider_joint_update`).  Reported only: the mean, the gains and the gate
-    use the filter's own ``cov``, so they are the same with it on or off."""
+    use the filter's own ``cov``, so they are the same with it on or off.
+
+    Storage: ``mean``, ``cov`` and ``consider_cov`` are views of preallocated buffers
+    grown by half again when full, so a new feature writes only its own rows and
+    columns; the update and the consider update run in place
+    (:func:`ekf_update_in_place`, :func:`consider_update_in_place`), BLAS limited to
+    :data:`JOINT_BLAS_THREADS`.  ``reference=True``: the plain steps
+    (:func:`ekf_augment`, :func:`ekf_update_with_gain`, :func:`consider_joint_update`)
+    instead -- the same numbers to rounding, kept for the tests and ``bench/joint.py``."""
 
     def __init__(self, pose_xzh_deg, pose_cov, pitch_deg: float = 0.0,
-                 consider: str | None = None):
-        x, z, h = pose_xzh_deg
-        self.mean = np.array([x, z, np.radians(h)], dtype=np.float64)
-        self.cov = np.array(pose_cov, dtype=np.float64).reshape(POSE_DIM, POSE_DIM)
-        self.pitch_deg = float(pitch_deg)
+                 consider: str | None = None, reference: bool = False):
         if consider not in (None, "joseph", "bound"):
             raise ValueError(f"unknown consider covariance {consider!r}; one of joseph, bound")
         self.consider = consider
-        self.consider_cov = self.cov.copy() if consider else None
+        self.reference = bool(reference)
+        self.pitch_deg = float(pitch_deg)
+        self._n, self._cap = 0, 0
+        self._x = np.zeros(0)
+        self._P = np.zeros((0, 0))
+        self._Pc = np.zeros((0, 0)) if consider else None
+        self._scratch = np.zeros(0)
+        x, z, h = pose_xzh_deg
+        cov = np.array(pose_cov, dtype=np.float64).reshape(POSE_DIM, POSE_DIM)
+        self._set_state(np.array([x, z, np.radians(h)], dtype=np.float64), cov,
+                        cov if consider else None)
         self.ids: list[int] = []
         self._slot: dict[int, int] = {}
+
+    # --- the preallocated state ---------------------------------------------------------
+
+    def _reserve(self, n: int) -> None:
+        """Room for a state of ``n`` entries (the first ``self._n`` kept)."""
+        if n <= self._cap:
+            return
+        cap = max(int(n * _GROWTH), _CAPACITY)
+        old = self._n
+        x = np.zeros(cap)
+        x[:old] = self._x[:old]
+        self._x = x
+        for name in ("_P", "_Pc"):
+            buf = getattr(self, name)
+            if buf is not None:
+                grown = np.zeros((cap, cap))
+                grown[:old, :old] = buf[:old, :old]
+                setattr(self, name, grown)
+        self._scratch = np.empty(cap * cap)
+        self._cap = cap
+
+    def _set_state(self, mean, cov, consider_cov=None) -> None:
+        n = len(mean)
+        self._reserve(n)
+        self._n = n
+        self._x[:n] = mean
+        self._P[:n, :n] = cov
+        if consider_cov is not None:
+            self._Pc[:n, :n] = consider_cov
+
+    @property
+    def mean(self) -> np.ndarray:
+        return self._x[:self._n]
+
+    @property
+    def cov(self) -> np.ndarray:
+        return self._P[:self._n, :self._n]
+
+    @property
+    def consider_cov(self) -> np.ndarray | None:
+        return None if self._Pc is None else self._Pc[:self._n, :self._n]
 
     def __contains__(self, vid) -> bool:
         return int(vid) in self._slot
@@ -261,13 +422,25 @@ class JointFilter:
         i = self._index(vid)
         return self.consider_cov[i:i + 3, i:i + 3].copy()
 
+    def marginals(self):
+        """Every feature's marginal at once, in ``ids`` order: (means (k, 3), covariances
+        (k, 3, 3), consider covariances (k, 3, 3) or None) -- :meth:`feature`'s and
+        :meth:`consider_feature`'s blocks, gathered in one indexing each."""
+        k = len(self.ids)
+        at = POSE_DIM + 3 * np.arange(k)[:, None, None]
+        rows, cols = at + np.arange(3)[:, None], at + np.arange(3)[None, :]
+        means = self.mean[POSE_DIM:].reshape(k, 3).copy()
+        return (means, self.cov[rows, cols],
+                self.consider_cov[rows, cols] if self.consider else None)
+
     def predict(self, new_xzh_deg, F, Q) -> None:
         """The odometry's step: the pose becomes ``new_xzh_deg`` (the step composed on
         the last estimate), its covariance ``F P F^T + Q``, its cross terms ``F P_pf``."""
         self.mean[:POSE_DIM] = (new_xzh_deg[0], new_xzh_deg[1], np.radians(new_xzh_deg[2]))
-        ekf_predict(self.cov, F, Q, POSE_DIM, in_place=True)
-        if self.consider:
-            ekf_predict(self.consider_cov, F, Q, POSE_DIM, in_place=True)
+        with _blas_limit():
+            ekf_predict(self.cov, F, Q, POSE_DIM, in_place=True)
+            if self.consider:
+                ekf_predict(self.consider_cov, F, Q, POSE_DIM, in_place=True)
 
     def add(self, vid, q, Cq) -> None:
         """A new feature from camera point ``q`` (covariance ``Cq``) at the current pose."""
@@ -278,13 +451,17 @@ class JointFilter:
         cross-covariances to each other come through the pose).  ``honest``: with
         ``consider``, each observation's measured covariance (camera axes), entering
         the consider covariance through the same Jacobians (exactly, in both modes:
-        a new feature's error is the pose's error and its own)."""
+        a new feature's error is the pose's error and its own).
+
+        A new feature depends on the pose alone (``J`` is zero beyond the pose's
+        columns), so its cross-covariance is ``J_pose P_p.``: 3 rows of the state, written
+        into the new rows and columns of the preallocated buffers."""
         observations = list(observations)
         if not observations:
             return
-        pose = self.mean[:POSE_DIM]
+        pose = self.mean[:POSE_DIM].copy()
         k = len(observations)
-        J = np.zeros((3 * k, len(self.mean)))
+        Jpose = np.zeros((3 * k, POSE_DIM))
         G = np.zeros((3 * k, 3 * k))
         R = np.zeros((3 * k, 3 * k))
         new = np.zeros(3 * k)
@@ -293,23 +470,47 @@ class JointFilter:
                 raise ValueError(f"feature {vid} is already in the joint state")
             rows = slice(3 * j, 3 * j + 3)
             Jp, Jq = room_point_jacobians(pose, q, self.pitch_deg)
-            J[rows, :POSE_DIM] = Jp
+            Jpose[rows] = Jp
             G[rows, rows] = Jq
             R[rows, rows] = Cq
             new[rows] = room_point(pose, q, self.pitch_deg)
-        mean, self.cov = ekf_augment(self.mean, self.cov, new, J, R, G)
+        R_true = None
         if self.consider:
             R_true = np.zeros_like(R)
             for j, C in enumerate(self._honest(honest, k)):
                 R_true[3 * j:3 * j + 3, 3 * j:3 * j + 3] = C
-            _, self.consider_cov = ekf_augment(self.mean, self.consider_cov, new, J, R_true, G)
-        self.mean = mean
+        with _blas_limit():
+            if self.reference:
+                n = self._n
+                J = np.zeros((3 * k, n))
+                J[:, :POSE_DIM] = Jpose
+                mean, cov = ekf_augment(self.mean, self.cov, new, J, R, G)
+                cons = (ekf_augment(self.mean, self.consider_cov, new, J, R_true, G)[1]
+                        if self.consider else None)
+                self._set_state(mean, cov, cons)
+            else:
+                self._augment_in_place(new, Jpose, G, R, R_true)
         for vid, _, _ in observations:
             self._slot[int(vid)] = len(self.ids)
             self.ids.append(int(vid))
 
+    def _augment_in_place(self, new, Jpose, G, R, R_true) -> None:
+        n, a = self._n, len(new)
+        self._reserve(n + a)
+        for buf, Rm in ((self._P, R), (self._Pc, R_true)):
+            if buf is None:
+                continue
+            cross = Jpose @ buf[:POSE_DIM, :n]                  # J P   (a, n)
+            Pnn = cross[:, :POSE_DIM] @ Jpose.T + G @ Rm @ G.T
+            buf[n:n + a, :n] = cross
+            buf[:n, n:n + a] = cross.T
+            buf[n:n + a, n:n + a] = (Pnn + Pnn.T) / 2
+        self._x[n:n + a] = new
+        self._n = n + a
+
     def drop(self, vids) -> None:
-        """Forget features (marginalising a Gaussian is deleting its rows and columns)."""
+        """Forget features (marginalising a Gaussian is deleting its rows and columns):
+        the kept ones move up in order, in the same buffers."""
         gone = {int(v) for v in vids} & set(self._slot)
         if not gone:
             return
@@ -320,10 +521,13 @@ class JointFilter:
                 i = self._index(vid)
                 keep += [i, i + 1, i + 2]
                 ids.append(vid)
-        self.mean = self.mean[keep]
-        self.cov = self.cov[np.ix_(keep, keep)]
+        keep = np.array(keep)
+        k = len(keep)
+        self._x[:k] = self._x[keep]
+        self._P[:k, :k] = self._P[np.ix_(keep, keep)]
         if self.consider:
-            self.consider_cov = self.consider_cov[np.ix_(keep, keep)]
+            self._Pc[:k, :k] = self._Pc[np.ix_(keep, keep)]
+        self._n = k
         self.ids = ids
         self._slot = {vid: k for k, vid in enumerate(ids)}
 
@@ -346,7 +550,7 @@ class JointFilter:
             return []
         if self.consider:
             honest = self._honest(honest, len(observations))
-        pose = self.mean[:POSE_DIM]
+        pose = self.mean[:POSE_DIM].copy()
         rows_H, rows_r, Cqs, ids, out, Cts = [], [], [], [], [], []
         for n_obs, (vid, q, Cq) in enumerate(observations):
             i = self._index(vid)
@@ -368,22 +572,39 @@ class JointFilter:
                 Cts.append(honest[n_obs])
         if not ids:
             return out
-        n, m = len(self.mean), 3 * len(ids)
-        H = np.zeros((m, n))
+        m = 3 * len(ids)
         R = np.zeros((m, m))
-        for k, (i, Jp, Jf) in enumerate(rows_H):
+        R_true = np.zeros((m, m)) if self.consider else None
+        for k in range(len(ids)):
             rows = slice(3 * k, 3 * k + 3)
-            H[rows, :POSE_DIM] = Jp
-            H[rows, i:i + 3] = Jf
             R[rows, rows] = Cqs[k]
-        self.mean, self.cov, K = ekf_update_with_gain(self.mean, self.cov,
-                                                      np.concatenate(rows_r), H, R)
-        if self.consider:
-            R_true = np.zeros((m, m))
-            for k, C in enumerate(Cts):
-                R_true[3 * k:3 * k + 3, 3 * k:3 * k + 3] = C
-            self.consider_cov = consider_joint_update(self.consider_cov, K, H, R_true,
-                                                      self.consider)
+            if self.consider:
+                R_true[rows, rows] = Cts[k]
+        innovation = np.concatenate(rows_r)
+        with _blas_limit():
+            if self.reference:
+                H = np.zeros((m, self._n))
+                for k, (i, Jp, Jf) in enumerate(rows_H):
+                    H[3 * k:3 * k + 3, :POSE_DIM] = Jp
+                    H[3 * k:3 * k + 3, i:i + 3] = Jf
+                mean, cov, K = ekf_update_with_gain(self.mean, self.cov, innovation, H, R)
+                cons = (consider_joint_update(self.consider_cov, K, H, R_true, self.consider)
+                        if self.consider else None)
+                self._set_state(mean, cov, cons)
+            else:
+                # H is zero beyond the pose's and the matched features' columns
+                starts = sorted({i for i, _, _ in rows_H})
+                at = {i: POSE_DIM + 3 * j for j, i in enumerate(starts)}
+                cols = np.array([0, 1, 2] + [i + d for i in starts for d in range(3)])
+                Hc = np.zeros((m, len(cols)))
+                for k, (i, Jp, Jf) in enumerate(rows_H):
+                    Hc[3 * k:3 * k + 3, :POSE_DIM] = Jp
+                    Hc[3 * k:3 * k + 3, at[i]:at[i] + 3] += Jf
+                K = ekf_update_in_place(self.mean, self.cov, innovation, Hc, cols, R,
+                                        self._scratch)
+                if self.consider:
+                    consider_update_in_place(self.consider_cov, K, Hc, cols, R_true,
+                                             self.consider, self._scratch)
         self.mean[2] = np.radians(wrap_deg(np.degrees(self.mean[2])))
         return out
 
@@ -406,5 +627,5 @@ class JointFilter:
 
 
 __all__ = ["JointFilter", "ekf_predict", "ekf_augment", "ekf_update", "ekf_update_with_gain",
-           "consider_joint_update", "camera_point",
+           "consider_joint_update", "ekf_update_in_place", "consider_update_in_place", "camera_point",
            "room_point", "camera_point_jacobians", "room_point_jacobians"]

@@ -624,12 +624,13 @@ class Walker:
         joint.update([(vid, obs[i].q, obs[i].cov) for vid, i in used], self.config.joint_gate,
                      None if honest is None else [honest[i] for _, i in used])
         joint.drop([vid for vid in joint.ids if vid not in model.vertices])
-        for vid in joint.ids:
+        means, covs, considered = joint.marginals()
+        for j, vid in enumerate(joint.ids):
             v = model.vertices[vid]
-            v.mean, v.cov = joint.feature(vid)
-            if joint.consider:
+            v.mean, v.cov = means[j], covs[j]
+            if considered is not None:
                 # reported and scored; never gated with
-                v.report_cov = joint.consider_feature(vid)
+                v.report_cov = considered[j]
         for vid, _ in [*log["pairs"], *log["new"]]:
             v = model.vertices.get(vid)
             if v is None or v.truth is None:

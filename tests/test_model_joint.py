@@ -401,3 +401,165 @@ def test_bench_joint_consider_rows_are_the_joint_rows_with_the_consider_covarian
     assert list(rows) == [f"{n} + consider joseph" for n in bw.JOINT_CONFIGS]
     for (name, kw), plain in zip(rows.items(), bw.JOINT_CONFIGS.values()):
         assert kw == dict(plain, consider="joseph")
+
+
+# --- the in-place working form equals the plain steps ---------------------------------------
+
+def _random_joint_problem(rng, n_features=40, pairs=12):
+    """A random SPD joint covariance (pose + features), a look's H touching the pose and
+    ``pairs`` features, block-diagonal R and R_true, an innovation."""
+    n = 3 + 3 * n_features
+    A = rng.normal(size=(n, n + 5))
+    P = A @ A.T / n + 0.1 * np.eye(n)
+    seen = np.sort(rng.choice(n_features, pairs, replace=False))
+    m = 3 * pairs
+    H = np.zeros((m, n))
+    R, R_true = np.zeros((m, m)), np.zeros((m, m))
+    for k, f in enumerate(seen):
+        rows = slice(3 * k, 3 * k + 3)
+        H[rows, :3] = rng.normal(size=(3, 3))
+        H[rows, 3 + 3 * f:6 + 3 * f] = rng.normal(size=(3, 3))
+        B = rng.normal(size=(3, 3))
+        R[rows, rows] = B @ B.T * 0.01 + 0.01 * np.eye(3)
+        R_true[rows, rows] = 2.5 * R[rows, rows] + 0.005 * np.eye(3)
+    cols = np.flatnonzero(np.any(H != 0, axis=0))
+    return P, H, cols, R, R_true, rng.normal(size=m), rng.normal(size=n)
+
+
+def _rel(a, b):
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
+def test_the_in_place_update_equals_the_plain_update_on_random_states():
+    from model.joint import ekf_update_in_place, ekf_update_with_gain
+    rng = np.random.default_rng(11)
+    for trial in range(5):
+        P, H, cols, R, _, innov, mean = _random_joint_problem(rng, 30 + 20 * trial, 5 + trial)
+        m_plain, P_plain, K_plain = ekf_update_with_gain(mean, P, innov, H, R)
+        m_fast, P_fast = mean.copy(), P.copy()
+        K = ekf_update_in_place(m_fast, P_fast, innov, H[:, cols], cols, R,
+                                np.empty(P.size))
+        assert _rel(K, K_plain) < 1e-12
+        assert _rel(m_fast, m_plain) < 1e-12
+        assert _rel(P_fast, P_plain) < 1e-12
+        assert np.array_equal(P_fast, P_fast.T)           # exactly symmetric (syrk)
+        assert not np.allclose(P_fast, P)                 # it did change
+
+
+@pytest.mark.parametrize("mode", ["joseph", "bound"])
+def test_the_in_place_consider_update_equals_the_plain_one_on_random_states(mode):
+    from model.joint import consider_joint_update, consider_update_in_place, ekf_update_with_gain
+    rng = np.random.default_rng(12)
+    for trial in range(5):
+        P, H, cols, R, R_true, innov, mean = _random_joint_problem(rng, 30 + 20 * trial,
+                                                                   5 + trial)
+        B = rng.normal(size=P.shape)
+        Pc = P + B @ B.T / len(P)                         # a wider consider covariance
+        _, _, K = ekf_update_with_gain(mean, P, innov, H, R)
+        want = consider_joint_update(Pc, K, H, R_true, mode)
+        got = Pc.copy()
+        consider_update_in_place(got, K, H[:, cols], cols, R_true, mode, np.empty(P.size))
+        assert _rel(got, want) < 1e-12
+        assert np.array_equal(got, got.T)
+
+
+def _two_filters(consider):
+    return [JointFilter((0.3, -0.2, 10.0), np.diag([0.01, 0.02, 1e-3]), 4.0,
+                        consider=consider, reference=ref) for ref in (True, False)]
+
+
+@pytest.mark.parametrize("consider", [None, "joseph", "bound"])
+def test_the_joint_filter_in_place_equals_its_plain_reference_over_a_sequence(consider):
+    """Augment past the first allocation (200 features > 128), predict, update with the
+    gate, drop, augment again: the preallocated in-place filter's mean, covariance and
+    consider covariance are the plain steps' to 1e-12 relative."""
+    rng = np.random.default_rng(5)
+    filters = _two_filters(consider)
+    pts = np.column_stack([rng.uniform(-6, 6, 260), rng.uniform(-1, 1, 260),
+                           rng.uniform(3, 15, 260)])
+    Cq = np.diag([0.2, 0.03, 0.03]) ** 2
+    Ct = 2.0 * Cq
+    pose = (0.3, -0.2, 10.0)
+
+    def obs(ids, shift=0.0):
+        return [(int(k), camera_point(np.array([pose[0] + shift, pose[1], np.radians(pose[2])]),
+                                      pts[k], 4.0) + rng.normal(size=3) * 0.01, Cq)
+                for k in ids]
+
+    batches = [("add", range(0, 90)), ("add", range(90, 200)), ("predict", None),
+               ("update", rng.choice(200, 25, replace=False)), ("drop", range(10, 40)),
+               ("add", range(200, 260)), ("predict", None),
+               ("update", rng.choice(np.r_[0:10, 40:260], 30, replace=False))]
+    for what, ids in batches:
+        if what == "add":
+            o = obs(ids)
+            for jf in filters:
+                jf.add_many(o, [Ct] * len(o) if consider else None)
+        elif what == "predict":
+            F = np.array([[1.0, 0.0, 0.1], [0.0, 1.0, -0.05], [0.0, 0.0, 1.0]])
+            for jf in filters:
+                jf.predict((pose[0] + 0.5, pose[1], pose[2] + 3.0), F,
+                           np.diag([0.02, 0.02, 0.01]) ** 2)
+        elif what == "update":
+            o = obs(ids, shift=0.02)
+            outs = [jf.update(o, 16.27, [Ct] * len(o) if consider else None) for jf in filters]
+            assert outs[0] == outs[1]
+        else:
+            for jf in filters:
+                jf.drop(ids)
+        plain, fast = filters
+        assert plain.ids == fast.ids
+        assert _rel(fast.mean, plain.mean) < 1e-12
+        assert _rel(fast.cov, plain.cov) < 1e-12
+        if consider:
+            assert _rel(fast.consider_cov, plain.consider_cov) < 1e-12
+    assert fast._cap > 3 + 3 * 128                   # it grew past the first allocation
+    assert len(fast.mean) == 3 + 3 * len(fast.ids) == fast.cov.shape[0]
+    means, covs, considered = fast.marginals()      # all the blocks at once
+    for j, vid in enumerate(fast.ids):
+        m, c = fast.feature(vid)
+        assert np.array_equal(means[j], m) and np.array_equal(covs[j], c)
+        if consider:
+            assert np.array_equal(considered[j], fast.consider_feature(vid))
+    assert (considered is None) is (consider is None)
+
+
+def test_the_bundled_walk_with_the_in_place_filter_is_the_plain_filters(monkeypatch):
+    """End to end (the issue's target configuration, 12 looks): the same pairs used, the
+    same poses, means and covariances as with the plain reference steps, to rounding."""
+    import functools
+    import model.mapping as mapping
+    from world.odometry import OdometryNoise, dead_reckon
+    from world.render import render_look
+    from world.room import bundled_lab
+    from world.walk import bundled_walk
+    room, poses = bundled_lab(), bundled_walk()[:12]
+    dr = dead_reckon(poses, OdometryNoise(seed=1985))
+    cfg = mapping.WalkConfig(kalman="joint", methods=("robust",), confirm=2,
+                             column_error_px=mapping.CALIBRATED_COLUMN_ERROR_PX,
+                             ambiguity_gate="resolve", consider="bound")
+    looks = [render_look(room, p, seed=1985 + k) for k, p in enumerate(poses)]
+    walkers = {}
+    for ref in (True, False):
+        monkeypatch.setattr(mapping, "JointFilter",
+                            functools.partial(JointFilter, reference=ref))
+        w = mapping.Walker(room, cfg)
+        for k, p in enumerate(poses):
+            w.step(looks[k], p, dr[k], dr[k - 1] if k else None)
+        walkers[ref] = w
+    plain, fast = walkers[True], walkers[False]
+    assert plain.joint.reference and not fast.joint.reference
+    assert len(fast.joint.ids) > 100
+    for a, b in zip(plain.records, fast.records):
+        assert (a.matched, a.used, a.added, a.model_size) == (b.matched, b.used, b.added,
+                                                              b.model_size)
+        np.testing.assert_allclose(b.estimates["fused"], a.estimates["fused"],
+                                   rtol=1e-10, atol=1e-12)
+    assert plain.joint.ids == fast.joint.ids
+    assert _rel(fast.joint.cov, plain.joint.cov) < 1e-9
+    assert _rel(fast.joint.consider_cov, plain.joint.consider_cov) < 1e-9
+    for vid, v in fast.model.vertices.items():
+        u = plain.model.vertices[vid]
+        np.testing.assert_allclose(v.mean, u.mean, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(v.report_cov, u.report_cov, rtol=1e-8, atol=1e-14)
+
