@@ -82,7 +82,8 @@ from .evidence import Perception, _floor_stats, _mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
-    _mark_track_free, _pivot_seen_free, _safe_prefix, looked_free, near_visible_ft
+    _mark_track_free, _safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
+    pivot_radius_ft, pivot_ready
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, TwoLookSides
 from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
@@ -93,7 +94,7 @@ POSES = ("fused", "dead_reckoning")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
-PIVOTS = ("disc", "swept")            # what a pivot needs seen free (DriveConfig.pivot)
+PIVOTS = ("disc", "margin", "swept")  # what a pivot needs seen free (DriveConfig.pivot)
 EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
@@ -161,8 +162,10 @@ class DriveConfig:
                                           # obstacle within the radius
     pivot: str = "disc"                   # what a pivot in place needs seen free: "disc":
                                           # its whole circle (the footprint's half
-                                          # diagonal), whatever the angle; "swept": the
-                                          # cells the footprint, grown by the margin, sweeps
+                                          # diagonal), whatever the angle; "margin": that
+                                          # circle grown by the planning margin against the
+                                          # estimate's error (motion.pivot_radius_ft); "swept":
+                                          # the cells the footprint, grown by the margin, sweeps
                                           # through the angle (_pivot_seen_free)
     clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
                                           # passes anywhere in a passable cell; "centre":
@@ -233,6 +236,15 @@ class DriveConfig:
                                           # (the next step + near_visible_ft): the move cut
                                           # while it can still show, a pivot to bring it in
                                           # view, a look (motion.look_ahead); each cell once
+    pivot_ready: bool = False             # (a named option, not 1985) a move that ends the
+                                          # cycle is cut back to where the vehicle could still
+                                          # pivot (its circle seen free; motion.pivot_ready)
+    seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
+                                          # (a named option, not the dissertation's; measured,
+                                          # not adopted): A* where a cell within the pivot
+                                          # circle (half diagonal) of a never-seen cell costs
+                                          # 1 + W per ft, the path pulled taut outside them
+                                          # (planning.seen_search): paths keep to what was in view
 
 
 @dataclass
@@ -486,6 +498,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         if noise is not None else (0.0, 0.0)
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
     pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else None
+    pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
     tried: dict = {}                      # blocker cell -> places it was looked at from
     ahead_cells: set = set()              # cells the look-ahead has turned to (each once)
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
@@ -546,11 +559,13 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                                    prof.width_ft / 2 + prof.margin_ft,
                                    prof.length_ft / 2 + prof.margin_ft,
-                                   prof.radius_ft, pivot_sweep)
+                                   pivot_r, pivot_sweep)
+                if cfg.pivot_ready:
+                    seg = pivot_ready(seg, est, fm, pivot_r, goal, cfg.tolerance_ft)
                 left = path_length(pts)
                 if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
                     got = _looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
-                                        pivot_sweep, ahead_cells)
+                                        pivot_sweep, ahead_cells, pivot_r)
                     if got is not None:
                         seg, how = got
                         note += how
@@ -566,7 +581,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     # nothing known free ahead: face the path and look again
                     first = pts[1] if len(pts) > 1 else goal
                     t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
-                    seg = [Turn(round(t, 2))] if abs(t) > 1.0 else []
+                    seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
+                        pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
                 last_reason = ""
                 prev_path = pts
             except NoPath as exc:
@@ -580,9 +596,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
                 back = _back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
-                if (_disc_seen_free(fm, est.x, est.z, prof.radius_ft) if pivot_sweep is None
-                        else _pivot_seen_free(fm, est.x, est.z, est.heading_deg, t,
-                                              *pivot_sweep)):
+                if pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
                     seg = [Turn(round(t, 2))]
                     note += " (turning to look)"
                 elif back:

@@ -88,6 +88,21 @@ def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
     return bool((fm.cells[ii[near], jj[near]] == FREE).all())
 
 
+def pivot_radius_ft(prof: VehicleProfile, margin: bool = False) -> float:
+    """The circle a pivot in place needs seen free (``pivot="disc"``): the
+    footprint's half diagonal (``radius_ft``); with ``margin``
+    (``pivot="margin"``, a named option) plus the planning margin
+    (``margin_ft``) against the estimate's error, as a forward move keeps the
+    planning radius from known obstacles and ``pivot="swept"`` grows the
+    footprint by the margin.  The half diagonal alone leaves a pivot no room
+    for the estimate's error: in room 35 (oracle edges, ``--look-ahead``) the
+    estimate stood 0.19 ft off the truth at the end of a move, the circle
+    about it was seen free only because two cells of a box's side showed
+    free, and the true footprint hit the box's corner 2 deg into the turn
+    (docs/planner.md, "The planner's own ceiling")."""
+    return prof.radius_ft + (prof.margin_ft if margin else 0.0)
+
+
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
                      footprint, margin_ft: float, step_deg: float = 2.0) -> bool:
     """Every cell the footprint (``(width, length)``, grown by ``margin_ft`` on
@@ -112,6 +127,21 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     if ((i < 0) | (j < 0) | (i >= fm.shape[0]) | (j >= fm.shape[1])).any():
         return False
     return bool((fm.cells[i, j] == FREE).all())
+
+
+def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
+                  pivot_sweep=None, pivot_ft: float | None = None) -> bool:
+    """A pivot of ``angle_deg`` where the estimate stands may be made: by the
+    rule :func:`_safe_prefix` applies to every TURN (its circle of
+    ``pivot_ft``, by default :func:`pivot_radius_ft`, seen free, or with ``pivot_sweep`` the cells its
+    grown footprint sweeps, :func:`_pivot_seen_free`).  Every pivot the loop
+    issues outside a planned prefix (facing the path, turning to look) passes
+    it; before 2026-12-01 18:45 the turn that faces the path after a refused
+    prefix did not, and in room 35 it turned the vehicle into a box."""
+    if pivot_sweep is not None:
+        return _pivot_seen_free(fm, est.x, est.z, est.heading_deg, angle_deg, *pivot_sweep)
+    return _disc_seen_free(fm, est.x, est.z,
+                           pivot_radius_ft(prof) if pivot_ft is None else pivot_ft)
 
 
 HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
@@ -238,6 +268,49 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
     return out
 
 
+def pivot_ready(seg, est: State, fm: FloorMap, pivot_ft: float, goal=None,
+                tolerance_ft: float = 0.0):
+    """``DriveConfig.pivot_ready`` (a named option, not 1985): the cycle's
+    commands ``seg`` with a FORWARD that ends them cut back to the last point
+    (a quarter cell apart) where the vehicle could still pivot, its circle of
+    ``pivot_ft`` seen free (:func:`_disc_seen_free`), or dropped when it has
+    none 0.05 ft or more from its start.  The vehicle drives forward only, so
+    a move that ends where it cannot turn leaves it with nothing to do but
+    look ahead at cells too near to show ("cannot turn"); stopped where it
+    can still turn, it can look round and take another way.  ``seg``
+    unchanged when it ends in a pivot (already checked), within
+    ``tolerance_ft`` of the ``goal``, or when the vehicle already stands
+    where it cannot pivot (it may leave such a spot as before)."""
+    if not seg or not isinstance(seg[-1], Forward):
+        return list(seg)
+    if not _disc_seen_free(fm, est.x, est.z, pivot_ft):
+        return list(seg)
+    x, z, h = est.x, est.z, est.heading_deg
+    for c in seg[:-1]:
+        if isinstance(c, Turn):
+            h = wrap(h + c.angle_deg)
+        elif isinstance(c, Forward):
+            hr = math.radians(h)
+            x, z = x + c.distance_ft * math.sin(hr), z + c.distance_ft * math.cos(hr)
+        else:
+            return list(seg)              # an ARC or BACK: left as it is
+    d = seg[-1].distance_ft
+    hr = math.radians(h)
+    ux, uz = math.sin(hr), math.cos(hr)
+    if goal is not None and math.hypot(x + d * ux - goal[0], z + d * uz - goal[1]) <= tolerance_ft:
+        return list(seg)
+    step = fm.cell / 4
+    n = int(math.floor(d / step + 1e-9))
+    for t in [d] + [k * step for k in range(n, 0, -1) if k * step < d]:
+        if t < 0.05:
+            break
+        if _disc_seen_free(fm, x + t * ux, z + t * uz, pivot_ft):
+            if t == d:
+                return list(seg)
+            return list(seg[:-1]) + [Forward(round(math.floor(t * 1000) / 1000, 3))]
+    return list(seg[:-1])
+
+
 def _blocker(fm: FloorMap, safe: Passable, pts, near_ft: float):
     """Where the path's execution would stop for want of evidence: the first
     sample of the path (a quarter cell apart) outside the space seen free, or
@@ -350,7 +423,7 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
             # needs more than one look through it to be cleared; look again
             tried.append(here)
             return [], f" (looking again at ({u[0]:.1f}, {u[1]:.1f}))"
-        if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+        if _disc_seen_free(fm, est.x, est.z, pivot_radius_ft(prof, cfg.pivot == "margin")):
             return [Turn(round(off, 2))], f" (turning to look at ({u[0]:.1f}, {u[1]:.1f}))"
     seen_only = clearance_map(fm, prof.planning_radius_ft, "blocked", uncertain="blocked",
                               at=cfg.clearance_at)
@@ -360,7 +433,7 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
     cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
     seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
                        prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
-                       prof.radius_ft)
+                       pivot_radius_ft(prof, cfg.pivot == "margin"))
     if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
         return None
     return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
@@ -457,7 +530,7 @@ def look_ahead(seg, est: State, cell, near_ft: float, cell_ft: float):
 
 
 def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
-                  prof: VehicleProfile, pivot_sweep, done: set):
+                  prof: VehicleProfile, pivot_sweep, done: set, pivot_ft: float | None = None):
     """(commands, note) of ``DriveConfig.look_ahead`` for this cycle's safe
     ``seg``, or None to drive ``seg`` as it is: the first never-seen cell on
     the swept band of the path's next step + ``near_ft`` (+ two cells), not
@@ -472,7 +545,8 @@ def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen
     if not new:
         return None
     ok = _safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
-                      prof.length_ft / 2 + prof.margin_ft, prof.radius_ft, pivot_sweep)
+                      prof.length_ft / 2 + prof.margin_ft,
+                      pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
     if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):
         return None                       # its pivot (or move) breaks the safety rules
     done.add(fm.index(*cell))
