@@ -83,7 +83,7 @@ from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
     _mark_track_free, _safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
-    pivot_radius_ft, pivot_ready
+    pivot_radius_ft, pivot_ready, rest_of, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, TwoLookSides
 from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
@@ -94,7 +94,7 @@ POSES = ("fused", "dead_reckoning")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
-PIVOTS = ("disc", "margin", "swept")  # what a pivot needs seen free (DriveConfig.pivot)
+PIVOTS = ("disc", "margin", "swept", "small-swept")  # what a pivot needs seen free (.pivot)
 EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
@@ -166,7 +166,9 @@ class DriveConfig:
                                           # circle grown by the planning margin against the
                                           # estimate's error (motion.pivot_radius_ft); "swept":
                                           # the cells the footprint, grown by the margin, sweeps
-                                          # through the angle (_pivot_seen_free)
+                                          # through the angle (_pivot_seen_free); "small-swept":
+                                          # a turn up to SMALL_TURN_DEG (5) by its sweep, a
+                                          # larger one by the disc (motion._pivot_ok)
     clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
                                           # passes anywhere in a passable cell; "centre":
                                           # a cell's centre has the radius and every
@@ -497,7 +499,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
         if noise is not None else (0.0, 0.0)
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
-    pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else None
+    pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else \
+        (prof.footprint, prof.margin_ft, SMALL_TURN_DEG) if cfg.pivot == "small-swept" else None
     pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
     tried: dict = {}                      # blocker cell -> places it was looked at from
     ahead_cells: set = set()              # cells the look-ahead has turned to (each once)
@@ -561,7 +564,15 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    prof.length_ft / 2 + prof.margin_ft,
                                    pivot_r, pivot_sweep)
                 if cfg.pivot_ready:
-                    seg = pivot_ready(seg, est, fm, pivot_r, goal, cfg.tolerance_ft)
+                    rest = rest_of(cmds, seg)
+
+                    def goes_on(s, _, rest=rest):
+                        nxt = _safe_prefix(rest, s, safe, seen, prof.step_ft, None,
+                                           prof.width_ft / 2 + prof.margin_ft,
+                                           prof.length_ft / 2 + prof.margin_ft, pivot_r,
+                                           pivot_sweep)
+                        return any(isinstance(c, Forward) and c.distance_ft > 0.05 for c in nxt)
+                    seg = pivot_ready(seg, est, fm, pivot_r, goal, cfg.tolerance_ft, goes_on)
                 left = path_length(pts)
                 if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
                     got = _looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,

@@ -138,10 +138,25 @@ def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfi
     issues outside a planned prefix (facing the path, turning to look) passes
     it; before 2026-12-01 18:45 the turn that faces the path after a refused
     prefix did not, and in room 35 it turned the vehicle into a box."""
+    return _pivot_ok(fm, est.x, est.z, est.heading_deg, angle_deg,
+                     pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
+
+
+SMALL_TURN_DEG = 5.0         # pivot="small-swept": a turn this small needs only its sweep
+
+
+def _pivot_ok(fm: FloorMap, x: float, z: float, h: float, angle_deg: float, pivot_ft: float,
+              pivot_sweep=None) -> bool:
+    """The pivot rule: ``pivot_sweep`` ``(footprint, margin_ft)`` or
+    ``(footprint, margin_ft, up_to_deg)`` given and the turn no larger than
+    ``up_to_deg`` (all turns without it): the cells the grown footprint
+    sweeps (:func:`_pivot_seen_free`); otherwise the circle of ``pivot_ft``
+    seen free (:func:`_disc_seen_free`; none for ``pivot_ft`` 0)."""
     if pivot_sweep is not None:
-        return _pivot_seen_free(fm, est.x, est.z, est.heading_deg, angle_deg, *pivot_sweep)
-    return _disc_seen_free(fm, est.x, est.z,
-                           pivot_radius_ft(prof) if pivot_ft is None else pivot_ft)
+        up_to = pivot_sweep[2] if len(pivot_sweep) > 2 else math.inf
+        if abs(angle_deg) <= up_to:
+            return _pivot_seen_free(fm, x, z, h, angle_deg, pivot_sweep[0], pivot_sweep[1])
+    return pivot_ft <= 0 or _disc_seen_free(fm, x, z, pivot_ft)
 
 
 HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
@@ -212,11 +227,8 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
     fm = safe.fmap
     for c in next_segment(cmds, step):
         if isinstance(c, Turn):
-            if pivot_sweep is not None:
-                if not _pivot_seen_free(fm, x, z, h, c.angle_deg, *pivot_sweep):
-                    break                 # its sweep reaches space not seen free
-            elif pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
-                break                     # its pivot circle reaches space not seen free
+            if not _pivot_ok(fm, x, z, h, c.angle_deg, pivot_ft, pivot_sweep):
+                break                     # its circle (or sweep) reaches space not seen free
             out.append(c)
             h = wrap(h + c.angle_deg)
             turned += abs(c.angle_deg)
@@ -268,19 +280,37 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
     return out
 
 
+def rest_of(cmds, seg) -> list:
+    """The planned ``cmds`` left after the cycle's ``seg`` (a prefix of them,
+    its last FORWARD perhaps cut short, as :func:`_safe_prefix` and
+    :func:`~planner.trajectory.next_segment` give it)."""
+    if not seg:
+        return list(cmds)
+    k = len(seg) - 1
+    last, planned = seg[k], cmds[k]
+    rest = list(cmds[k + 1:])
+    if isinstance(last, Forward) and isinstance(planned, Forward) and \
+            planned.distance_ft > last.distance_ft + 1e-6:
+        rest.insert(0, Forward(planned.distance_ft - last.distance_ft))
+    return rest
+
+
 def pivot_ready(seg, est: State, fm: FloorMap, pivot_ft: float, goal=None,
-                tolerance_ft: float = 0.0):
+                tolerance_ft: float = 0.0, goes_on=None):
     """``DriveConfig.pivot_ready`` (a named option, not 1985): the cycle's
     commands ``seg`` with a FORWARD that ends them cut back to the last point
     (a quarter cell apart) where the vehicle could still pivot, its circle of
     ``pivot_ft`` seen free (:func:`_disc_seen_free`), or dropped when it has
     none 0.05 ft or more from its start.  The vehicle drives forward only, so
-    a move that ends where it cannot turn leaves it with nothing to do but
-    look ahead at cells too near to show ("cannot turn"); stopped where it
-    can still turn, it can look round and take another way.  ``seg``
-    unchanged when it ends in a pivot (already checked), within
-    ``tolerance_ft`` of the ``goal``, or when the vehicle already stands
-    where it cannot pivot (it may leave such a spot as before)."""
+    a move that ends where it can neither turn nor go on leaves it with
+    nothing to do but look at cells too near to show ("cannot turn");
+    stopped where it can still turn, it can look round and take another way.
+    ``goes_on(state, None)`` (or None: never), asked of the end's pose, says
+    whether the vehicle could drive on from there on what is seen now (the
+    loop asks :func:`_safe_prefix` of the plan's rest): then nothing is cut.
+    ``seg`` is also unchanged when it ends in a pivot (already checked),
+    within ``tolerance_ft`` of the ``goal``, or when the vehicle already
+    stands where it cannot pivot (it may leave such a spot as before)."""
     if not seg or not isinstance(seg[-1], Forward):
         return list(seg)
     if not _disc_seen_free(fm, est.x, est.z, pivot_ft):
@@ -297,7 +327,10 @@ def pivot_ready(seg, est: State, fm: FloorMap, pivot_ft: float, goal=None,
     d = seg[-1].distance_ft
     hr = math.radians(h)
     ux, uz = math.sin(hr), math.cos(hr)
-    if goal is not None and math.hypot(x + d * ux - goal[0], z + d * uz - goal[1]) <= tolerance_ft:
+    end = State(x + d * ux, z + d * uz, h)
+    if goal is not None and math.hypot(end.x - goal[0], end.z - goal[1]) <= tolerance_ft:
+        return list(seg)
+    if goes_on is not None and goes_on(end, None):
         return list(seg)
     step = fm.cell / 4
     n = int(math.floor(d / step + 1e-9))

@@ -11,7 +11,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
-from planner.motion import _safe_prefix, pivot_allowed, pivot_radius_ft, pivot_ready
+from planner.motion import _safe_prefix, pivot_allowed, pivot_radius_ft, pivot_ready, rest_of
 from planner.octree import FREE, OCCUPIED, UNKNOWN
 from planner.planning import path_cost, plan, seen_search, unseen_band
 from planner.search import astar, clearance_map, path_length
@@ -64,6 +64,29 @@ def test_a_pivot_needs_the_margin_seen_free_too():
     assert pivot_allowed(fm, est, -40.0, DEFAULT, (DEFAULT.footprint, DEFAULT.margin_ft))
 
 
+def test_a_small_turn_needs_only_its_sweep_under_small_swept():
+    # the vehicle at (-0.06, 0) facing +z; a never-seen cell x 0.5..0.75, z
+    # 0..0.25, its nearest point (0.5, 0) 0.56 ft away: inside the 0.64 ft
+    # circle, outside the footprint grown by the margin (x -0.61..0.49).
+    # Turning left (-3 deg) the grown right side, x = -0.06 + 0.55 cos 3 -
+    # along sin 3, only moves away for along > 0 (z > 0): its sweep is clear
+    from planner.motion import SMALL_TURN_DEG
+    fm = free_map()
+    fm.cells[fm.index(0.6, 0.1)] = UNKNOWN
+    est = State(-0.06, 0.0, 0.0)
+    small = (DEFAULT.footprint, DEFAULT.margin_ft, SMALL_TURN_DEG)
+    assert SMALL_TURN_DEG == 5.0
+    assert not pivot_allowed(fm, est, -3.0, DEFAULT)                 # the disc
+    assert pivot_allowed(fm, est, -3.0, DEFAULT, small)              # its sweep
+    assert not pivot_allowed(fm, est, -30.0, DEFAULT, small)         # beyond 5 deg: the disc
+    safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    assert _safe_prefix([Turn(-3.0)], est, safe, seen, 1.5, None, HALF, NOSE, DEFAULT.radius_ft,
+                        small) == [Turn(-3.0)]
+    assert _safe_prefix([Turn(-3.0)], est, safe, seen, 1.5, None, HALF, NOSE,
+                        DEFAULT.radius_ft) == []
+
+
 def test_room_35_turns_into_its_box_no_longer_with_the_margin():
     # oracle edges, --look-ahead, odometry noise seed 35 (bench/drive.py's room
     # 35): it hit the box x -0.885..0.665, z 9.969..11.22 2 deg into a pivot
@@ -111,6 +134,30 @@ def test_a_move_is_cut_back_to_where_the_vehicle_could_still_pivot():
     assert pivot_ready([Forward(1.5)], est, fm, r, (0.0, 3.0), 0.75) == [Forward(0.812)]
 
 
+def test_nothing_is_cut_where_the_vehicle_can_drive_on_from_the_end():
+    r = DEFAULT.radius_ft
+    fm = free_map()
+    fm.cells[fm.index(0.6, 1.3)] = UNKNOWN
+    est = State(0.0, 0.0, 0.0)
+    asked = []
+
+    def goes_on(end, _):
+        asked.append(end)
+        return True
+    assert pivot_ready([Forward(1.5)], est, fm, r, None, 0.0, goes_on) == [Forward(1.5)]
+    assert asked == [State(0.0, 1.5, 0.0)]                  # asked of the end's pose
+    assert pivot_ready([Forward(1.5)], est, fm, r, None, 0.0, lambda e, _: False) == \
+        [Forward(0.812)]
+
+
+def test_the_rest_of_the_plan_after_the_cycle():
+    cmds = [Turn(10.0), Forward(3.0), Turn(-45.0), Forward(2.0)]
+    assert rest_of(cmds, [Turn(10.0), Forward(1.5)]) == [Forward(1.5), Turn(-45.0), Forward(2.0)]
+    assert rest_of(cmds, [Turn(10.0), Forward(3.0)]) == [Turn(-45.0), Forward(2.0)]
+    assert rest_of(cmds, [Turn(10.0)]) == [Forward(3.0), Turn(-45.0), Forward(2.0)]
+    assert rest_of(cmds, []) == cmds
+
+
 def test_a_move_is_dropped_without_a_pivot_point_and_kept_where_none_is_now():
     est = State(0.0, 0.0, 0.0)
     fm = free_map()
@@ -144,6 +191,7 @@ def test_rig_drive_and_the_bench_take_pivot_ready_and_the_margin(monkeypatch, tm
     assert drive_config(monkeypatch, tmp_path).pivot_ready is False      # never the default
     assert drive_config(monkeypatch, tmp_path, "--pivot", "margin").pivot == "margin"
     assert drive_config(monkeypatch, tmp_path).pivot == "disc"
+    assert drive_config(monkeypatch, tmp_path, "--pivot", "small-swept").pivot == "small-swept"
 
 
 # --- 3. paths that keep to what was in view ---------------------------------------
