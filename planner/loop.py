@@ -83,7 +83,7 @@ from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
     _mark_track_free, _safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
-    pivot_radius_ft, pivot_ready, rest_of, SMALL_TURN_DEG
+    pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, TwoLookSides
 from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
@@ -238,9 +238,6 @@ class DriveConfig:
                                           # (the next step + near_visible_ft): the move cut
                                           # while it can still show, a pivot to bring it in
                                           # view, a look (motion.look_ahead); each cell once
-    pivot_ready: bool = False             # (a named option, not 1985) a move that ends the
-                                          # cycle is cut back to where the vehicle could still
-                                          # pivot (its circle seen free; motion.pivot_ready)
     seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
                                           # (a named option, not the dissertation's; measured,
                                           # not adopted): A* where a cell within the pivot
@@ -563,16 +560,6 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    prof.width_ft / 2 + prof.margin_ft,
                                    prof.length_ft / 2 + prof.margin_ft,
                                    pivot_r, pivot_sweep)
-                if cfg.pivot_ready:
-                    rest = rest_of(cmds, seg)
-
-                    def goes_on(s, _, rest=rest):
-                        nxt = _safe_prefix(rest, s, safe, seen, prof.step_ft, None,
-                                           prof.width_ft / 2 + prof.margin_ft,
-                                           prof.length_ft / 2 + prof.margin_ft, pivot_r,
-                                           pivot_sweep)
-                        return any(isinstance(c, Forward) and c.distance_ft > 0.05 for c in nxt)
-                    seg = pivot_ready(seg, est, fm, pivot_r, goal, cfg.tolerance_ft, goes_on)
                 left = path_length(pts)
                 if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
                     got = _looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,

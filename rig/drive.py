@@ -271,10 +271,6 @@ def add_loop_options(p) -> None:
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
                         "pivot until it is in view and look (not 1985; default off)")
-    p.add_argument("--pivot-ready", action="store_true",
-                   help="cut a move that ends the cycle back to where the vehicle could still "
-                        "pivot (its circle seen free), so it never stops where it cannot turn "
-                        "(not 1985; default off)")
     p.add_argument("--seen-cost", type=float, default=C.seen_cost, metavar="W",
                    help="plan paths that keep to what was in view: A* where a cell within the "
                         "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
@@ -313,7 +309,6 @@ def loop_config(args, goal, fail):
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,
                        look_ahead=args.look_ahead, seen_cost=args.seen_cost,
-                       pivot_ready=args.pivot_ready,
                        uncertain=args.uncertain, track_free=args.track_free,
                        goal_region=args.goal_region, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,

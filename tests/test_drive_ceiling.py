@@ -1,7 +1,8 @@
-"""The planner's own ceiling (issue 11, 2026-12-01): the pivot rules every
-turn the loop issues must pass (the room 35 collision), and paths that keep
-to what was in view (``DriveConfig.seen_cost``, ``--seen-cost``, a named
-option, off).  Hand-made floor maps, the costs and cells derived by hand;
+"""The planner's own ceiling (issue 11, 2026-12-01): the pivot rule every
+turn the loop issues must pass (the room 35 collision), the circle grown by
+the margin (``--pivot margin``), small turns by their sweep (``--pivot
+small-swept``), and paths that keep to what was in view (``--seen-cost``):
+named options, off.  Hand-made floor maps, the costs and cells derived by hand;
 room 35 against the world's exact geometry."""
 
 import math
@@ -11,7 +12,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
-from planner.motion import _safe_prefix, pivot_allowed, pivot_radius_ft, pivot_ready, rest_of
+from planner.motion import _safe_prefix, pivot_allowed, pivot_radius_ft
 from planner.octree import FREE, OCCUPIED, UNKNOWN
 from planner.planning import path_cost, plan, seen_search, unseen_band
 from planner.search import astar, clearance_map, path_length
@@ -107,94 +108,14 @@ def test_room_35_turns_into_its_box_no_longer_with_the_margin():
     assert "hit something" not in res.reason
 
 
-# --- 2. a move never ends where the vehicle cannot turn ---------------------------
-
-def test_a_move_is_cut_back_to_where_the_vehicle_could_still_pivot():
-    # the vehicle at the origin facing +z, FORWARD 1.5; a never-seen cell x
-    # 0.5..0.75, z 1.25..1.5 lies within the 0.64 ft circle about the end
-    # (0, 1.5) (nearest point (0.5, 1.5): 0.5 ft).  From (0, t), t < 1.25, its
-    # nearest point (0.5, 1.25) is sqrt(0.25 + (1.25 - t)^2) away: more than
-    # 0.6403 ft while 1.25 - t > sqrt(0.6403^2 - 0.25) = 0.4000, t < 0.8500;
-    # the last quarter-cell sample below it is t = 13 x 0.0625 = 0.8125, taken
-    # down to the thousandth (never past the point): 0.812
-    r = DEFAULT.radius_ft
-    fm = free_map()
-    fm.cells[fm.index(0.6, 1.3)] = UNKNOWN
-    est = State(0.0, 0.0, 0.0)
-    assert math.sqrt(r * r - 0.25) == pytest.approx(0.4000, abs=1e-3)
-    assert pivot_ready([Forward(1.5)], est, fm, r) == [Forward(0.812)]
-    assert pivot_ready([Turn(-5.0), Forward(1.5)], State(0.0, 0.0, 5.0), fm, r) == \
-        [Turn(-5.0), Forward(0.812)]
-    # nothing to cut: the end's circle seen free, or the move ends in a pivot
-    clear = free_map()
-    assert pivot_ready([Forward(1.5)], est, clear, r) == [Forward(1.5)]
-    assert pivot_ready([Forward(1.5), Turn(30.0)], est, fm, r) == [Forward(1.5), Turn(30.0)]
-    # the move ends within the tolerance of the goal: no pivot is needed there
-    assert pivot_ready([Forward(1.5)], est, fm, r, (0.0, 1.8), 0.75) == [Forward(1.5)]
-    assert pivot_ready([Forward(1.5)], est, fm, r, (0.0, 3.0), 0.75) == [Forward(0.812)]
-
-
-def test_nothing_is_cut_where_the_vehicle_can_drive_on_from_the_end():
-    r = DEFAULT.radius_ft
-    fm = free_map()
-    fm.cells[fm.index(0.6, 1.3)] = UNKNOWN
-    est = State(0.0, 0.0, 0.0)
-    asked = []
-
-    def goes_on(end, _):
-        asked.append(end)
-        return True
-    assert pivot_ready([Forward(1.5)], est, fm, r, None, 0.0, goes_on) == [Forward(1.5)]
-    assert asked == [State(0.0, 1.5, 0.0)]                  # asked of the end's pose
-    assert pivot_ready([Forward(1.5)], est, fm, r, None, 0.0, lambda e, _: False) == \
-        [Forward(0.812)]
-
-
-def test_the_rest_of_the_plan_after_the_cycle():
-    cmds = [Turn(10.0), Forward(3.0), Turn(-45.0), Forward(2.0)]
-    assert rest_of(cmds, [Turn(10.0), Forward(1.5)]) == [Forward(1.5), Turn(-45.0), Forward(2.0)]
-    assert rest_of(cmds, [Turn(10.0), Forward(3.0)]) == [Turn(-45.0), Forward(2.0)]
-    assert rest_of(cmds, [Turn(10.0)]) == [Forward(3.0), Turn(-45.0), Forward(2.0)]
-    assert rest_of(cmds, []) == cmds
-
-
-def test_a_move_is_dropped_without_a_pivot_point_and_kept_where_none_is_now():
-    est = State(0.0, 0.0, 0.0)
-    fm = free_map()
-    i0, j = fm.index(0.6, 0.6)
-    i1, _ = fm.index(0.6, 2.1)
-    fm.cells[i0:i1, j] = UNKNOWN                    # x 0.5..0.75, z 0.5..2.0
-    # with a 0.68 ft circle: from (0, 0) the strip's nearest point (0.5, 0.5)
-    # is 0.707 ft away (a pivot here is allowed); from (0, 0.0625) already
-    # sqrt(0.25 + 0.4375^2) = 0.664 ft, and nearer on to (0, 1.5): no point
-    # of the move will do
-    assert pivot_ready([Forward(1.5)], est, fm, 0.68) == []
-    # the vehicle standing where it cannot pivot may leave as before
-    assert pivot_ready([Forward(1.5)], State(0.0, 0.3, 0.0), fm, 0.68) == [Forward(1.5)]
-
-
-def test_the_loop_drives_the_tiny_room_pivot_ready():
-    from planner.tiny import GOAL, tiny_room
-    from world.odometry import OdometryNoise
-    for eyes in ("truth", "depth"):
-        res = run(tiny_room(), State(0.0, 0.0, 0.0),
-                  DriveConfig(goal=GOAL, eyes=eyes, pivot_ready=True),
-                  noise=OdometryNoise(seed=1), keep_maps=False)
-        assert res.reached, res.reason
-        assert res.collisions == 0
-        assert res.travelled_ft <= 1.3 * res.optimal_ft
-
-
-def test_rig_drive_and_the_bench_take_pivot_ready_and_the_margin(monkeypatch, tmp_path):
+def test_rig_drive_and_the_bench_take_the_pivot_rules(monkeypatch, tmp_path):
     from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path, "--pivot-ready").pivot_ready is True
-    assert drive_config(monkeypatch, tmp_path).pivot_ready is False      # never the default
     assert drive_config(monkeypatch, tmp_path, "--pivot", "margin").pivot == "margin"
-    assert drive_config(monkeypatch, tmp_path).pivot == "disc"
+    assert drive_config(monkeypatch, tmp_path).pivot == "disc"          # the default
     assert drive_config(monkeypatch, tmp_path, "--pivot", "small-swept").pivot == "small-swept"
 
 
-# --- 3. paths that keep to what was in view ---------------------------------------
+# --- 2. paths that keep to what was in view ---------------------------------------
 
 def test_the_unseen_band_holds_the_cells_within_the_radius_of_a_never_seen_square():
     # one unknown cell (i, j) = (32, 32), x 0..0.25, z 0..0.25; radius 0.79 ft =
