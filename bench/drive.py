@@ -19,9 +19,9 @@ taut, and time).
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
     python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire
     python bench/drive.py --rooms 20 --eyes depth [--no-noise]    # the planner's own share
-    python bench/drive.py --rooms 20 --eyes depth --no-noise --look-ahead   # look before the blind zone
     python bench/drive.py --rooms 20 --eyes depth --pivot small-swept   # a small turn by its sweep
     python bench/drive.py --rooms 20 --eyes depth --seen-cost 8   # paths that keep to what was in view
+    python bench/drive.py --rooms 20 --eyes depth --no-noise --look-ahead   # look before the blind zone
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features

@@ -233,17 +233,17 @@ class DriveConfig:
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
                                           # them and look again, never driven near (plan())
-    look_ahead: bool = False              # (a named option, not 1985) before a move, the
-                                          # first never-seen cell on the path's swept band
-                                          # (the next step + near_visible_ft): the move cut
-                                          # while it can still show, a pivot to bring it in
-                                          # view, a look (motion.look_ahead); each cell once
     seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
                                           # (a named option, not the dissertation's; measured,
                                           # not adopted): A* where a cell within the pivot
                                           # circle (half diagonal) of a never-seen cell costs
                                           # 1 + W per ft, the path pulled taut outside them
                                           # (planning.seen_search): paths keep to what was in view
+    look_ahead: bool = False              # (a named option, not 1985) before a move, the
+                                          # first never-seen cell on the path's swept band
+                                          # (the next step + near_visible_ft): the move cut
+                                          # while it can still show, a pivot to bring it in
+                                          # view, a look (motion.look_ahead); each cell once
 
 
 @dataclass
