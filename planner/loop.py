@@ -81,7 +81,7 @@ from vehicle.sim import State, Vehicle, odometry_covariance
 from .evidence import Perception, _floor_stats, _mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
+from .motion import _back_prefix, _fetch_evidence, _looked_ahead, \
     _mark_track_free, _safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
     pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes

@@ -97,7 +97,7 @@ def pivot_radius_ft(prof: VehicleProfile, margin: bool = False) -> float:
     footprint by the margin.  The half diagonal alone leaves a pivot no room
     for the estimate's error: in room 35 (oracle edges, ``--look-ahead``) the
     estimate stood 0.19 ft off the truth at the end of a move, the circle
-    about it was seen free only because two cells of a box's side showed
+    about it was seen free only because three cells of a box's side showed
     free, and the true footprint hit the box's corner 2 deg into the turn
     (docs/planner.md, "The planner's own ceiling")."""
     return prof.radius_ft + (prof.margin_ft if margin else 0.0)
@@ -132,9 +132,9 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
 def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
                   pivot_sweep=None, pivot_ft: float | None = None) -> bool:
     """A pivot of ``angle_deg`` where the estimate stands may be made: by the
-    rule :func:`_safe_prefix` applies to every TURN (its circle of
-    ``pivot_ft``, by default :func:`pivot_radius_ft`, seen free, or with ``pivot_sweep`` the cells its
-    grown footprint sweeps, :func:`_pivot_seen_free`).  Every pivot the loop
+    rule :func:`_safe_prefix` applies to every TURN (:func:`_pivot_ok`: its
+    circle of ``pivot_ft``, by default :func:`pivot_radius_ft`, seen free, or
+    with ``pivot_sweep`` the cells its grown footprint sweeps).  Every pivot the loop
     issues outside a planned prefix (facing the path, turning to look) passes
     it; before 2026-12-01 18:45 the turn that faces the path after a refused
     prefix did not, and in room 35 it turned the vehicle into a box."""

@@ -183,9 +183,10 @@ def add_loop_options(p) -> None:
     p.add_argument("--pivot", choices=PIVOTS, default=C.pivot,
                    help="what a pivot in place needs seen free: disc: the whole circle of the "
                         "footprint's half diagonal, whatever the angle (default); margin: that "
-                        "circle grown by the planning margin against the estimate's error; swept: the "
-                        "cells the footprint, grown by the margin, sweeps through the angle; small-swept: a "
-                        "turn up to 5 deg by its sweep, a larger one by the disc")
+                        "circle grown by the planning margin against the estimate's error; "
+                        "swept: the cells the footprint, grown by the margin, sweeps through "
+                        "the angle; small-swept: a turn up to 5 deg by its sweep, a larger one "
+                        "by the disc")
     p.add_argument("--clearance-at", choices=("anywhere", "centre"), default=C.clearance_at,
                    help="where in a passable cell the vehicle's centre may be: anywhere (the "
                         "dissertation's cross-section test, default) or its centre, every "
