@@ -19,6 +19,8 @@ taut, and time).
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
     python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire
     python bench/drive.py --rooms 20 --eyes depth [--no-noise]    # the planner's own share
+    python bench/drive.py --rooms 20 --eyes depth --pivot small-swept   # a small turn by its sweep
+    python bench/drive.py --rooms 20 --eyes depth --seen-cost 8   # paths that keep to what was in view
     python bench/drive.py --rooms 20 --eyes depth --no-noise --look-ahead   # look before the blind zone
     python bench/drive.py --rooms 100 --losses --sight-lines low   # sight lines free only where they run low
 
@@ -305,7 +307,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "progress": args.progress, "reverse": args.reverse,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,

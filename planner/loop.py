@@ -81,8 +81,9 @@ from vehicle.sim import State, Vehicle, odometry_covariance
 from .evidence import Perception, _floor_stats, _mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import _back_prefix, _disc_seen_free, _fetch_evidence, _looked_ahead, \
-    _mark_track_free, _pivot_seen_free, _safe_prefix, looked_free, near_visible_ft
+from .motion import _back_prefix, _fetch_evidence, _looked_ahead, \
+    _mark_track_free, _safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
+    pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -94,7 +95,7 @@ POSES = ("fused", "dead_reckoning")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
-PIVOTS = ("disc", "swept")            # what a pivot needs seen free (DriveConfig.pivot)
+PIVOTS = ("disc", "margin", "swept", "small-swept")  # what a pivot needs seen free (.pivot)
 EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
@@ -162,9 +163,13 @@ class DriveConfig:
                                           # obstacle within the radius
     pivot: str = "disc"                   # what a pivot in place needs seen free: "disc":
                                           # its whole circle (the footprint's half
-                                          # diagonal), whatever the angle; "swept": the
-                                          # cells the footprint, grown by the margin, sweeps
-                                          # through the angle (_pivot_seen_free)
+                                          # diagonal), whatever the angle; "margin": that
+                                          # circle grown by the planning margin against the
+                                          # estimate's error (motion.pivot_radius_ft); "swept":
+                                          # the cells the footprint, grown by the margin, sweeps
+                                          # through the angle (_pivot_seen_free); "small-swept":
+                                          # a turn up to SMALL_TURN_DEG (5) by its sweep, a
+                                          # larger one by the disc (motion._pivot_ok)
     clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
                                           # passes anywhere in a passable cell; "centre":
                                           # a cell's centre has the radius and every
@@ -229,6 +234,12 @@ class DriveConfig:
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
                                           # them and look again, never driven near (plan())
+    seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
+                                          # (a named option, not the dissertation's; measured,
+                                          # not adopted): A* where a cell within the pivot
+                                          # circle (half diagonal) of a never-seen cell costs
+                                          # 1 + W per ft, the path pulled taut outside them
+                                          # (planning.seen_search): paths keep to what was in view
     look_ahead: bool = False              # (a named option, not 1985) before a move, the
                                           # first never-seen cell on the path's swept band
                                           # (the next step + near_visible_ft): the move cut
@@ -495,7 +506,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
         if noise is not None else (0.0, 0.0)
     near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
-    pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else None
+    pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else \
+        (prof.footprint, prof.margin_ft, SMALL_TURN_DEG) if cfg.pivot == "small-swept" else None
+    pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
     tried: dict = {}                      # blocker cell -> places it was looked at from
     ahead_cells: set = set()              # cells the look-ahead has turned to (each once)
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
@@ -556,11 +569,11 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                                    prof.width_ft / 2 + prof.margin_ft,
                                    prof.length_ft / 2 + prof.margin_ft,
-                                   prof.radius_ft, pivot_sweep)
+                                   pivot_r, pivot_sweep)
                 left = path_length(pts)
                 if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
                     got = _looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
-                                        pivot_sweep, ahead_cells)
+                                        pivot_sweep, ahead_cells, pivot_r)
                     if got is not None:
                         seg, how = got
                         note += how
@@ -576,7 +589,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     # nothing known free ahead: face the path and look again
                     first = pts[1] if len(pts) > 1 else goal
                     t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
-                    seg = [Turn(round(t, 2))] if abs(t) > 1.0 else []
+                    seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
+                        pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
                 last_reason = ""
                 prev_path = pts
             except NoPath as exc:
@@ -590,9 +604,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
                 back = _back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
-                if (_disc_seen_free(fm, est.x, est.z, prof.radius_ft) if pivot_sweep is None
-                        else _pivot_seen_free(fm, est.x, est.z, est.heading_deg, t,
-                                              *pivot_sweep)):
+                if pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
                     seg = [Turn(round(t, 2))]
                     note += " (turning to look)"
                 elif back:

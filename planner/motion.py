@@ -88,6 +88,21 @@ def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
     return bool((fm.cells[ii[near], jj[near]] == FREE).all())
 
 
+def pivot_radius_ft(prof: VehicleProfile, margin: bool = False) -> float:
+    """The circle a pivot in place needs seen free (``pivot="disc"``): the
+    footprint's half diagonal (``radius_ft``); with ``margin``
+    (``pivot="margin"``, a named option) plus the planning margin
+    (``margin_ft``) against the estimate's error, as a forward move keeps the
+    planning radius from known obstacles and ``pivot="swept"`` grows the
+    footprint by the margin.  The half diagonal alone leaves a pivot no room
+    for the estimate's error: in room 35 (oracle edges, ``--look-ahead``) the
+    estimate stood 0.19 ft off the truth at the end of a move, the circle
+    about it was seen free only because three cells of a box's side showed
+    free, and the true footprint hit the box's corner 2 deg into the turn
+    (docs/planner.md, "The planner's own ceiling")."""
+    return prof.radius_ft + (prof.margin_ft if margin else 0.0)
+
+
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
                      footprint, margin_ft: float, step_deg: float = 2.0) -> bool:
     """Every cell the footprint (``(width, length)``, grown by ``margin_ft`` on
@@ -112,6 +127,36 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     if ((i < 0) | (j < 0) | (i >= fm.shape[0]) | (j >= fm.shape[1])).any():
         return False
     return bool((fm.cells[i, j] == FREE).all())
+
+
+def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
+                  pivot_sweep=None, pivot_ft: float | None = None) -> bool:
+    """A pivot of ``angle_deg`` where the estimate stands may be made: by the
+    rule :func:`_safe_prefix` applies to every TURN (:func:`_pivot_ok`: its
+    circle of ``pivot_ft``, by default :func:`pivot_radius_ft`, seen free, or
+    with ``pivot_sweep`` the cells its grown footprint sweeps).  Every pivot the loop
+    issues outside a planned prefix (facing the path, turning to look) passes
+    it; before 2026-12-01 18:45 the turn that faces the path after a refused
+    prefix did not, and in room 35 it turned the vehicle into a box."""
+    return _pivot_ok(fm, est.x, est.z, est.heading_deg, angle_deg,
+                     pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
+
+
+SMALL_TURN_DEG = 5.0         # pivot="small-swept": a turn this small needs only its sweep
+
+
+def _pivot_ok(fm: FloorMap, x: float, z: float, h: float, angle_deg: float, pivot_ft: float,
+              pivot_sweep=None) -> bool:
+    """The pivot rule: ``pivot_sweep`` ``(footprint, margin_ft)`` or
+    ``(footprint, margin_ft, up_to_deg)`` given and the turn no larger than
+    ``up_to_deg`` (all turns without it): the cells the grown footprint
+    sweeps (:func:`_pivot_seen_free`); otherwise the circle of ``pivot_ft``
+    seen free (:func:`_disc_seen_free`; none for ``pivot_ft`` 0)."""
+    if pivot_sweep is not None:
+        up_to = pivot_sweep[2] if len(pivot_sweep) > 2 else math.inf
+        if abs(angle_deg) <= up_to:
+            return _pivot_seen_free(fm, x, z, h, angle_deg, pivot_sweep[0], pivot_sweep[1])
+    return pivot_ft <= 0 or _disc_seen_free(fm, x, z, pivot_ft)
 
 
 HALF_FOV_DEG = 19.5          # atan(64 / 180): half the 128-px picture's width
@@ -182,11 +227,8 @@ def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float
     fm = safe.fmap
     for c in next_segment(cmds, step):
         if isinstance(c, Turn):
-            if pivot_sweep is not None:
-                if not _pivot_seen_free(fm, x, z, h, c.angle_deg, *pivot_sweep):
-                    break                 # its sweep reaches space not seen free
-            elif pivot_ft > 0 and not _disc_seen_free(fm, x, z, pivot_ft):
-                break                     # its pivot circle reaches space not seen free
+            if not _pivot_ok(fm, x, z, h, c.angle_deg, pivot_ft, pivot_sweep):
+                break                     # its circle (or sweep) reaches space not seen free
             out.append(c)
             h = wrap(h + c.angle_deg)
             turned += abs(c.angle_deg)
@@ -350,7 +392,7 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
             # needs more than one look through it to be cleared; look again
             tried.append(here)
             return [], f" (looking again at ({u[0]:.1f}, {u[1]:.1f}))"
-        if _disc_seen_free(fm, est.x, est.z, prof.radius_ft):
+        if _disc_seen_free(fm, est.x, est.z, pivot_radius_ft(prof, cfg.pivot == "margin")):
             return [Turn(round(off, 2))], f" (turning to look at ({u[0]:.1f}, {u[1]:.1f}))"
     seen_only = clearance_map(fm, prof.planning_radius_ft, "blocked", uncertain="blocked",
                               at=cfg.clearance_at)
@@ -360,7 +402,7 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
     cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
     seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
                        prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
-                       prof.radius_ft)
+                       pivot_radius_ft(prof, cfg.pivot == "margin"))
     if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
         return None
     return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
@@ -457,7 +499,7 @@ def look_ahead(seg, est: State, cell, near_ft: float, cell_ft: float):
 
 
 def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
-                  prof: VehicleProfile, pivot_sweep, done: set):
+                  prof: VehicleProfile, pivot_sweep, done: set, pivot_ft: float | None = None):
     """(commands, note) of ``DriveConfig.look_ahead`` for this cycle's safe
     ``seg``, or None to drive ``seg`` as it is: the first never-seen cell on
     the swept band of the path's next step + ``near_ft`` (+ two cells), not
@@ -472,7 +514,8 @@ def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen
     if not new:
         return None
     ok = _safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
-                      prof.length_ft / 2 + prof.margin_ft, prof.radius_ft, pivot_sweep)
+                      prof.length_ft / 2 + prof.margin_ft,
+                      pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
     if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):
         return None                       # its pivot (or move) breaks the safety rules
     done.add(fm.index(*cell))

@@ -20,9 +20,9 @@ import numpy as np
 from vehicle.profile import VehicleProfile
 from vehicle.sim import State
 from .floormap import FloorMap, true_floor_map
-from .octree import UNCERTAIN
+from .octree import UNCERTAIN, UNKNOWN
 from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
-    path_length
+    path_length, segment_samples
 from .trajectory import shorten, to_commands
 
 if TYPE_CHECKING:
@@ -162,9 +162,70 @@ def goal_target(p: Passable, start, goal, radius: float):
     return float(cx.ravel()[k]), float(cz.ravel()[k])
 
 
+def unseen_band(fm: FloorMap, radius: float) -> np.ndarray:
+    """(nz, nx) bool: the cells where the vehicle's centre would have a
+    never-seen (UNKNOWN) cell within ``radius`` (some point of that cell's
+    square at most ``radius`` from this cell's centre): a path through them
+    asks a look to show that cell before the vehicle may drive or pivot
+    there (:mod:`planner.motion`: the swept width, its nose, the pivot's
+    circle).  Cells off the map do not count."""
+    r = radius / fm.cell
+    n = int(math.ceil(r + 0.5))
+    d = np.maximum(np.abs(np.arange(-n, n + 1)) - 0.5, 0.0)
+    kernel = ((d[:, None] ** 2 + d[None, :] ** 2) <= r * r + 1e-9).astype(np.uint8)
+    unknown = (fm.cells == UNKNOWN).astype(np.uint8)
+    return cv2.dilate(unknown, kernel, borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
+
+
+def path_cost(fm: FloorMap, pts, band: np.ndarray, weight: float) -> float:
+    """The length of the polyline, each piece (a quarter cell) in a cell of
+    ``band`` counted ``1 + weight`` times (the search's cost under
+    ``DriveConfig.seen_cost``)."""
+    total = 0.0
+    for a, b in zip(pts[:-1], pts[1:]):
+        s = segment_samples(a, b, fm.cell / 4)
+        mid = (s[:-1] + s[1:]) / 2
+        ln = np.hypot(*np.diff(s, axis=0).T)
+        i = np.clip(np.floor((mid[:, 1] - fm.z0) / fm.cell).astype(int), 0, fm.shape[0] - 1)
+        j = np.clip(np.floor((mid[:, 0] - fm.x0) / fm.cell).astype(int), 0, fm.shape[1] - 1)
+        total += float((ln * (1.0 + weight * band[i, j])).sum())
+    return total
+
+
+def seen_search(p: Passable, start, goal, band: np.ndarray, weight: float):
+    """The path that keeps to what was in view (``DriveConfig.seen_cost``, a
+    named option, not the dissertation's): A* over the passable cells, each
+    step into a cell of ``band`` (:func:`unseen_band`) costing ``1 +
+    weight`` times its length, then pulled taut only through cells outside
+    the band or beside the cells the search itself passed in it (so the
+    pulling does not cut back across never-seen space)."""
+    raw = astar(p, start, goal, band * float(weight))
+    fm = p.fmap
+    on = np.zeros(fm.shape, np.uint8)
+    for q in raw:
+        i, j = fm.index(*q)
+        if fm.inside(i, j):
+            on[i, j] = 1
+    near = cv2.dilate(on, np.ones((3, 3), np.uint8)) > 0
+    taut = Passable(p.ok & (~band | near), p.clearance, p.blocked, fm, p.radius, p.unknown,
+                    p.at)
+    return shorten(taut, raw)
+
+
 def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
           nearest: bool = True):
     search = SEARCHES[cfg.search]
+    if cfg.seen_cost < 0:
+        raise ValueError(f"seen_cost must be 0 (off) or more, not {cfg.seen_cost!r}")
+    band = unseen_band(fm, cfg.profile.radius_ft) if cfg.seen_cost > 0 else None
+
+    def find(p, a, b):
+        if band is None:
+            return shorten(p, search(p, a, b))
+        return seen_search(p, a, b, band, cfg.seen_cost)
+
+    def cost(q):
+        return path_length(q) if band is None else path_cost(fm, q, band, cfg.seen_cost)
     r = cfg.profile.planning_radius_ft
     p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
                                     at=cfg.clearance_at), (est.x, est.z))
@@ -179,11 +240,11 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
         # lab's drive round the far side of the table, and lost it)
         return tuple(map(float, q)) == tuple(map(float, goal))
     try:
-        pts = shorten(p, search(p, start, aim))
+        pts = find(p, start, aim)
         note = "path to the goal" if aim == tuple(map(float, goal)) else \
             f"path to the goal's disc at ({aim[0]:.2f}, {aim[1]:.2f})"
         old = _still_good(p, prev, start) if prev and to_goal(prev[-1]) else None
-        if old is not None and path_length(old) <= path_length(pts) + cfg.keep_ft:
+        if old is not None and cost(old) <= cost(pts) + cfg.keep_ft:
             pts, note = old, "path to the goal (kept)"
         elif prev:
             note = "path to the goal (replanned)"
@@ -195,7 +256,7 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
         target = _nearest_reachable(p, start, goal)
         if target is None or math.hypot(target[0] - start[0], target[1] - start[1]) < 0.3:
             raise exc
-        pts = shorten(p, search(p, start, target))
+        pts = find(p, start, target)
         note = f"goal not reachable ({exc}); toward ({target[0]:.1f}, {target[1]:.1f})"
     cmds = to_commands(pts, est.heading_deg, cfg.profile.turning_radius_ft, p)
     return pts, cmds, note

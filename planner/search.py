@@ -221,9 +221,13 @@ _STEPS = [(-1, 0, 1.0), (1, 0, 1.0), (0, -1, 1.0), (0, 1, 1.0),
           (-1, -1, SQRT2), (-1, 1, SQRT2), (1, -1, SQRT2), (1, 1, SQRT2)]
 
 
-def astar(p: Passable, start, goal) -> list[tuple[float, float]]:
+def astar(p: Passable, start, goal, extra: np.ndarray | None = None
+          ) -> list[tuple[float, float]]:
     """A* over the passable cells from the start's cell to the goal's cell;
-    returns the polyline start, cell centres..., goal (room x, z)."""
+    returns the polyline start, cell centres..., goal (room x, z).  ``extra``
+    (an (nz, nx) array >= 0, or None) makes a step into a cell cost its length
+    times 1 + ``extra`` there (the octile heuristic stays a lower bound, so
+    the path is the cheapest on the grid)."""
     check_ends(p, start, goal)
     fm = p.fmap
     si, sj = fm.index(*start)
@@ -253,7 +257,7 @@ def astar(p: Passable, start, goal) -> list[tuple[float, float]]:
                 continue
             if di and dj and not (ok[i + di, j] and ok[i, j + dj]):
                 continue
-            ng = gc + w
+            ng = gc + (w if extra is None else w * (1.0 + extra[a, b]))
             if ng < g[a, b]:
                 g[a, b] = ng
                 parent[a, b] = (i, j)

@@ -182,8 +182,11 @@ def add_loop_options(p) -> None:
                    help="the vehicle profile's planning margin (default: the profile's)")
     p.add_argument("--pivot", choices=PIVOTS, default=C.pivot,
                    help="what a pivot in place needs seen free: disc: the whole circle of the "
-                        "footprint's half diagonal, whatever the angle (default); swept: the "
-                        "cells the footprint, grown by the margin, sweeps through the angle")
+                        "footprint's half diagonal, whatever the angle (default); margin: that "
+                        "circle grown by the planning margin against the estimate's error; "
+                        "swept: the cells the footprint, grown by the margin, sweeps through "
+                        "the angle; small-swept: a turn up to 5 deg by its sweep, a larger one "
+                        "by the disc")
     p.add_argument("--clearance-at", choices=("anywhere", "centre"), default=C.clearance_at,
                    help="where in a passable cell the vehicle's centre may be: anywhere (the "
                         "dissertation's cross-section test, default) or its centre, every "
@@ -276,6 +279,10 @@ def add_loop_options(p) -> None:
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
                         "pivot until it is in view and look (not 1985; default off)")
+    p.add_argument("--seen-cost", type=float, default=C.seen_cost, metavar="W",
+                   help="plan paths that keep to what was in view: A* where a cell within the "
+                        "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
+                        "(not the dissertation's search; default 0: off)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -296,6 +303,8 @@ def loop_config(args, goal, fail):
              f"and a turn in degrees, both positive")
     if args.expire_uncertain < 0:
         fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
+    if not 0 <= args.seen_cost < 1e6:
+        fail(f"--seen-cost {args.seen_cost!r}: an extra cost per ft, 0 (off) or more")
     if args.margin is not None and not 0 <= args.margin < 10:
         fail(f"--margin {args.margin!r}: a planning margin in feet, at least 0 and under 10")
     profile = replace(DEFAULT, reverse=args.reverse == "on",
@@ -307,7 +316,7 @@ def loop_config(args, goal, fail):
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, progress=args.progress,
-                       look_ahead=args.look_ahead,
+                       look_ahead=args.look_ahead, seen_cost=args.seen_cost,
                        uncertain=args.uncertain, track_free=args.track_free,
                        goal_region=args.goal_region, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,
