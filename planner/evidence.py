@@ -1,7 +1,7 @@
 """The loop's map of its evidence (Chapter IV's volumetric model as the closed
 loop keeps it): every look into the occupancy octree and the floor map
 (:class:`Perception`), and what the map is told beside the looks — the room's
-walls as a floor plan (:func:`_mark_walls`).
+walls as a floor plan (:func:`mark_walls`).
 
 Each look enters as a floor range scan (:func:`planner.perception.floor_scan`,
 or :func:`planner.depth_eyes.depth_floor_scan` for the diagnostic depth eyes):
@@ -30,9 +30,9 @@ from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_be
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
-from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, _pack, _unpack, \
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
-    _sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
+    sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
 from .perception import CX_128, FOCAL_128, floor_scan
 
@@ -71,7 +71,7 @@ class FreeProvenance:
         if not self.misses:
             return out
         keys = np.fromiter(self.misses.keys(), np.int64, len(self.misses))
-        k = _unpack(keys)
+        k = unpack(keys)
         y = (k[:, 1] + 0.5) * res
         inband = (y + res / 2 > band[0]) & (y - res / 2 < band[1])
         for key, (kx, _, kz) in zip(keys[inband].tolist(), k[inband].tolist()):
@@ -109,14 +109,14 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
     in its column per mechanism (``provenance``), and whether the vehicle's
     dead-reckoned ``track`` (its ``footprint`` at each pose) or the start
     spot (``start_clear_ft`` about the first pose) lies on it
-    (:func:`planner.motion._mark_track_free`, the loop's own marking).
+    (:func:`planner.motion.mark_track_free`, the loop's own marking).
     Each item: ``{"ij", "xz", "coverage", "depth_ft", "misses": {mechanism: n},
     "mechanisms": [names]}``, ``depth_ft`` how far inside an obstacle the
     cell's centre lies (0: outside it, a cell the obstacle covers in part).
     Given ``hit_keys`` (:attr:`Perception.hit_keys`: the cells any look hit),
     each item also says whether any look ever hit its column (``"hit"``)."""
     from .floormap import true_floor_map
-    from .motion import _mark_track_free
+    from .motion import mark_track_free
     ex = fm.extent()
     margin = max(bounds[0] - ex[0], ex[1] - bounds[1], bounds[2] - ex[2], ex[3] - bounds[3],
                  0.0) + fm.cell
@@ -132,7 +132,7 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
                                   (TRACK, track, 0.0, footprint)):
         m = type(fm)(np.full(fm.shape, UNKNOWN, np.uint8), fm.x0, fm.z0, fm.cell)
         if poses:
-            _mark_track_free(m, poses, fp, disc)
+            mark_track_free(m, poses, fp, disc)
         marks[name] = m.cells == FREE
     res = fm.cell
     cols = provenance.columns(res, band)
@@ -141,7 +141,7 @@ def free_obstacle_cells(fm: FloorMap, obstacles, bounds, provenance: FreeProvena
     obs = np.asarray(obstacles, float).reshape(-1, 4)
     hit_cols = None
     if hit_keys is not None:
-        hk = _unpack(np.asarray(hit_keys, np.int64))
+        hk = unpack(np.asarray(hit_keys, np.int64))
         hit_cols = set(zip(hk[:, 0].tolist(), hk[:, 2].tolist()))
     out = []
     for (i, j), c in zip(ij.tolist(), cover.tolist()):
@@ -296,7 +296,7 @@ class Perception:
         def record(values, update, lazy_eval=False):
             out = type(tree).updateNodes(tree, values, update, lazy_eval)
             if not update and values is not None and len(values):
-                keys = _pack(tree._key_of(values))
+                keys = pack(tree.key_of(values))
                 for ks, name in (tag(keys) if callable(tag) else [(keys, tag)]):
                     prov.add(ks, name, self.look_no)
             return out
@@ -473,7 +473,7 @@ class Perception:
         bound), at least a cell, before its end; the part nearer than its
         start is seen over, not proven free, and left as it was (counted in
         :attr:`seen_over`)."""
-        along = _sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
+        along = sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
         if along is None:
             return 0
         samples, dist, n = along
@@ -513,9 +513,9 @@ class Perception:
             return None
 
         def keys_of(ends):
-            along = _sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
+            along = sight_samples(left, ends, res, None, self.near_ft, self.near_ft)
             return np.zeros(0, np.int64) if along is None else \
-                np.unique(_pack(self.tree._key_of(cell_centres(along[0], res))))
+                np.unique(pack(self.tree.key_of(cell_centres(along[0], res))))
 
         to_hits, between = keys_of(hits), keys_of(proven)
 
@@ -548,12 +548,12 @@ class Perception:
             return 0
         xyz = key_centres(cand, res)
         # the cell and its 8 neighbours against this look's hits
-        k = _unpack(cand)
+        k = unpack(cand)
         near_hit = np.zeros(len(cand), bool)
         look_keys = np.asarray(look_keys, np.int64)
         for di in (-1, 0, 1):
             for dj in (-1, 0, 1):
-                near_hit |= np.isin(_pack(k + np.array([di, 0, dj])), look_keys)
+                near_hit |= np.isin(pack(k + np.array([di, 0, dj])), look_keys)
         # the column of each cell: v = s * (u * a + b), a, b the levelled
         # right and forward axes of the camera (floor_scan's "axis" placement)
         a = R[[0, 2], 0]
@@ -629,7 +629,7 @@ class Perception:
         show = ~revived & (lo >= 0) & (lo < occ_lo)
         if not show.any():
             return
-        k = _unpack(keys[show])
+        k = unpack(keys[show])
         i = k[:, 2] - int(round(fm.z0 / res))
         j = k[:, 0] - int(round(fm.x0 / res))
         ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
@@ -736,7 +736,7 @@ def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
     return free.all(1)
 
 
-def _mark_walls(fm: FloorMap, bounds) -> None:
+def mark_walls(fm: FloorMap, bounds) -> None:
     """The floor plan: every cell reaching past the walls is occupied."""
     nz, nx = fm.shape
     xs = fm.x0 + np.arange(nx + 1) * fm.cell
@@ -747,7 +747,7 @@ def _mark_walls(fm: FloorMap, bounds) -> None:
     fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
 
 
-def _floor_stats(model: "Perception") -> dict:
+def floor_stats(model: "Perception") -> dict:
     """What the floor in view did in one drive (planner.appearance)."""
     from .appearance import floor_greys
     g = floor_greys(model.floor_hist)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, _classify, _unpack, free_below, leaves, \
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, classify, unpack, free_below, leaves, \
     logodds_at
 
 FLOOR_Y = 3.0          # the floor plane in room coordinates (Y down, cameras at Y = 0)
@@ -120,7 +120,7 @@ def _project_touched(tree, fm: FloorMap, band, free_band, free_looks: int) -> di
     masks = {st: np.zeros(fm.shape, bool) for st in (FREE, UNCERTAIN, OCCUPIED)}
     if not len(cache.keys):
         return masks
-    k = _unpack(cache.keys)
+    k = unpack(cache.keys)
     lo = cache.logodds
     y = (k[:, 1] + 0.5) * res
     h = res / 2
@@ -131,7 +131,7 @@ def _project_touched(tree, fm: FloorMap, band, free_band, free_looks: int) -> di
     j = k[:, 0] - int(round(fm.x0 / res))
     inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
     state = np.full(len(lo), UNKNOWN, np.uint8)
-    state[inband] = _classify(lo[inband], tree.getOccupancyThresLog(), free_below(free_looks))
+    state[inband] = classify(lo[inband], tree.getOccupancyThresLog(), free_below(free_looks))
     for st, mask in masks.items():
         m = (infree if st == FREE else inband) & inside & (state == st)
         mask[i[m], j[m]] = True

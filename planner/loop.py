@@ -78,11 +78,11 @@ import numpy as np
 from vehicle.commands import Forward, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, odometry_covariance
-from .evidence import Perception, _floor_stats, _mark_walls
+from .evidence import Perception, floor_stats, mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import _back_prefix, _fetch_evidence, _looked_ahead, \
-    _mark_track_free, _safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
+from .motion import back_prefix, fetch_evidence, looked_ahead, \
+    mark_track_free, safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
     pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
@@ -185,11 +185,11 @@ class DriveConfig:
                                           # path, then turn +35 / -70 deg in place;
                                           # "evidence" (measured, not adopted): look at
                                           # where the path lacks it, from where it shows
-                                          # (_fetch_evidence)
+                                          # (fetch_evidence)
     track_free: str = "poses"             # free where the vehicle stood: "poses": its
                                           # footprint at each pose; "swept" (a named
                                           # option): every pose between as well, shrunk
-                                          # by the margin (_mark_track_free)
+                                          # by the margin (mark_track_free)
     progress: str = "moved"               # what resets the count toward max_stuck:
                                           # "moved": any motion; "evidence" (measured, not
                                           # adopted): a shorter way left than ever, or new
@@ -546,15 +546,15 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             if known is None:             # before the first look: the clear spot set down in
                 known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
                                   cfg.start_clear_ft + 1.0)
-                _mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
+                mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
             model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov,
                          look.left_bi if cfg.floor_eyes != "off" else None,
                          look.range_left if cfg.eyes == "depth" else None)
             fm = model.floor_map([(est.x, est.z), goal])
-            _mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
+            mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                              prof.margin_ft if cfg.track_free == "swept" else None)
             if cfg.known_walls:
-                _mark_walls(fm, room.bounds)
+                mark_walls(fm, room.bounds)
             known = fm
             safe = clearance_map(fm, prof.planning_radius_ft,
                                  "blocked" if cfg.safety == "strict" else "free",
@@ -566,13 +566,13 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             fetching = False
             try:
                 pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
-                seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
+                seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                                    prof.width_ft / 2 + prof.margin_ft,
                                    prof.length_ft / 2 + prof.margin_ft,
                                    pivot_r, pivot_sweep)
                 left = path_length(pts)
                 if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
-                    got = _looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
+                    got = looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
                                         pivot_sweep, ahead_cells, pivot_r)
                     if got is not None:
                         seg, how = got
@@ -580,7 +580,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                         fetching = True   # its pivot is the look: no sweep instead
                 if not fetching and not any(isinstance(c, Forward) for c in seg) and \
                         cfg.look_around == "evidence":
-                    got = _fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
+                    got = fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
                     if got is not None:
                         seg, how = got
                         note += how
@@ -603,7 +603,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
-                back = _back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
+                back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
                 if pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
                     seg = [Turn(round(t, 2))]
                     note += " (turning to look)"
@@ -665,7 +665,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
                        cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match,
                        model.features if cfg.occupied == "model" else None,
-                       _floor_stats(model) if cfg.floor_eyes != "off" else {},
+                       floor_stats(model) if cfg.floor_eyes != "off" else {},
                        model.expired_total if cfg.expire_uncertain else None)
 
 

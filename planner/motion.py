@@ -2,16 +2,16 @@
 loop, :mod:`planner.loop`): the vehicle never drives into space no look has
 shown free.
 
-* :func:`_safe_prefix`: the first ``step`` ft of the planned commands, each
+* :func:`safe_prefix`: the first ``step`` ft of the planned commands, each
   forward move cut where its swept width (and nose) would enter a cell not
   seen free or come within the vehicle's radius of an occupied or uncertain
   cell; a pivot needs its circle (or, ``pivot="swept"``, its sweep) seen free;
 * what a look can show: :func:`looked_free` (the field of view just looked
   at), :func:`near_visible_ft` (nothing nearer is in the picture);
-* the vehicle's own track as free space (:func:`_mark_track_free`);
+* the vehicle's own track as free space (:func:`mark_track_free`);
 * fetching evidence when it cannot move (``look_around="evidence"``, a named
   option): the blocking cells, a viewpoint to look at them from, backing off
-  (:func:`_fetch_evidence`).
+  (:func:`fetch_evidence`).
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from vehicle.profile import VehicleProfile
 from vehicle.sim import State
 from .floormap import FloorMap
 from .octree import FREE, UNCERTAIN, UNKNOWN
-from .planning import _escape_start
+from .planning import escape_start
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
 
@@ -48,7 +48,7 @@ def swept_poses(track, step_ft: float = 0.25, step_deg: float = 10.0) -> list:
     return out
 
 
-def _mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0,
+def mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0,
                      swept_margin: float | None = None) -> None:
     """Where the vehicle has stood is free: its footprint rectangle at every
     dead-reckoned pose (and, with ``disc_ft``, a disc of that radius about the
@@ -132,7 +132,7 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
 def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
                   pivot_sweep=None, pivot_ft: float | None = None) -> bool:
     """A pivot of ``angle_deg`` where the estimate stands may be made: by the
-    rule :func:`_safe_prefix` applies to every TURN (:func:`_pivot_ok`: its
+    rule :func:`safe_prefix` applies to every TURN (:func:`_pivot_ok`: its
     circle of ``pivot_ft``, by default :func:`pivot_radius_ft`, seen free, or
     with ``pivot_sweep`` the cells its grown footprint sweeps).  Every pivot the loop
     issues outside a planned prefix (facing the path, turning to look) passes
@@ -208,7 +208,7 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
     return ok.all(1)
 
 
-def _safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
+def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
                  seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
                  nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None):
     """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
@@ -319,7 +319,7 @@ def _viewpoint(fm: FloorMap, safe_seen: Passable, est: State, target, near_ft: f
     ``target`` can be looked at: between ``near_ft`` + 0.3 ft and ``near_ft`` +
     ``far_ft`` from it (nearer, a look proves nothing there), not within 0.5 ft
     of a place in ``tried``, the nearest such place first.  None without one."""
-    p = _escape_start(safe_seen, (est.x, est.z))
+    p = escape_start(safe_seen, (est.x, est.z))
     si, sj = fm.index(est.x, est.z)
     if not fm.inside(si, sj) or not p.ok[si, sj]:
         return None
@@ -343,17 +343,17 @@ def _viewpoint(fm: FloorMap, safe_seen: Passable, est: State, target, near_ft: f
     return None
 
 
-def _back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProfile) -> list:
+def back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProfile) -> list:
     """``[BACK d]``: as far as ``dist`` (at most the profile's step) straight
     back along the heading, cut by the same rules as a forward move
-    (:func:`_safe_prefix` on the heading turned round: the swept width and
+    (:func:`safe_prefix` on the heading turned round: the swept width and
     the tail seen free, nothing known within the radius); ``[]`` when less
     than 0.05 ft is allowed."""
     dist = min(dist, prof.step_ft)
     if dist <= 0.05:
         return []
     behind = State(est.x, est.z, wrap(est.heading_deg + 180.0))
-    seg = _safe_prefix([Forward(dist)], behind, safe, seen, dist, None,
+    seg = safe_prefix([Forward(dist)], behind, safe, seen, dist, None,
                        prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
                        0.0)
     d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
@@ -363,7 +363,7 @@ def _back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehiclePro
 LOOKS_PER_VIEWPOINT = 3      # looks at one blocker from one place before trying another
 
 
-def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft: float,
+def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft: float,
                     prof: VehicleProfile, cfg, tried: dict):
     """(commands, note) that go and get the evidence the path lacks, or None.
     The place where the path's execution stops (:func:`_blocker`: a cell not
@@ -383,7 +383,7 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
     looked = sum(math.hypot(q[0] - here[0], q[1] - here[1]) <= 0.5 for q in tried)
     if d < near_ft + 0.2 and prof.reverse and abs(off) <= HALF_FOV_DEG - 4.0:
         # too near to show, and ahead: back straight off until it shows
-        seg = _back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
+        seg = back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
         if seg:
             return seg, f" (backing off to look at ({u[0]:.1f}, {u[1]:.1f}))"
     if d >= near_ft + 0.2 and looked < LOOKS_PER_VIEWPOINT:
@@ -400,7 +400,7 @@ def _fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft
     if vp is None or len(vp) < 2:
         return None
     cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
-    seg = _safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
+    seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
                        prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
                        pivot_radius_ft(prof, cfg.pivot == "margin"))
     if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
@@ -416,7 +416,7 @@ def first_unseen_on_band(fm: FloorMap, pts, half_width: float, ahead_ft: float):
     :func:`_band_seen` does) enters within the first ``ahead_ft`` of the path,
     and that no look has ever seen (UNKNOWN): its centre (x, z), or None when
     that whole band has been seen (cells off the map are left to
-    :func:`_safe_prefix`)."""
+    :func:`safe_prefix`)."""
     left = ahead_ft
     q = fm.cell / 4
     offs = np.arange(-half_width, half_width + 1e-9, q)
@@ -463,7 +463,7 @@ def look_ahead(seg, est: State, cell, near_ft: float, cell_ft: float):
     already too near to show (the look came too late), or the commands never
     bring the vehicle that near and so need no cut.  Only pivots and straight
     moves are cut (an ARC leaves ``seg`` as it is).  The caller checks the
-    result against the safety rules (:func:`_safe_prefix`)."""
+    result against the safety rules (:func:`safe_prefix`)."""
     far = near_ft + cell_ft
     x, z, h = est.x, est.z, est.heading_deg
     if math.hypot(cell[0] - x, cell[1] - z) < far:
@@ -498,14 +498,14 @@ def look_ahead(seg, est: State, cell, near_ft: float, cell_ft: float):
     return None
 
 
-def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
+def looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
                   prof: VehicleProfile, pivot_sweep, done: set, pivot_ft: float | None = None):
     """(commands, note) of ``DriveConfig.look_ahead`` for this cycle's safe
     ``seg``, or None to drive ``seg`` as it is: the first never-seen cell on
     the swept band of the path's next step + ``near_ft`` (+ two cells), not
     turned to before (``done``), looked at while it can still show
     (:func:`look_ahead`); the new commands must pass
-    :func:`_safe_prefix` whole (its pivot included)."""
+    :func:`safe_prefix` whole (its pivot included)."""
     half_width = prof.width_ft / 2 + prof.margin_ft
     cell = first_unseen_on_band(fm, pts, half_width, prof.step_ft + near_ft + 2 * fm.cell)
     if cell is None or fm.index(*cell) in done:
@@ -513,7 +513,7 @@ def _looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen
     new = look_ahead(seg, est, cell, near_ft, fm.cell)
     if not new:
         return None
-    ok = _safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
+    ok = safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
                       prof.length_ft / 2 + prof.margin_ft,
                       pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
     if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):

@@ -73,10 +73,10 @@ class Octree(pyoctomap.OcTree):
     redraws from all leaves as before."""
 
     def __init__(self, resolution: float):
-        self.touched: list[np.ndarray] = []      # packed keys (:func:`_pack`) per update
+        self.touched: list[np.ndarray] = []      # packed keys (:func:`pack`) per update
         self.log_complete = True
 
-    def _key_of(self, coords) -> np.ndarray:
+    def key_of(self, coords) -> np.ndarray:
         # OctoMap's own key: the coordinate as a float point3d, then
         # floor(coordinate / resolution) (OcTreeBaseImpl::coordToKey)
         c = np.asarray(coords, np.float32).astype(np.float64).reshape(-1, 3)
@@ -86,7 +86,7 @@ class Octree(pyoctomap.OcTree):
         out = super().updateNodes(values, update, lazy_eval)
         if values is not None and len(values):
             if isinstance(values, np.ndarray) and values.dtype.kind == "f":
-                self.touched.append(_pack(self._key_of(values)))
+                self.touched.append(pack(self.key_of(values)))
             else:
                 self.log_complete = False
         return out
@@ -138,7 +138,7 @@ def free_below(free_looks: int = 1) -> float:
     return 0.0 if free_looks == 1 else MISS_LOGODDS * (free_looks - 1) - 1e-3
 
 
-def _classify(lo, occ_lo: float, free_lo: float):
+def classify(lo, occ_lo: float, free_lo: float):
     """OCCUPIED at or above ``occ_lo``; UNCERTAIN (a possible obstacle) from 0;
     FREE below ``free_lo``; UNKNOWN between (seen through too few times)."""
     lo = np.asarray(lo, float)
@@ -147,7 +147,7 @@ def _classify(lo, occ_lo: float, free_lo: float):
 
 
 def _state(tree, node, free_lo: float = 0.0) -> int:
-    return int(_classify(node.getLogOdds(), tree.getOccupancyThresLog(), free_lo))
+    return int(classify(node.getLogOdds(), tree.getOccupancyThresLog(), free_lo))
 
 
 def insert_rays(tree: pyoctomap.OcTree, points: np.ndarray, origin, max_range: float = -1.0
@@ -163,15 +163,15 @@ def insert_rays(tree: pyoctomap.OcTree, points: np.ndarray, origin, max_range: f
 _KEY_OFFSET = 1 << 20          # 21 bits per axis: +-2**20 cells
 
 
-def _pack(keys: np.ndarray) -> np.ndarray:
+def pack(keys: np.ndarray) -> np.ndarray:
     """Integer cell keys (N, 3) as one int64 each, ordered as the rows are
     lexicographically (x, then y, then z)."""
     k = keys.astype(np.int64) + _KEY_OFFSET
     return (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
 
 
-def _unpack(packed: np.ndarray) -> np.ndarray:
-    """The (N, 3) integer cell keys of :func:`_pack`."""
+def unpack(packed: np.ndarray) -> np.ndarray:
+    """The (N, 3) integer cell keys of :func:`pack`."""
     p = np.asarray(packed, np.int64)
     mask = (1 << 21) - 1
     return np.stack([(p >> 42) & mask, (p >> 21) & mask, p & mask], 1) - _KEY_OFFSET
@@ -183,7 +183,7 @@ def cell_centres(points, res: float) -> np.ndarray:
     pts = np.asarray(points, float).reshape(-1, 3)
     if not len(pts):
         return pts
-    return (_unpack(np.unique(_pack(np.floor(pts / res)))) + 0.5) * res
+    return (unpack(np.unique(pack(np.floor(pts / res)))) + 0.5) * res
 
 
 def feature_cells(mean, cov, res: float, sigmas: float = 2.0) -> np.ndarray:
@@ -305,8 +305,8 @@ def insert_look(tree: pyoctomap.OcTree, origin, points, covs=None, spans=(),
     if not len(cells):
         return 0
     cells = cell_centres(cells, res)
-    ends = _pack(np.floor(pts / res))
-    new = ~np.isin(_pack(np.floor(cells / res)), ends)
+    ends = pack(np.floor(pts / res))
+    new = ~np.isin(pack(np.floor(cells / res)), ends)
     return mark_occupied(tree, cells[new])
 
 
@@ -336,15 +336,15 @@ def leaves(tree: pyoctomap.OcTree, bbx_min=None, bbx_max=None, free_looks: int =
         keep = ((c + s[:, None] / 2 > np.asarray(bbx_min)) &
                 (c - s[:, None] / 2 < np.asarray(bbx_max))).all(1)
         c, s, lo = c[keep], s[keep], lo[keep]
-    state = _classify(lo, tree.getOccupancyThresLog(), free_below(free_looks))
+    state = classify(lo, tree.getOccupancyThresLog(), free_below(free_looks))
     return c, s, state
 
 
 def logodds_at(tree: pyoctomap.OcTree, packed_keys: np.ndarray) -> np.ndarray:
-    """The log-odds of the cells with the given packed keys (:func:`_pack`),
+    """The log-odds of the cells with the given packed keys (:func:`pack`),
     read from the tree (NaN for a cell not in it: unknown)."""
     res = tree.getResolution()
-    centres = (_unpack(packed_keys) + 0.5) * res
+    centres = (unpack(packed_keys) + 0.5) * res
     out = np.full(len(centres), np.nan)
     search = tree.search
     for n, c in enumerate(centres):
@@ -359,7 +359,7 @@ def memory_bytes(tree: pyoctomap.OcTree) -> int:
     return int(tree.memoryUsage())
 
 
-def _sight_samples(origin, ends, res: float, stop_short, start_ft: float, begin_ft: float):
+def sight_samples(origin, ends, res: float, stop_short, start_ft: float, begin_ft: float):
     """Samples half a cell apart along each sight line ``origin -> end``, from
     ``begin_ft`` to ``stop_short`` (default one cell) before the end; a line
     reaching no farther than ``start_ft`` has none.  ``(samples, their
@@ -387,7 +387,7 @@ def mark_free_rays(tree: pyoctomap.OcTree, origin, ends, stop_short: float | Non
     ``start_ft`` on, stopping ``stop_short`` (default one cell) before each
     end; the ends are not hit.  Returns the number of cells."""
     res = tree.getResolution()
-    along = _sight_samples(origin, ends, res, stop_short, start_ft, start_ft)
+    along = sight_samples(origin, ends, res, stop_short, start_ft, start_ft)
     if along is None:
         return 0
     cells = cell_centres(along[0], res)
@@ -396,14 +396,14 @@ def mark_free_rays(tree: pyoctomap.OcTree, origin, ends, stop_short: float | Non
 
 
 def cell_keys(points, res: float) -> np.ndarray:
-    """The packed keys (:func:`_pack`) of the cells holding ``points``, one per point."""
+    """The packed keys (:func:`pack`) of the cells holding ``points``, one per point."""
     pts = np.asarray(points, float).reshape(-1, 3)
-    return _pack(np.floor(pts / res)) if len(pts) else np.zeros(0, np.int64)
+    return pack(np.floor(pts / res)) if len(pts) else np.zeros(0, np.int64)
 
 
 def key_centres(packed_keys: np.ndarray, res: float) -> np.ndarray:
     """The centres of the cells of packed keys (:func:`cell_keys`)."""
-    return (_unpack(np.asarray(packed_keys, np.int64)) + 0.5) * res
+    return (unpack(np.asarray(packed_keys, np.int64)) + 0.5) * res
 
 
 def mark_assumed_free(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: float = 0.0,
@@ -425,7 +425,7 @@ def mark_keys_free(tree: pyoctomap.OcTree, keys) -> int:
     """One miss for each packed cell key; returns how many."""
     keys = np.asarray(keys, np.int64)
     if len(keys):
-        tree.updateNodes(np.ascontiguousarray((_unpack(keys) + 0.5) * tree.getResolution()),
+        tree.updateNodes(np.ascontiguousarray((unpack(keys) + 0.5) * tree.getResolution()),
                          False)
     return len(keys)
 
@@ -436,7 +436,7 @@ def assumed_free_keys(tree: pyoctomap.OcTree, origin, ends, hit_keys, start_ft: 
     them (a caller that holds the assumption back until more evidence comes)."""
     res = tree.getResolution()
     none = np.zeros(0, np.int64)
-    along = _sight_samples(origin, ends, res, stop_short, start_ft, 0.0)
+    along = sight_samples(origin, ends, res, stop_short, start_ft, 0.0)
     if along is None:
         return none
     samples, dist, n = along

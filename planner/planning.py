@@ -83,14 +83,14 @@ def _still_good(p: Passable, prev, start) -> list | None:
     return None
 
 
-ESCAPE_FT = 1.0              # as far as _safe_prefix lets the vehicle leave a too-near spot
+ESCAPE_FT = 1.0              # as far as safe_prefix lets the vehicle leave a too-near spot
 
 
-def _escape_start(p: Passable, start) -> Passable:
+def escape_start(p: Passable, start) -> Passable:
     """When the estimate stands nearer an obstacle than the planning radius
     (a feature seen late, or a fix that moved the estimate), the cells within
     ``ESCAPE_FT`` of it that are no nearer to any obstacle count passable, so
-    the search can lead the vehicle away; :func:`_safe_prefix` allows exactly
+    the search can lead the vehicle away; :func:`safe_prefix` allows exactly
     those moves.  Otherwise the planner refuses the start and the vehicle
     stays put until it gives up."""
     fm = p.fmap
@@ -227,7 +227,7 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     def cost(q):
         return path_length(q) if band is None else path_cost(fm, q, band, cfg.seen_cost)
     r = cfg.profile.planning_radius_ft
-    p = _escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
+    p = escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
                                     at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
     aim = tuple(map(float, goal))

@@ -433,7 +433,7 @@ def line_of_sight(p: Passable, a, b) -> bool:
     if p.at == "centre":
         # a passable cell's centre has the radius; every point between needs its
         # own, except in cells passable for another reason (leading the vehicle
-        # away from a spot nearer an obstacle than its radius: planning._escape_start)
+        # away from a spot nearer an obstacle than its radius: planning.escape_start)
         escape = p.ok[i, j] & (p.clearance[i, j] < p.radius - 1e-9)
         return bool((escape | (point_clearance(p, s) >= p.radius - 1e-9)).all())
     return bool(p.ok[i, j].all())

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from rig.scene import flat
-from world.room import FLOOR_Y, _q, full_box, make_room
+from world.room import FLOOR_Y, full_box, make_room, quad
 
 BOUNDS = (-4.0, 4.0, -2.0, 10.0)
 BOX = ((1.2, 2.6), (FLOOR_Y - 5.0, FLOOR_Y), (3.5, 4.5))
@@ -48,11 +48,11 @@ def tiny_room():
     quads = full_box("box", BOX[0], BOX[1], BOX[2], bands(1, 0, *BOX[0], greys=(14, 3, 9)),
                      bands(2, 2, *BOX[2], greys=(12, 2, 8)), flat(9))
     quads += [
-        _q("back wall", 2, z1, (x0, x1), (y0, y1), bands(3, 0, x0, x1)),
-        _q("front wall", 2, z0, (x0, x1), (y0, y1), bands(4, 0, x0, x1)),
-        _q("left wall", 0, x0, (y0, y1), (z0, z1), bands(5, 2, z0, z1)),
-        _q("right wall", 0, x1, (y0, y1), (z0, z1), bands(6, 2, z0, z1)),
-        _q("floor", 1, y1, (x0, x1), (z0, z1), flat(6)),
-        _q("ceiling", 1, y0, (x0, x1), (z0, z1), flat(12)),
+        quad("back wall", 2, z1, (x0, x1), (y0, y1), bands(3, 0, x0, x1)),
+        quad("front wall", 2, z0, (x0, x1), (y0, y1), bands(4, 0, x0, x1)),
+        quad("left wall", 0, x0, (y0, y1), (z0, z1), bands(5, 2, z0, z1)),
+        quad("right wall", 0, x1, (y0, y1), (z0, z1), bands(6, 2, z0, z1)),
+        quad("floor", 1, y1, (x0, x1), (z0, z1), flat(6)),
+        quad("ceiling", 1, y0, (x0, x1), (z0, z1), flat(12)),
     ]
     return make_room("tiny room", quads, [(BOX[0], BOX[2])], BOUNDS, ceiling_y=y0)

@@ -156,7 +156,7 @@ def test_a_start_too_near_an_obstacle_may_be_left_but_not_approached():
     """The planner leads the vehicle away from an obstacle it stands too near
     (within 1 ft, never nearer to anything) instead of refusing the start."""
     from planner.floormap import FloorMap
-    from planner.planning import _escape_start
+    from planner.planning import escape_start
     from planner.octree import FREE, OCCUPIED
     from planner.search import astar, clearance_map
     cells = np.full((40, 40), FREE, np.uint8)          # 10 ft square, 0.25 ft cells
@@ -166,13 +166,13 @@ def test_a_start_too_near_an_obstacle_may_be_left_but_not_approached():
     p = clearance_map(fm, DEFAULT.planning_radius_ft, "blocked")
     i, j = fm.index(*start)
     assert not p.ok[i, j]
-    q = _escape_start(p, start)
+    q = escape_start(p, start)
     assert q.ok[i, j]
     # nothing nearer the obstacle than the start became passable
     assert not (q.ok & ~p.ok & (p.clearance < p.clearance[i, j])).any()
     path = astar(q, start, (0.125, -4.0))              # away from the obstacle: found
     assert math.hypot(path[-1][0] - 0.125, path[-1][1] + 4.0) < 0.25
-    assert _escape_start(q, start) is q                # an allowed start is left alone
+    assert escape_start(q, start) is q                # an allowed start is left alone
 
 
 def test_across_sight_growth_drops_the_range_error_only():
@@ -238,7 +238,7 @@ def test_a_blank_look_carves_by_assumption_only_past_a_near_zone_seen_free():
     # free on the known map; a blank face right in front shows nothing either
     from planner.floormap import empty_map
     from planner.evidence import Perception
-    from planner.motion import _mark_track_free
+    from planner.motion import mark_track_free
     from planner.octree import FREE, UNKNOWN, VolumeOfInterest, query
     from world.pose import Pose
     est = State(0.0, 0.0, 0.0)
@@ -257,7 +257,7 @@ def test_a_blank_look_carves_by_assumption_only_past_a_near_zone_seen_free():
     model, y = blank_look(unseen, "always")                        # the default: as before
     assert query(model.tree, [0.0, y, 5.0]) == FREE
     clear = empty_map((0.0, 0.0, 0.0, 0.0), 0.25, 3.0)
-    _mark_track_free(clear, [est], DEFAULT.footprint, 2.5)           # the clear spot set down in
+    mark_track_free(clear, [est], DEFAULT.footprint, 2.5)           # the clear spot set down in
     model, y = blank_look(clear)
     assert query(model.tree, [0.0, y, 5.0]) == FREE
     assert query(model.tree, [0.0, y, 8.5]) == UNKNOWN

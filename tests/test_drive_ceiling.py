@@ -12,7 +12,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
-from planner.motion import _safe_prefix, pivot_allowed, pivot_radius_ft
+from planner.motion import safe_prefix, pivot_allowed, pivot_radius_ft
 from planner.octree import FREE, OCCUPIED, UNKNOWN
 from planner.planning import path_cost, plan, seen_search, unseen_band
 from planner.search import astar, clearance_map, path_length
@@ -48,8 +48,8 @@ def test_a_pivot_needs_the_margin_seen_free_too():
     safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
     seen = fm.cells != UNKNOWN
     cmds = [Turn(40.0)]
-    assert _safe_prefix(cmds, est, safe, seen, 1.5, None, HALF, NOSE, DEFAULT.radius_ft) == cmds
-    assert _safe_prefix(cmds, est, safe, seen, 1.5, None, HALF, NOSE,
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, HALF, NOSE, DEFAULT.radius_ft) == cmds
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, HALF, NOSE,
                         pivot_radius_ft(DEFAULT, margin=True)) == []
     assert pivot_allowed(fm, est, 40.0, DEFAULT)
     assert not pivot_allowed(fm, est, 40.0, DEFAULT, None, pivot_radius_ft(DEFAULT, True))
@@ -82,9 +82,9 @@ def test_a_small_turn_needs_only_its_sweep_under_small_swept():
     assert not pivot_allowed(fm, est, -30.0, DEFAULT, small)         # beyond 5 deg: the disc
     safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
     seen = fm.cells != UNKNOWN
-    assert _safe_prefix([Turn(-3.0)], est, safe, seen, 1.5, None, HALF, NOSE, DEFAULT.radius_ft,
+    assert safe_prefix([Turn(-3.0)], est, safe, seen, 1.5, None, HALF, NOSE, DEFAULT.radius_ft,
                         small) == [Turn(-3.0)]
-    assert _safe_prefix([Turn(-3.0)], est, safe, seen, 1.5, None, HALF, NOSE,
+    assert safe_prefix([Turn(-3.0)], est, safe, seen, 1.5, None, HALF, NOSE,
                         DEFAULT.radius_ft) == []
 
 

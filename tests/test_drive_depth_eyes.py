@@ -17,7 +17,7 @@ from rig.scene import flat
 from vehicle.profile import DEFAULT
 from vehicle.sim import State
 from world.pose import Pose
-from world.room import FLOOR_Y, _q, full_box, make_room
+from world.room import FLOOR_Y, full_box, make_room, quad
 from world.render import render_look
 
 BAND = DriveConfig.band
@@ -30,12 +30,12 @@ def _blank_box_room():
     from planner.tiny import bands, tiles
     x0, x1, z0, z1 = -4.0, 4.0, -2.0, 12.0
     quads = full_box("box", BOX_X, (FLOOR_Y - 1.5, FLOOR_Y), BOX_Z, flat(9), flat(9), flat(9))
-    quads += [_q("back wall", 2, z1, (x0, x1), (-5.0, FLOOR_Y), bands(3, 0, x0, x1)),
-              _q("front wall", 2, z0, (x0, x1), (-5.0, FLOOR_Y), bands(4, 0, x0, x1)),
-              _q("left wall", 0, x0, (-5.0, FLOOR_Y), (z0, z1), bands(5, 2, z0, z1)),
-              _q("right wall", 0, x1, (-5.0, FLOOR_Y), (z0, z1), bands(6, 2, z0, z1)),
-              _q("floor", 1, FLOOR_Y, (x0, x1), (z0, z1), tiles(7)),
-              _q("ceiling", 1, -5.0, (x0, x1), (z0, z1), flat(12))]
+    quads += [quad("back wall", 2, z1, (x0, x1), (-5.0, FLOOR_Y), bands(3, 0, x0, x1)),
+              quad("front wall", 2, z0, (x0, x1), (-5.0, FLOOR_Y), bands(4, 0, x0, x1)),
+              quad("left wall", 0, x0, (-5.0, FLOOR_Y), (z0, z1), bands(5, 2, z0, z1)),
+              quad("right wall", 0, x1, (-5.0, FLOOR_Y), (z0, z1), bands(6, 2, z0, z1)),
+              quad("floor", 1, FLOOR_Y, (x0, x1), (z0, z1), tiles(7)),
+              quad("ceiling", 1, -5.0, (x0, x1), (z0, z1), flat(12))]
     return make_room("blank box", quads, [(BOX_X, BOX_Z)], (x0, x1, z0, z1), ceiling_y=-5.0)
 
 

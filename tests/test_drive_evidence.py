@@ -1,6 +1,6 @@
 """The loop's behaviour when the way lacks evidence (planner.loop): where the
 path's execution would stop (_blocker), a place a look there shows from
-(_viewpoint), the commands that fetch that look (_fetch_evidence), and the plan
+(_viewpoint), the commands that fetch that look (fetch_evidence), and the plan
 through uncertain cells (plan, ``uncertain="look"``).  All on hand-made floor
 maps with 0.25 ft cells, checked against their own geometry."""
 
@@ -11,7 +11,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig
-from planner.motion import _blocker, _fetch_evidence, _viewpoint, near_visible_ft
+from planner.motion import _blocker, fetch_evidence, _viewpoint, near_visible_ft
 from planner.planning import plan
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from planner.search import clearance_map
@@ -92,7 +92,7 @@ def test_fetch_evidence_backs_off_to_look_at_what_is_too_near_to_see():
     cfg = DriveConfig(goal=(0.0, 8.0))
     est = State(0.0, 1.0, 0.0)
     tried = {}
-    seg, note = _fetch_evidence(fm, safe, seen, est, [(0.0, 1.0), (0.0, 8.0)], NEAR, DEFAULT,
+    seg, note = fetch_evidence(fm, safe, seen, est, [(0.0, 1.0), (0.0, 8.0)], NEAR, DEFAULT,
                                 cfg, tried)
     assert "to look at (0.1, 2.1)" in note or "to look at (-0.1, 2.1)" in note
     where = polyline(seg, est.x, est.z, est.heading_deg)
@@ -100,7 +100,7 @@ def test_fetch_evidence_backs_off_to_look_at_what_is_too_near_to_see():
     # forward only: it first turns round (and looks before driving the new way) ...
     assert len(seg) == 1 and abs(seg[0].angle_deg) > 120
     turned = State(est.x, est.z, est.heading_deg + seg[0].angle_deg)
-    seg, note = _fetch_evidence(fm, safe, seen, turned, [(0.0, 1.0), (0.0, 8.0)], NEAR, DEFAULT,
+    seg, note = fetch_evidence(fm, safe, seen, turned, [(0.0, 1.0), (0.0, 8.0)], NEAR, DEFAULT,
                                 cfg, tried)
     # ... then drives away from the unknown
     where = polyline(seg, turned.x, turned.z, turned.heading_deg)
@@ -109,12 +109,12 @@ def test_fetch_evidence_backs_off_to_look_at_what_is_too_near_to_see():
     assert math.hypot(where[-1][0] - u[0], where[-1][1] - u[1]) > 2.0
     # standing where it shows, facing it: look again, no motion
     there = State(0.0, 2.125 - NEAR - 0.5, 0.0)
-    seg, note = _fetch_evidence(fm, safe, seen, there, [(there.x, there.z), (0.0, 8.0)], NEAR,
+    seg, note = fetch_evidence(fm, safe, seen, there, [(there.x, there.z), (0.0, 8.0)], NEAR,
                                 DEFAULT, cfg, tried)
     assert seg == [] and "looking again" in note
     # facing away: turn to it
     away = State(there.x, there.z, 90.0)
-    seg, note = _fetch_evidence(fm, safe, seen, away, [(away.x, away.z), (0.0, 8.0)], NEAR,
+    seg, note = fetch_evidence(fm, safe, seen, away, [(away.x, away.z), (0.0, 8.0)], NEAR,
                                 DEFAULT, cfg, {})
     assert len(seg) == 1 and seg[0].angle_deg == pytest.approx(-90.0, abs=5.0)
 
@@ -151,18 +151,18 @@ def test_back_prefix_backs_over_seen_free_space_only():
     tail would reach the unknown below z = -8 ft; none for a vehicle that
     cannot reverse."""
     import dataclasses
-    from planner.motion import _back_prefix
+    from planner.motion import back_prefix
     from vehicle.commands import Back
     fm = corridor_map()
     safe = clearance_map(fm, R, "free", uncertain="blocked")
     seen = fm.cells != UNKNOWN
-    assert _back_prefix(State(0.0, 0.0, 0.0), 1.0, safe, seen, DEFAULT) == [Back(1.0)]
-    seg = _back_prefix(State(0.0, -6.5, 0.0), 1.5, safe, seen, DEFAULT)
+    assert back_prefix(State(0.0, 0.0, 0.0), 1.0, safe, seen, DEFAULT) == [Back(1.0)]
+    seg = back_prefix(State(0.0, -6.5, 0.0), 1.5, safe, seen, DEFAULT)
     tail = DEFAULT.length_ft / 2 + DEFAULT.margin_ft
     assert len(seg) == 1 and isinstance(seg[0], Back)
     assert -6.5 - seg[0].distance_ft - tail >= -8.0 - 1e-6          # the tail stays seen
     assert seg[0].distance_ft > 0.5
-    assert _back_prefix(State(0.0, -7.3, 0.0), 1.0, safe, seen, DEFAULT) == []
+    assert back_prefix(State(0.0, -7.3, 0.0), 1.0, safe, seen, DEFAULT) == []
 
 
 def test_the_evidence_options_drive_the_tiny_room_without_collision():
@@ -189,7 +189,7 @@ def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
     between are marked too (the middle of the move, the pivot's corners at 45
     deg), the footprint shrunk by the margin; the default marks only the
     poses themselves (nothing at the move's middle)."""
-    from planner.motion import _mark_track_free, swept_poses
+    from planner.motion import mark_track_free, swept_poses
     track = [State(0.0, 0.0, 0.0), State(0.0, 2.0, 0.0), State(0.0, 2.0, 90.0)]
     poses = swept_poses(track)
     assert poses[0] == track[0] and poses[-1] == track[-1]
@@ -198,16 +198,16 @@ def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
         [10.0 * k for k in range(10)])                   # every 10 deg of the pivot
     # a 1 x 1 ft footprint: the default leaves the move's middle (z = 1) unmarked
     fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
-    _mark_track_free(fm, track, (1.0, 1.0))
+    mark_track_free(fm, track, (1.0, 1.0))
     assert fm.state_at(0.0, 0.1) == FREE and fm.state_at(0.0, 1.0) == UNKNOWN
     fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
-    _mark_track_free(fm, track, (1.0, 1.0), swept_margin=0.1)
+    mark_track_free(fm, track, (1.0, 1.0), swept_margin=0.1)
     assert fm.state_at(0.0, 1.0) == FREE
     # a 1 x 3 ft footprint: its 45 deg pose in the pivot about (0, 2) reaches (0.9, 2.9)
     poses_only = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
-    _mark_track_free(poses_only, track, (1.0, 3.0))
+    mark_track_free(poses_only, track, (1.0, 3.0))
     swept = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, -5.0, 0.25)
-    _mark_track_free(swept, track, (1.0, 3.0), swept_margin=0.25)
+    mark_track_free(swept, track, (1.0, 3.0), swept_margin=0.25)
     assert swept.state_at(0.9, 2.9) == FREE and poses_only.state_at(0.9, 2.9) == UNKNOWN
     # shrunk by 0.25 ft: 0.4 ft beside the start (inside the 0.5 ft half width) is not
     assert poses_only.state_at(0.4, 0.0) == FREE and swept.state_at(0.4, 0.0) == UNKNOWN

@@ -10,7 +10,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
-from planner.motion import HALF_FOV_DEG, _looked_ahead, first_unseen_on_band, look_ahead, \
+from planner.motion import HALF_FOV_DEG, looked_ahead, first_unseen_on_band, look_ahead, \
     near_visible_ft
 from planner.octree import FREE, UNKNOWN
 from planner.search import clearance_map
@@ -113,7 +113,7 @@ def test_the_loop_step_looks_ahead_once_per_cell_and_keeps_the_safety_rules():
     fm.cells[fm.index(0.6, 3.6)] = UNKNOWN          # (0.625, 3.625), on the band
     args = (est, fm, path, near, _safe(fm), fm.cells != UNKNOWN, None, DEFAULT, None)
     done = set()
-    got = _looked_ahead(seg, *args, done)
+    got = looked_ahead(seg, *args, done)
     assert got is not None
     cmds, note = got
     assert "looking ahead at (0.6, 3.6)" in note
@@ -122,10 +122,10 @@ def test_the_loop_step_looks_ahead_once_per_cell_and_keeps_the_safety_rules():
     assert math.hypot(0.625, 3.625 - d) >= near + 0.25
     assert math.hypot(0.625, 3.625 - d - 0.01) < near + 0.25 + 0.02
     assert done == {fm.index(0.625, 3.625)}
-    assert _looked_ahead(seg, *args, done) is None  # looked at once: drive on
+    assert looked_ahead(seg, *args, done) is None  # looked at once: drive on
     # the band all seen: nothing changes
     clear = free_map()
-    assert _looked_ahead(seg, est, clear, path, near, _safe(clear), clear.cells != UNKNOWN,
+    assert looked_ahead(seg, est, clear, path, near, _safe(clear), clear.cells != UNKNOWN,
                          None, DEFAULT, None, set()) is None
 
 
@@ -143,7 +143,7 @@ def test_no_look_ahead_whose_pivot_would_reach_unseen_space():
     assert cut is not None and isinstance(cut[0], Forward)
     # a cell 0.6 ft beside the cut point, x 0.5..0.75, within the pivot circle
     fm.cells[fm.index(0.6, cut[0].distance_ft + 0.05)] = UNKNOWN
-    assert _looked_ahead([Forward(1.5)], est, fm, [(0.0, 0.0), (0.0, 8.0)], near, _safe(fm),
+    assert looked_ahead([Forward(1.5)], est, fm, [(0.0, 0.0), (0.0, 8.0)], near, _safe(fm),
                          fm.cells != UNKNOWN, None, DEFAULT, None, set()) is None
 
 

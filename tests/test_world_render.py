@@ -9,7 +9,7 @@ from rig.scene import bundled_path, flat, range_npy_bytes
 from world.pose import Pose
 from world.render import (LeftTheRoom, _directions, _grid, _trace_windows, render_camera, render_look,
                           project, trace_grid, trace_rays, visible)
-from world.room import bundled_lab, full_box, generate_room, make_room, _q
+from world.room import bundled_lab, full_box, generate_room, make_room, quad
 
 
 @pytest.fixture(scope="module")
@@ -48,12 +48,12 @@ BOX_X, BOX_Y, BOX_Z = (-1.0, 1.0), (-1.0, 3.0), (8.0, 10.0)
 def _test_room():
     quads = full_box("box", BOX_X, BOX_Y, BOX_Z, flat(15), flat(15), flat(15))
     y0, y1, x0, x1, z0, z1 = -5.0, 3.0, -6.0, 6.0, -6.0, 16.0
-    quads += [_q("back", 2, z1, (x0, x1), (y0, y1), flat(2)),
-              _q("front", 2, z0, (x0, x1), (y0, y1), flat(2)),
-              _q("left", 0, x0, (y0, y1), (z0, z1), flat(2)),
-              _q("right", 0, x1, (y0, y1), (z0, z1), flat(2)),
-              _q("floor", 1, y1, (x0, x1), (z0, z1), flat(2)),
-              _q("ceiling", 1, y0, (x0, x1), (z0, z1), flat(2))]
+    quads += [quad("back", 2, z1, (x0, x1), (y0, y1), flat(2)),
+              quad("front", 2, z0, (x0, x1), (y0, y1), flat(2)),
+              quad("left", 0, x0, (y0, y1), (z0, z1), flat(2)),
+              quad("right", 0, x1, (y0, y1), (z0, z1), flat(2)),
+              quad("floor", 1, y1, (x0, x1), (z0, z1), flat(2)),
+              quad("ceiling", 1, y0, (x0, x1), (z0, z1), flat(2))]
     return make_room("test box", quads, [(BOX_X, BOX_Z)], (x0, x1, z0, z1))
 
 
