@@ -127,19 +127,16 @@ def final_map_losses(room, fmap, radius):
 def traced_run(room, start, cfg, noise):
     """planner.loop.run with its Perception keeping a FreeProvenance (which
     carving freed each cell; the drive is the same): (result, perception)."""
-    from unittest import mock
-
-    import planner.loop as loop
-    from planner.evidence import FreeProvenance
+    from planner.evidence import FreeProvenance, Perception
+    from planner.loop import run
     made = []
 
-    class Traced(loop.Perception):
-        def __init__(self, *a, **k):
-            super().__init__(*a, **k)
-            self.provenance = FreeProvenance()
-            made.append(self)
-    with mock.patch.object(loop, "Perception", Traced):
-        res = loop.run(room, start, cfg, noise=noise)
+    def tracing_perception(*args):
+        model = Perception(*args)
+        model.provenance = FreeProvenance()
+        made.append(model)
+        return model
+    res = run(room, start, cfg, noise=noise, perception_factory=tracing_perception)
     return res, made[0]
 
 

@@ -443,9 +443,14 @@ def true_range_points(points, look):
 
 
 
-def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True
-        ) -> DriveResult:
-    """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room)."""
+def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,
+        perception_factory=Perception) -> DriveResult:
+    """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room).
+
+    ``perception_factory`` builds the run's :class:`Perception` from its
+    positional arguments: a seam for diagnostics that must see inside the
+    model without changing the drive (``bench/drive.py --losses`` passes one
+    that keeps a FreeProvenance, which carving freed each cell)."""
     from world.pose import Pose
     from world.render import render_look
 
@@ -479,8 +484,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             return veh.dead
         return State(*compose_step((look_est.x, look_est.z, look_est.heading_deg), look_dead,
                                    veh.dead)[0])
-    model = Perception(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
-                       near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
+    model = perception_factory(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
+                               near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     model.growth = cfg.growth
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve

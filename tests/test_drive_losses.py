@@ -160,3 +160,35 @@ def test_a_free_cell_the_growth_of_its_neighbours_covers_opens_nothing():
     assert len(cells) == 20
     assert standing_opened(fm, cells, box, bounds, 0.79) == {"opened": 0, "opened_unsafe": 0}
     assert standing_opened(fm, [], box, bounds, 0.79) == {"opened": 0, "opened_unsafe": 0}
+
+
+def test_a_perception_factory_traces_the_drive_without_changing_it():
+    """``run(perception_factory=...)`` builds the run's model with the factory
+    (``bench/drive.py --losses`` passes one keeping a FreeProvenance): the
+    factory is called once, the traced drive and its maps are the plain drive's,
+    and the provenance holds the looks' carvings."""
+    from planner.evidence import MECHANISMS
+    from planner.loop import run
+    from planner.tiny import GOAL, tiny_room
+    from world.odometry import OdometryNoise
+
+    made = []
+
+    def tracing_perception(*args):
+        m = Perception(*args)
+        m.provenance = FreeProvenance()
+        made.append(m)
+        return m
+    room, cfg = tiny_room(), DriveConfig(goal=GOAL, eyes="truth")
+    plain = run(room, State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1))
+    traced = run(room, State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1),
+                 perception_factory=tracing_perception)
+    assert len(made) == 1
+    assert (traced.reason, traced.looks, traced.true_track, traced.estimate_track) == \
+        (plain.reason, plain.looks, plain.true_track, plain.estimate_track)
+    for a, b in zip(traced.cycles, plain.cycles, strict=True):
+        np.testing.assert_array_equal(a.fmap.cells, b.fmap.cells)
+    prov = made[0].provenance
+    assert prov.misses, "a drive that looked carved no free cell"
+    assert {m for per in prov.misses.values() for m in per} <= set(MECHANISMS)
+    assert set(prov.first_look.values()) <= set(range(1, traced.looks + 1))
