@@ -240,8 +240,8 @@ class DriveConfig:
                                           # circle (half diagonal) of a never-seen cell costs
                                           # 1 + W per ft, the path pulled taut outside them
                                           # (planning.seen_search): paths keep to what was in view
-    look_ahead: bool = False              # (a named option, not 1985) before a move, the
-                                          # first never-seen cell on the path's swept band
+    look_ahead: bool = True               # (not 1985; the default since 2026-12-01) before
+                                          # a move, the first never-seen cell on the path's swept band
                                           # (the next step + near_visible_ft): the move cut
                                           # while it can still show, a pivot to bring it in
                                           # view, a look (motion.look_ahead); each cell once

@@ -276,10 +276,11 @@ def add_loop_options(p) -> None:
                         "up to it; 'low-all': 'low', "
                         "and a look that located nothing frees only the far part of its "
                         "blank view (from 0.8 of --blank-ft)")
-    p.add_argument("--look-ahead", action="store_true",
+    p.add_argument("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
-                        "pivot until it is in view and look (not 1985; default off)")
+                        "pivot until it is in view and look (not 1985; default on since "
+                        "2026-12-01; --no-look-ahead: off, as before)")
     p.add_argument("--seen-cost", type=float, default=C.seen_cost, metavar="W",
                    help="plan paths that keep to what was in view: A* where a cell within the "
                         "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
