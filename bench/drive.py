@@ -21,8 +21,8 @@ taut, and time).
     python bench/drive.py --rooms 20 --eyes depth [--no-noise]    # the planner's own share
     python bench/drive.py --rooms 20 --eyes depth --pivot small-swept   # a small turn by its sweep
     python bench/drive.py --rooms 20 --eyes depth --seen-cost 8   # paths that keep to what was in view
-    python bench/drive.py --rooms 20 --eyes depth --no-noise --look-ahead   # look before the blind zone
-    python bench/drive.py --rooms 100 --losses --sight-lines low   # sight lines free only where they run low
+    python bench/drive.py --rooms 20 --eyes depth --no-noise --no-look-ahead   # no look before the blind zone (the default before 2026-12-01)
+    python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features

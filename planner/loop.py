@@ -240,16 +240,17 @@ class DriveConfig:
                                           # circle (half diagonal) of a never-seen cell costs
                                           # 1 + W per ft, the path pulled taut outside them
                                           # (planning.seen_search): paths keep to what was in view
-    look_ahead: bool = False              # (a named option, not 1985) before a move, the
-                                          # first never-seen cell on the path's swept band
+    look_ahead: bool = True               # (not 1985; the default since 2026-12-01) before
+                                          # a move, the first never-seen cell on the path's swept band
                                           # (the next step + near_visible_ft): the move cut
                                           # while it can still show, a pivot to bring it in
                                           # view, a look (motion.look_ahead); each cell once
-    sight_lines: str = "band"             # what a sight line to a hit frees: "band": the
-                                          # whole height band up to the hit; "low" (a named
-                                          # option, not 1985): only where its ray runs below
-                                          # the lowest obstacle's top (a box lower than the
-                                          # ray hides under it; perception.floor_scan's low_y);
+    sight_lines: str = "low"              # what a sight line to a hit frees: "low" (the
+                                          # default since 2026-12-01, not 1985): only where
+                                          # its ray runs below the lowest obstacle's top (a
+                                          # box lower than the ray hides under it;
+                                          # perception.floor_scan's low_y); "band" (the
+                                          # default before): the whole height band up to it;
                                           # "low-all": "low", and a look that located nothing
                                           # frees only the far part of its blank view (as if
                                           # a surface at blank_ft showed to the band's bottom)

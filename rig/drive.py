@@ -269,16 +269,18 @@ def add_loop_options(p) -> None:
                         f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
                         f"{C.sides_apart[1]:g} deg)")
     p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
-                   help="what a sight line to a located point frees: 'band' (default): the "
-                        "whole height band up to it; 'low': only where its ray runs below the "
-                        "lowest obstacle's top (a box lower than the ray may hide under it: "
-                        "the 1985 eyes do not locate box tops; not 1985); 'low-all': 'low', "
+                   help="what a sight line to a located point frees: 'low' (default; not "
+                        "1985): only where its ray runs below the lowest obstacle's top (a box "
+                        "lower than the ray may hide under it: the 1985 eyes do not locate box "
+                        "tops); 'band' (the default before 2026-12-01): the whole height band "
+                        "up to it; 'low-all': 'low', "
                         "and a look that located nothing frees only the far part of its "
                         "blank view (from 0.8 of --blank-ft)")
-    p.add_argument("--look-ahead", action="store_true",
+    p.add_argument("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
-                        "pivot until it is in view and look (not 1985; default off)")
+                        "pivot until it is in view and look (not 1985; default on since "
+                        "2026-12-01; --no-look-ahead: off, as before)")
     p.add_argument("--seen-cost", type=float, default=C.seen_cost, metavar="W",
                    help="plan paths that keep to what was in view: A* where a cell within the "
                         "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "

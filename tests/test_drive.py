@@ -32,7 +32,8 @@ def test_closed_loop_reaches_the_goal_in_the_tiny_room():
     """The loop's machinery with an oracle for the matcher (the true range at
     the rig's own edge pixels): deterministic, no collision, near the optimum."""
     room = tiny_room()
-    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth"),
+    # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth", sight_lines="band"),
               noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0
@@ -48,7 +49,9 @@ def test_closed_loop_with_the_rig_eyes_reaches_the_lab_goal():
     from rig.drive import DEFAULT_LAB_GOAL
     from world.room import bundled_lab
     room = bundled_lab()
-    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=DEFAULT_LAB_GOAL),
+    # band: under the default (low) the lab's drive stops 2 ft short of this goal, the cells
+    # around it never shown free (docs/planner.md, "Sight lines that run low")
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=DEFAULT_LAB_GOAL, sight_lines="band"),
               noise=OdometryNoise(seed=1985))
     assert res.reached, res.reason
     assert res.collisions == 0
@@ -104,7 +107,9 @@ def test_rig_drive_command_json_and_bad_goal(tmp_path, capsys):
     from rig.main import main
     out = tmp_path / "out"
     js = tmp_path / "drive.json"
-    rc = main(["drive", "--out", str(out), "--json", str(js), "--quiet-notes"])
+    # band: the default (low) does not reach the lab's goal (test_closed_loop_with_the_rig_eyes...)
+    rc = main(["drive", "--out", str(out), "--json", str(js), "--quiet-notes",
+               "--sight-lines", "band"])
     text = capsys.readouterr().out
     assert rc == 0
     assert "look  1:" in text and "goal reached in" in text
@@ -129,7 +134,9 @@ def test_fused_pose_stays_nearer_the_true_track_than_dead_reckoning():
     odometry alone on the same run (the same noise draws: the commands differ
     only by what the estimate plans)."""
     room = tiny_room()
-    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth", pose="fused"),
+    # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth", pose="fused",
+                                                      sight_lines="band"),
               noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0

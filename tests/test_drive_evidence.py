@@ -174,8 +174,10 @@ def test_the_evidence_options_drive_the_tiny_room_without_collision():
     from planner.loop import run
     from planner.tiny import GOAL, tiny_room
     from world.odometry import OdometryNoise
+    # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
     cfg = DriveConfig(goal=GOAL, eyes="truth", look_around="evidence", progress="evidence",
-                      uncertain="look", profile=dataclasses.replace(DEFAULT, reverse=True))
+                      uncertain="look", profile=dataclasses.replace(DEFAULT, reverse=True),
+                      sight_lines="band")
     res = run(tiny_room(), State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0

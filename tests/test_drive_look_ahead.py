@@ -1,5 +1,5 @@
-"""The loop's look-ahead (``DriveConfig.look_ahead``, ``--look-ahead``, a named
-option, off): before a move, the first never-seen cell on the planned path's
+"""The loop's look-ahead (``DriveConfig.look_ahead``, ``--look-ahead``, not 1985,
+on by default since 2026-12-01): before a move, the first never-seen cell on the planned path's
 swept band is looked at while the vehicle is still far enough for a look to
 show it.  Hand-made floor maps; the cut points and turns derived by hand."""
 
@@ -152,8 +152,9 @@ def test_the_loop_drives_the_tiny_room_looking_ahead(eyes):
     # as tests/test_drive.py's tiny-room drive (the oracle eyes; and the depth eyes)
     from planner.tiny import GOAL, tiny_room
     from world.odometry import OdometryNoise
+    # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
     res = run(tiny_room(), State(0.0, 0.0, 0.0),
-              DriveConfig(goal=GOAL, eyes=eyes, look_ahead=True), noise=OdometryNoise(seed=1),
+              DriveConfig(goal=GOAL, eyes=eyes, look_ahead=True, sight_lines="band"), noise=OdometryNoise(seed=1),
               keep_maps=False)
     assert res.reached, res.reason
     assert res.collisions == 0
@@ -163,5 +164,6 @@ def test_the_loop_drives_the_tiny_room_looking_ahead(eyes):
 def test_rig_drive_and_the_bench_take_look_ahead(monkeypatch, tmp_path):
     from rigtools import drive_config
     assert drive_config(monkeypatch, tmp_path, "--look-ahead").look_ahead is True
-    assert drive_config(monkeypatch, tmp_path).look_ahead is False     # never the default
-    assert DriveConfig(goal=(0.0, 0.0)).look_ahead is False
+    assert drive_config(monkeypatch, tmp_path, "--no-look-ahead").look_ahead is False
+    assert drive_config(monkeypatch, tmp_path).look_ahead is True      # the default since 2026-12-01
+    assert DriveConfig(goal=(0.0, 0.0)).look_ahead is True

@@ -69,7 +69,9 @@ def test_an_unknown_matcher_is_refused():
 
 
 def test_the_loop_on_the_improved_matcher_reaches_the_tiny_room_goal():
-    res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, match="improved"),
+    # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
+    res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, match="improved",
+                                                             sight_lines="band"),
               noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0

@@ -187,8 +187,8 @@ def test_columns_between_and_beside_take_their_bounding_hits_start():
     assert fs.far_start[np.asarray(fs.far_cols) < 50] == pytest.approx(s50)
 
 
-def test_the_default_is_the_band_and_a_bad_value_is_refused():
-    assert DriveConfig((0.0, 0.0)).sight_lines == "band"
+def test_the_default_is_low_and_a_bad_value_is_refused():
+    assert DriveConfig((0.0, 0.0)).sight_lines == "low"
     from planner.loop import run
     from world.room import generate_room
     room = generate_room(1)
@@ -244,3 +244,25 @@ def test_the_depth_eyes_are_not_changed_by_it():
         m.update([], State(0.0, 0.0, 0.0), Pose, PITCH, depth=rng)
         maps.append(m.floor_map([(0.0, 0.0), (0.0, 9.0)]).cells)
     assert np.array_equal(*maps) and (maps[0] == FREE).any()
+
+
+def test_the_tiny_room_under_low_frees_no_floor_before_8_ft_and_stops_safely():
+    # the tiny room's floor is bare: the edge eyes locate only its walls and its box.  Straight
+    # ahead the nearest located points are the back wall's, 10 ft away; the lowest of them in
+    # the band (its bottom, 2.75 ft below the camera) drops to the lowest obstacle's top
+    # (2.2 ft below it) only 2.2 * 10 / 2.75 = 8 ft out.  So under low the first look frees
+    # the line x = 0 nowhere between the start spot (free to 2.5 ft, grown to its cell) and
+    # 8 ft, where band frees all of it; the drive then never proves the way free and stops,
+    # without a collision (the loop's tiny-room tests pin band for that reason)
+    from planner.loop import run
+    from planner.tiny import GOAL, tiny_room
+    from world.odometry import OdometryNoise
+    zs = np.arange(3.125, 8.0, 0.25)
+    for lines, free in (("band", True), ("low", False)):
+        fm = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",
+                 sight_lines=lines, max_looks=1)).cycles[0].fmap
+        assert [fm.state_at(0.1, z) == FREE for z in zs] == [free] * len(zs), lines
+    res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth"),
+              noise=OdometryNoise(seed=1), keep_maps=False)
+    assert not res.reached and "without progress" in res.reason
+    assert res.collisions == 0 and res.travelled_ft < 2.5
