@@ -5,7 +5,6 @@ small-swept``), and paths that keep to what was in view (``--seen-cost``):
 named options, off.  Hand-made floor maps, the costs and cells derived by hand;
 room 35 against the world's exact geometry."""
 
-import math
 
 import numpy as np
 import pytest

@@ -150,7 +150,6 @@ def test_back_prefix_backs_over_seen_free_space_only():
     """BACK along the heading over the corridor (seen free), cut where the
     tail would reach the unknown below z = -8 ft; none for a vehicle that
     cannot reverse."""
-    import dataclasses
     from planner.motion import back_prefix
     from vehicle.commands import Back
     fm = corridor_map()

@@ -2,7 +2,6 @@
 anything there expires to UNKNOWN (``DriveConfig.expire_uncertain``,
 ``Perception.expire_in_view``), on hand-made looks of a level camera."""
 
-import numpy as np
 import pytest
 
 from planner.evidence import Perception
