@@ -251,6 +251,9 @@ class Perception:
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
         self.sight_lines = "band"         # or "low", "low-all" (DriveConfig.sight_lines)
         self.seen_over = 0                # under "low": cells on sight lines not proven
+        self.refute_hits = "off"          # or "under" (DriveConfig.refute_hits)
+        self.claims: dict[int, float] = {}    # packed key -> the lowest drop of a hit grown there
+        self.refuted = 0                  # cells a later ray passed under (refute_hits)
         self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
@@ -355,6 +358,7 @@ class Perception:
         scan of ``scan_points`` by :func:`~planner.depth_eyes.depth_floor_scan`;
         the rest of the update is the same."""
         self.look_no += 1
+        self._look_keys = np.zeros(0, np.int64)   # this look's grown hit cells
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -391,6 +395,7 @@ class Perception:
             if self.expire_uncertain and self.occupied == "looks":
                 self.expire_in_view(fs, R, left, cell_keys(grown, res))
             self.hit_keys = np.union1d(self.hit_keys, cell_keys(grown, res))
+            self._look_keys = cell_keys(grown, res)
             assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
                 else np.zeros(len(fs.free_ends), bool)
             if top is not None:
@@ -444,6 +449,8 @@ class Perception:
                 with self._carving(TWO_LOOK_SIDES):
                     mark_keys_free(self.tree, self.two_look_sides.confirm(
                         keys, (est.x, est.z, est.heading_deg)))
+            if self.refute_hits != "off" and fs.hit_drop is not None and len(grown):
+                self._claim(grown, fs.hits, fs.hit_drop)
             if self.occupied == "looks":
                 if len(grown):
                     mark_occupied(self.tree, grown)
@@ -483,6 +490,8 @@ class Perception:
             ends = np.asarray(ends, float).reshape(-1, 3)
             length = np.hypot(ends[:, 0] - left[0], ends[:, 2] - left[2])
             keep &= dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
+        if self.refute_hits != "off" and self.claims:
+            self._refute_under(samples, dist, seg, starts, ends, short, left, res)
         over = np.unique(cell_keys(samples[~keep], res))
         self.seen_over += int(len(np.setdiff1d(over, cell_keys(samples[keep], res))))
         if not keep.any():
@@ -490,6 +499,54 @@ class Perception:
         cells = cell_centres(samples[keep], res)
         self.tree.updateNodes(np.ascontiguousarray(cells), False)
         return len(cells)
+
+    def _claim(self, grown, hits, drops) -> None:
+        """``refute_hits``: each grown hit cell claims an obstacle standing on the
+        floor at least up to the lowest located point of its nearest hit's
+        column (``FloorScan.hit_drop``, ft below the camera); a cell keeps the
+        lowest (the largest drop) any look claimed."""
+        res = self.tree.getResolution()
+        keys = cell_keys(grown, res)
+        d2 = (grown[:, None, 0] - hits[None, :, 0]) ** 2 + (grown[:, None, 2] - hits[None, :, 2]) ** 2
+        need = np.asarray(drops, float)[np.argmin(d2, 1)]
+        for k, y in zip(keys, need):
+            k = int(k)
+            self.claims[k] = max(self.claims.get(k, -np.inf), float(y))
+
+    def _refute_under(self, samples, dist, seg, starts, ends, short, left, res: float) -> int:
+        """``refute_hits="under"`` (a named option, not 1985): a hit cell whose
+        claim (:meth:`_claim`) a later sight line passes UNDER is shown
+        UNKNOWN (:meth:`_apply_expired`; never free), until a hit raises it
+        again.  A sight line runs from the camera down to its located point;
+        at ``r`` ft it is ``(low_y - camera) r / start`` below the camera
+        (``start``: :func:`~planner.perception.low_start`, the conservative
+        larger one for the columns between).  Where that drop, at the cell's
+        near side (``r`` less a cell), reaches the claimed point's, the ray
+        went below the point through the floor-standing obstacle the hit
+        claims, and reached a surface beyond it (the samples end ``short``
+        of the line's end, as the proof does): a real surface point cannot
+        be passed under.  A ray over the point (a low box's top seen over)
+        refutes nothing.  Cells this look hit are not refuted by it."""
+        need = FLOOR_Y - self.lowest_ft - left[1]
+        st = np.asarray(starts, float)[seg]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = np.where(np.isfinite(st) & (st > 0), need / st, 0.0)
+        ok = np.ones(len(dist), bool)
+        if short is not None:
+            e = np.asarray(ends, float).reshape(-1, 3)
+            length = np.hypot(e[:, 0] - left[0], e[:, 2] - left[2])
+            ok &= dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
+        drop = slope * np.maximum(dist - res, 0.0)
+        keys = cell_keys(samples, res)
+        claim = np.array([self.claims.get(int(k), np.inf) for k in keys])
+        under = ok & (drop >= claim) & ~np.isin(keys, getattr(self, "_look_keys", ()))
+        n = 0
+        for k in np.unique(keys[under]):
+            if int(k) not in self.expired:
+                self.expired[int(k)] = float("nan")
+                n += 1
+        self.refuted += n
+        return n
 
     def _assumed_low_keys(self, left, ends, starts) -> np.ndarray:
         """:func:`~planner.octree.assumed_free_keys` of the assumed lines
@@ -702,7 +759,7 @@ class Perception:
                             free_looks=self.free_looks, free_band=self.free_band)
         if self.occupied == "model":
             self._draw_features(fm)
-        elif self.expire_uncertain:
+        elif self.expire_uncertain or self.refute_hits != "off":
             self._apply_expired(fm)
         return fm
 

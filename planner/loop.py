@@ -103,6 +103,9 @@ FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature
 FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop (Perception.update)
 
 
+REFUTE_HITS = ("off", "under")        # DriveConfig.refute_hits
+
+
 @dataclass
 class DriveConfig:
     goal: tuple[float, float]
@@ -254,6 +257,10 @@ class DriveConfig:
                                           # "low-all": "low", and a look that located nothing
                                           # frees only the far part of its blank view (as if
                                           # a surface at blank_ft showed to the band's bottom)
+    refute_hits: str = "off"              # (not 1985; a named option) "under": a hit cell a
+                                          # later sight line passes under (below the hit's
+                                          # lowest located point, to a surface beyond it)
+                                          # shows unknown, never free (Perception.refute_hits)
 
 
 @dataclass
@@ -495,6 +502,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
     model.sight_lines = cfg.sight_lines
+    if cfg.refute_hits not in REFUTE_HITS:
+        raise ValueError(f"unknown refute_hits {cfg.refute_hits!r}; one of {', '.join(REFUTE_HITS)}")
+    model.refute_hits = cfg.refute_hits
     if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
         model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied

@@ -149,6 +149,9 @@ class FloorScan:
     hit_short: np.ndarray | None = None   # under ``low_y``: (H,) each hit's error bound (LCSL's
                                           # two-sigma ep) in horizontal feet along its line:
                                           # its line proves the band no nearer than that to it
+    hit_drop: np.ndarray | None = None    # under ``low_y``: (H,) how far below the camera
+                                          # (ft) the lowest supported point of each hit's
+                                          # column lies (``Perception.refute_hits``)
 
 
 CARVE = ("range", "error")
@@ -397,7 +400,8 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                      far_ends, far_cols, start, fstart,
                      far_start if far_ends is not None else None,
                      ep[near] * np.hypot(hits[:, 0] - origin[0], hits[:, 2] - origin[2])
-                     / np.maximum(rng, 1e-12))
+                     / np.maximum(rng, 1e-12),
+                     room[np.array(lowest, int), 1] - origin[1] if len(cols) else np.zeros(0))
 
 
 BLANK_SIDES = ("cut", "two-looks")   # what becomes of the side columns blank_px cuts off

@@ -268,6 +268,10 @@ def add_loop_options(p) -> None:
                    help="for --blank-sides two-looks: the two looks at least FT apart or "
                         f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
                         f"{C.sides_apart[1]:g} deg)")
+    p.add_argument("--refute-hits", choices=("off", "under"), default=C.refute_hits,
+                   help="'under' (not 1985): a hit cell a later sight line passes under (below "
+                        "the hit's lowest located point, to a surface beyond) shows unknown, "
+                        "never free; 'off' (default)")
     p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
                    help="what a sight line to a located point frees: 'low' (default; not "
                         "1985): only where its ray runs below the lowest obstacle's top (a box "
@@ -325,7 +329,7 @@ def loop_config(args, goal, fail):
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
-                       sight_lines=args.sight_lines,
+                       sight_lines=args.sight_lines, refute_hits=args.refute_hits,
                        sides_apart=tuple(args.sides_apart),
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 

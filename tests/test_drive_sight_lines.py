@@ -14,7 +14,7 @@ import pytest
 from planner.evidence import SIGHT_TO_HIT, FreeProvenance, Perception, free_obstacle_cells
 from planner.floormap import FLOOR_Y
 from planner.loop import DriveConfig
-from planner.octree import FREE, VolumeOfInterest
+from planner.octree import FREE, UNCERTAIN, UNKNOWN, VolumeOfInterest
 from planner.perception import CX_128, CY_128, FOCAL_128, floor_scan, low_start
 from rig.scan import Point
 from vehicle.sim import State
@@ -266,3 +266,73 @@ def test_the_tiny_room_under_low_frees_no_floor_before_8_ft_and_stops_safely():
               noise=OdometryNoise(seed=1), keep_maps=False)
     assert not res.reached and "without progress" in res.reason
     assert res.collisions == 0 and res.travelled_ft < 2.5
+
+
+# --- refute_hits="under": a hit cell a later sight line passes under -------------------
+
+def _lines_between(y_min, y_max, dist):
+    """The drive's scan lines whose point at ``dist`` ft lies at room Y ``y_min``..``y_max``."""
+    return [ln for ln in range(8, 113, 2) if y_min <= _on_wall(64, ln, dist)[1][1] <= y_max]
+
+
+def _state_at_hit(m, fs_hit):
+    fm = m.floor_map([(0.0, 0.0), (0.0, 9.0)])
+    return fm.state_at(fs_hit[0], fs_hit[2])
+
+
+def _two_looks(first, refute):
+    m = _model("low")
+    m.refute_hits = refute
+    m.update(first, State(0.0, 0.0, 0.0), Pose, PITCH)
+    hit = floor_scan(first, R, LEFT, BAND, low_y=LOW_Y).hits[0]
+    before = _state_at_hit(m, hit)
+    # the second look: the wall edge at 8 ft shown down to the band's bottom, its lowest
+    # ray dropping 2.65-2.75 ft over 8 ft (2.75 * r / 8 below the camera at r ft)
+    m.update(_edge(64, _lines_down_to(BAND[1])), State(0.0, 0.0, 0.0), Pose, PITCH)
+    return m, hit, before, _state_at_hit(m, hit)
+
+
+def test_a_false_hit_a_later_ray_passes_under_shows_unknown_never_free():
+    # a false match: an "edge" 4.5 ft away located only 0.5-1.2 ft below the camera (1.8-2.5 ft
+    # above the floor).  A real surface there, standing on the floor, would stop the
+    # second look's ray, which is 2.75 * 4.5 / 8 = 1.55 ft down there (1.4 ft a cell
+    # nearer): lower than the claimed point, and it reached the wall at 8 ft
+    lines = _lines_between(0.5, 1.2, 4.5)
+    assert len(lines) >= 2
+    first = _edge(64, lines, dist=4.5, ep=0.05)
+    drop = floor_scan(first, R, LEFT, BAND, low_y=LOW_Y).hit_drop[0]
+    assert 1.1 < drop <= 1.2
+    m, hit, before, after = _two_looks(first, "under")
+    assert before == UNCERTAIN and after == UNKNOWN and m.refuted > 0
+    # without the option the hit stays (the ray over it, nearer than 2.2 * 8 / 2.75 = 6.4 ft,
+    # proves nothing there under low)
+    m, hit, before, after = _two_looks(first, "off")
+    assert before == after == UNCERTAIN and m.refuted == 0
+
+
+def test_a_real_low_boxs_hit_is_not_refuted_by_a_ray_over_it():
+    # a real box 1.5 ft tall 4.2-4.8 ft away: its near face's vertical edge located from its
+    # top (1.5 ft below the camera) to the band's bottom; the wall edge behind shows over it
+    # only down to 1.5 * 8 / 4.8 = 2.5 ft at 8 ft, a ray 2.5 * 4.2 / 8 = 1.31 ft down at the
+    # face: over the box's top, above every point of its edge.  Nothing is refuted
+    face = _edge(64, _lines_between(1.5, BAND[1], 4.2), dist=4.2, ep=0.05)
+    m = _model("low")
+    m.refute_hits = "under"
+    m.update(face, State(0.0, 0.0, 0.0), Pose, PITCH)
+    hit = floor_scan(face, R, LEFT, BAND, low_y=LOW_Y).hits[0]
+    assert _state_at_hit(m, hit) == UNCERTAIN
+    _, over = _box_over_which(FLOOR_Y - 1.5)
+    m.update(_edge(64, over), State(0.0, 0.0, 0.0), Pose, PITCH)
+    assert _state_at_hit(m, hit) == UNCERTAIN and m.refuted == 0
+    # the face's claim is its lowest located point, near the band's bottom (2.75 ft down):
+    # even a ray to the floor line at 8 ft (2.75 * 4 / 8 = 1.4 ft down there) passes over it
+    m.update(_edge(64, _lines_down_to(BAND[1])), State(0.0, 0.0, 0.0), Pose, PITCH)
+    assert _state_at_hit(m, hit) == UNCERTAIN and m.refuted == 0
+
+
+def test_refute_hits_is_off_by_default_and_a_bad_value_is_refused():
+    from planner.loop import run
+    from world.room import bundled_lab
+    assert DriveConfig.refute_hits == "off"
+    with pytest.raises(ValueError, match="refute_hits"):
+        run(bundled_lab(), State(0.0, 0.0, 0.0), DriveConfig(goal=(4.5, 11.0), refute_hits="x"))
