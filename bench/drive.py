@@ -126,16 +126,10 @@ def final_map_losses(room, fmap, radius):
 def traced_run(room, start, cfg, noise):
     """planner.loop.run with its Perception keeping a FreeProvenance (which
     carving freed each cell; the drive is the same): (result, perception)."""
-    from planner.evidence import FreeProvenance, Perception
+    from planner.evidence import tracing_perception
     from planner.loop import run
     made = []
-
-    def tracing_perception(*args):
-        model = Perception(*args)
-        model.provenance = FreeProvenance()
-        made.append(model)
-        return model
-    res = run(room, start, cfg, noise=noise, perception_factory=tracing_perception)
+    res = run(room, start, cfg, noise=noise, perception_factory=tracing_perception(made))
     return res, made[0]
 
 

@@ -254,6 +254,7 @@ class Perception:
         self.refute_hits = "off"          # or "under" (DriveConfig.refute_hits)
         self.claims: dict[int, float] = {}    # packed key -> the lowest drop of a hit grown there
         self.refuted = 0                  # cells a later ray passed under (refute_hits)
+        self._look_keys = np.zeros(0, np.int64)   # the current look's grown hit cells
         self.two_look_sides = None        # a TwoLookSides (DriveConfig.blank_sides="two-looks")
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
@@ -485,13 +486,14 @@ class Perception:
             return 0
         samples, dist, n = along
         seg = np.repeat(np.arange(len(n)), n)
-        keep = dist >= np.asarray(starts, float)[seg]
+        before_end = np.ones(len(dist), bool)     # short of the line's end (its error bound)
         if short is not None:
             ends = np.asarray(ends, float).reshape(-1, 3)
             length = np.hypot(ends[:, 0] - left[0], ends[:, 2] - left[2])
-            keep &= dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
+            before_end = dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
+        keep = (dist >= np.asarray(starts, float)[seg]) & before_end
         if self.refute_hits != "off" and self.claims:
-            self._refute_under(samples, dist, seg, starts, ends, short, left, res)
+            self._refute_under(samples, dist, seg, starts, before_end, left, res)
         over = np.unique(cell_keys(samples[~keep], res))
         self.seen_over += int(len(np.setdiff1d(over, cell_keys(samples[keep], res))))
         if not keep.any():
@@ -513,7 +515,7 @@ class Perception:
             k = int(k)
             self.claims[k] = max(self.claims.get(k, -np.inf), float(y))
 
-    def _refute_under(self, samples, dist, seg, starts, ends, short, left, res: float) -> int:
+    def _refute_under(self, samples, dist, seg, starts, before_end, left, res: float) -> int:
         """``refute_hits="under"`` (a named option, not 1985): a hit cell whose
         claim (:meth:`_claim`) a later sight line passes UNDER is shown
         UNKNOWN (:meth:`_apply_expired`; never free), until a hit raises it
@@ -523,23 +525,18 @@ class Perception:
         larger one for the columns between).  Where that drop, at the cell's
         near side (``r`` less a cell), reaches the claimed point's, the ray
         went below the point through the floor-standing obstacle the hit
-        claims, and reached a surface beyond it (the samples end ``short``
-        of the line's end, as the proof does): a real surface point cannot
+        claims, and reached a surface beyond it (only the samples
+        ``before_end``, short of the line's end as the proof's): a real surface point cannot
         be passed under.  A ray over the point (a low box's top seen over)
         refutes nothing.  Cells this look hit are not refuted by it."""
         need = FLOOR_Y - self.lowest_ft - left[1]
         st = np.asarray(starts, float)[seg]
         with np.errstate(divide="ignore", invalid="ignore"):
             slope = np.where(np.isfinite(st) & (st > 0), need / st, 0.0)
-        ok = np.ones(len(dist), bool)
-        if short is not None:
-            e = np.asarray(ends, float).reshape(-1, 3)
-            length = np.hypot(e[:, 0] - left[0], e[:, 2] - left[2])
-            ok &= dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
         drop = slope * np.maximum(dist - res, 0.0)
         keys = cell_keys(samples, res)
         claim = np.array([self.claims.get(int(k), np.inf) for k in keys])
-        under = ok & (drop >= claim) & ~np.isin(keys, getattr(self, "_look_keys", ()))
+        under = before_end & (drop >= claim) & ~np.isin(keys, self._look_keys)
         n = 0
         for k in np.unique(keys[under]):
             if int(k) not in self.expired:
@@ -811,3 +808,16 @@ def floor_stats(model: "Perception") -> dict:
     return {"floor_greys": [] if g is None else np.flatnonzero(g).tolist(),
             "floor_samples": int(model.floor_hist.sum()), "floor_cells": int(model.floor_cells),
             "vetoed_points": int(model.vetoed)}
+
+
+def tracing_perception(made: list):
+    """A :class:`Perception` factory for ``planner.loop.run(perception_factory=)``:
+    each Perception it builds keeps a :class:`FreeProvenance` (which carving
+    freed each cell; the drive is the same) and is appended to ``made``, so
+    the caller can read it after the run (``bench/drive.py --losses``)."""
+    def make(*args):
+        model = Perception(*args)
+        model.provenance = FreeProvenance()
+        made.append(model)
+        return model
+    return make

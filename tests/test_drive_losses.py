@@ -167,22 +167,16 @@ def test_a_perception_factory_traces_the_drive_without_changing_it():
     (``bench/drive.py --losses`` passes one keeping a FreeProvenance): the
     factory is called once, the traced drive and its maps are the plain drive's,
     and the provenance holds the looks' carvings."""
-    from planner.evidence import MECHANISMS
+    from planner.evidence import MECHANISMS, tracing_perception
     from planner.loop import run
     from planner.tiny import GOAL, tiny_room
     from world.odometry import OdometryNoise
 
     made = []
-
-    def tracing_perception(*args):
-        m = Perception(*args)
-        m.provenance = FreeProvenance()
-        made.append(m)
-        return m
     room, cfg = tiny_room(), DriveConfig(goal=GOAL, eyes="truth")
     plain = run(room, State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1))
     traced = run(room, State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1),
-                 perception_factory=tracing_perception)
+                 perception_factory=tracing_perception(made))
     assert len(made) == 1
     assert (traced.reason, traced.looks, traced.true_track, traced.estimate_track) == \
         (plain.reason, plain.looks, plain.true_track, plain.estimate_track)
