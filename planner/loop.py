@@ -75,15 +75,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vehicle.commands import Forward, Turn, format_commands
+from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
-from vehicle.sim import State, Vehicle, odometry_covariance
+from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
 from .evidence import Perception, floor_stats, mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import back_prefix, fetch_evidence, looked_ahead, \
-    mark_track_free, safe_prefix, looked_free, near_visible_ft, pivot_allowed, \
-    pivot_radius_ft, SMALL_TURN_DEG
+from .motion import back_prefix, fetch_evidence, far_floor_ft, \
+    drop_tiny_moves, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
+    near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -104,6 +104,8 @@ FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop 
 
 
 REFUTE_HITS = ("off", "under")        # DriveConfig.refute_hits
+HEADS = ("fixed", "pan-tilt")         # DriveConfig.head
+HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 
 
 @dataclass
@@ -261,6 +263,13 @@ class DriveConfig:
                                           # later sight line passes under (below the hit's
                                           # lowest located point, to a surface beyond it)
                                           # shows unknown, never free (Perception.refute_hits)
+    head: str = "fixed"                   # (not 1985; a named option) "fixed": the rig as
+                                          # mounted; "pan-tilt": on a head (PAN, TILT;
+                                          # VehicleProfile.head) that looks where the loop
+                                          # pivoted only to look: at the first never-seen
+                                          # cell of the way (tilted down to see it), into the
+                                          # pivot circle, round; the body drives with the
+                                          # head at 0/0 (head_commands)
 
 
 @dataclass
@@ -476,6 +485,16 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                           ("feature_pose", FEATURE_POSES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
+    if cfg.head not in HEADS:
+        raise ValueError(f"unknown head {cfg.head!r}; one of {', '.join(HEADS)}")
+    head = cfg.head == "pan-tilt"
+    if head:
+        if cfg.pose == "fused":
+            raise ValueError("head 'pan-tilt' with pose 'fused': the walk's camera estimate "
+                             "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
+        if not prof.head:
+            import dataclasses
+            prof = dataclasses.replace(prof, head=True)
     veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
     walker = None
     if cfg.pose == "fused":
@@ -527,6 +546,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
     tried: dict = {}                      # blocker cell -> places it was looked at from
     ahead_cells: set = set()              # cells the look-ahead has turned to (each once)
+    aimed: dict = {}                      # head: cell -> places the head looked at it from
     goal = (float(cfg.goal[0]), float(cfg.goal[1]))
     opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
     cycles: list[Cycle] = []
@@ -546,7 +566,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 break
             t0 = time.perf_counter()
             tp = veh.true
-            look = render_look(room, Pose(tp.x, tp.z, tp.heading_deg, prof.camera_pitch_deg),
+            look_pan, look_tilt = veh.pan_deg, veh.tilt_deg
+            look = render_look(room, camera_pose(tp, look_pan, look_tilt, prof),
                                seed=cfg.look_seed + look_no,
                                supersample=cfg.supersample)
             t1 = time.perf_counter()
@@ -563,7 +584,15 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
                                   cfg.start_clear_ft + 1.0)
                 mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
-            model.update(points, est, Pose, prof.camera_pitch_deg, known, dead_cov,
+            est_cam = est
+            if head:
+                # the look placed by the estimate with the head's exact angles; what it
+                # can prove depends on its tilt (nearer, farther floor)
+                est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
+                model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
+                if cfg.blank_ft:
+                    model.blank_ft = min(cfg.blank_ft, far_floor_ft(prof, look_tilt))
+            model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
                          look.left_bi if cfg.floor_eyes != "off" else None,
                          look.range_left if cfg.eyes == "depth" else None)
             fm = model.floor_map([(est.x, est.z), goal])
@@ -582,18 +611,27 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             fetching = False
             try:
                 pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
+                if head:
+                    cmds = drop_tiny_moves(cmds)
                 seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                                    prof.width_ft / 2 + prof.margin_ft,
                                    prof.length_ft / 2 + prof.margin_ft,
-                                   pivot_r, pivot_sweep)
+                                   pivot_r, pivot_sweep, look_pan if head else None)
                 left = path_length(pts)
-                if cfg.look_ahead and any(isinstance(c, Forward) for c in seg):
+                if cfg.look_ahead and not head and any(isinstance(c, Forward) for c in seg):
                     got = looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
                                         pivot_sweep, ahead_cells, pivot_r)
                     if got is not None:
                         seg, how = got
                         note += how
                         fetching = True   # its pivot is the look: no sweep instead
+                if head and not any(isinstance(c, Forward) for c in seg):
+                    got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, look_pan,
+                                    pivot_r, aimed)
+                    if got is not None:
+                        seg, how = got
+                        note += how
+                        fetching = True
                 if not fetching and not any(isinstance(c, Forward) for c in seg) and \
                         cfg.look_around == "evidence":
                     got = fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
@@ -605,6 +643,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     # nothing known free ahead: face the path and look again
                     first = pts[1] if len(pts) > 1 else goal
                     t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
+                    if head and path_heading(est, pts) is not None:
+                        # (with the head: the first path point 0.3 ft away or more; the
+                        # fixed rig's loop keeps its own)
+                        t = wrap(path_heading(est, pts) - est.heading_deg)
                     seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
                         pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
                 last_reason = ""
@@ -620,7 +662,13 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 if abs(t) < 10 or sweep > 1:
                     t = 35.0 if sweep % 2 else -70.0
                 back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
-                if pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
+                if head and sweep <= len(HEAD_SWEEP_DEG) + 1:
+                    # the head looks round first: toward the goal, then to either side
+                    p = t if sweep == 1 else HEAD_SWEEP_DEG[sweep - 2]
+                    lo, hi = prof.pan_limits_deg
+                    seg = [Pan(round(min(max(p, lo), hi), 2)), Tilt(0.0)]
+                    note += " (looking round with the head)"
+                elif pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
                     seg = [Turn(round(t, 2))]
                     note += " (turning to look)"
                 elif back:
@@ -629,6 +677,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 else:
                     seg = []
                     note += " (cannot turn: space within its radius not seen free)"
+            if head:
+                seg = head_commands(seg, est, fm, pts, prof, cfg, veh.pan_deg, veh.tilt_deg,
+                                    aimed)
             t2 = time.perf_counter()
             before = (veh.true.x, veh.true.z)
             n_before = len(veh.dead_track)

@@ -9,6 +9,8 @@ shown free.
 * what a look can show: :func:`looked_free` (the field of view just looked
   at), :func:`near_visible_ft` (nothing nearer is in the picture);
 * the vehicle's own track as free space (:func:`mark_track_free`);
+* the pan-tilt head (``DriveConfig.head="pan-tilt"``, a named option): where
+  the head looks (:func:`head_aim`, :func:`head_look`, :func:`head_commands`);
 * fetching evidence when it cannot move (``look_around="evidence"``, a named
   option): the blocking cells, a viewpoint to look at them from, backing off
   (:func:`fetch_evidence`).
@@ -21,9 +23,9 @@ import math
 import cv2
 import numpy as np
 
-from vehicle.commands import Back, Forward, Turn
+from vehicle.commands import Back, Forward, Pan, Tilt, Turn
 from vehicle.profile import VehicleProfile
-from vehicle.sim import State
+from vehicle.sim import State, advance
 from .floormap import FloorMap
 from .octree import FREE, UNCERTAIN, UNKNOWN
 from .planning import escape_start
@@ -183,14 +185,84 @@ def looked_free(fm: FloorMap, est: State, max_range: float) -> FloorMap:
 HALF_VFOV_DEG = math.degrees(math.atan(60 / 180))     # half the 120-line picture's height
 
 
-def near_visible_ft(profile: VehicleProfile, lowest_obstacle_ft: float) -> float:
+def near_visible_ft(profile: VehicleProfile, lowest_obstacle_ft: float,
+                    tilt_deg: float = 0.0) -> float:
     """The distance from which an obstacle ``lowest_obstacle_ft`` tall shows in
-    the picture (the lower edge of the view, pitched by the profile, reaches
-    its top): nearer than that a look proves no floor free."""
-    down = -profile.camera_pitch_deg + HALF_VFOV_DEG
+    the picture (the lower edge of the view, pitched by the profile and tilted
+    ``tilt_deg`` more by the head, reaches its top): nearer than that a look
+    proves no floor free.  With the default profile (pitch -25 deg, the lower
+    edge 43.4 deg down) an 0.8 ft box shows from 2.2 / tan 43.4 deg = 2.32 ft;
+    tilted 25 deg more (pitch -50, the edge 68.4 deg down) from 0.87 ft; a lower
+    edge at or past the vertical sees the floor at the vehicle's centre (0)."""
+    down = -(profile.camera_pitch_deg + tilt_deg) + HALF_VFOV_DEG
     if down <= 0:
         return math.inf
+    if down >= 90.0:
+        return 0.0
     return (profile.camera_height_ft - lowest_obstacle_ft) / math.tan(math.radians(down))
+
+
+def far_floor_ft(profile: VehicleProfile, tilt_deg: float = 0.0) -> float:
+    """The farthest floor a look shows (the upper edge of the view, pitched by
+    the profile and the head's tilt, meets the floor; inf when that edge
+    looks level or up).  Pitch -25 deg: the edge 6.6 deg down, 26 ft; tilted
+    to -80: 61.6 deg down, 1.6 ft.  A column that shows nothing proves nothing
+    beyond it: the loop with a head bounds the blank-column assumption by it."""
+    up = profile.camera_pitch_deg + tilt_deg + HALF_VFOV_DEG
+    if up >= 0:
+        return math.inf
+    return profile.camera_height_ft / math.tan(math.radians(-up))
+
+
+def head_aim(x: float, z: float, heading_deg: float, cell, prof: VehicleProfile,
+             lowest_obstacle_ft: float, margin_ft: float) -> tuple[float, float]:
+    """(pan, tilt) in degrees that bring ``cell`` (x, z) into the picture of a
+    head standing at (x, z) with the body heading ``heading_deg``
+    (``DriveConfig.head="pan-tilt"``): the pan that puts the cell in the
+    picture's middle column (its bearing less the heading), and the least
+    downward tilt whose :func:`near_visible_ft` is no more than the cell's
+    distance less ``margin_ft`` (so the look shows the top of an obstacle
+    ``lowest_obstacle_ft`` tall standing there, and sees farther than a
+    steeper tilt would): the lower edge must look
+    ``atan((height - lowest) / (d - margin))`` down, so the pitch is
+    ``HALF_VFOV_DEG`` less that, the tilt that pitch less the mount's.  Both
+    clipped to the profile's limits (no tilt above the mount's pitch: 0 when
+    the mount already shows it), rounded to 0.01 deg (as they are commanded)."""
+    d = math.hypot(cell[0] - x, cell[1] - z)
+    lo, hi = prof.pan_limits_deg
+    pan = min(max(wrap(heading_to((x, z), cell) - heading_deg), lo), hi)
+    tlo, thi = prof.tilt_limits_deg
+    reach = d - margin_ft
+    if reach <= 0:
+        tilt = tlo
+    else:
+        down = math.degrees(math.atan2(prof.camera_height_ft - lowest_obstacle_ft, reach))
+        tilt = HALF_VFOV_DEG - down - prof.camera_pitch_deg
+    tilt = min(max(tilt, tlo), min(thi, 0.0))
+    return round(pan, 2), round(tilt, 2)
+
+
+def unseen_in_circle(fm: FloorMap, x: float, z: float, radius: float):
+    """The cell nearest (x, z) among those whose square comes within ``radius``
+    of it (the pivot circle, as :func:`_disc_seen_free` tests it) and that are
+    neither FREE nor OCCUPIED (never seen, or hit once: another look may clear
+    them): its centre, or None when there is none (off the map: None too, the
+    pivot is refused for it and no look can help)."""
+    n = int(math.ceil(radius / fm.cell)) + 1
+    i0, j0 = fm.index(x, z)
+    ii, jj = np.mgrid[i0 - n:i0 + n + 1, j0 - n:j0 + n + 1]
+    inside = (ii >= 0) & (jj >= 0) & (ii < fm.shape[0]) & (jj < fm.shape[1])
+    ii, jj = ii[inside], jj[inside]
+    cx, cz = fm.centre(ii, jj)
+    dx = np.maximum(np.abs(cx - x) - fm.cell / 2, 0)
+    dz = np.maximum(np.abs(cz - z) - fm.cell / 2, 0)
+    c = fm.cells[ii, jj]
+    m = (np.hypot(dx, dz) <= radius) & ((c == UNKNOWN) | (c == UNCERTAIN))
+    if not m.any():
+        return None
+    d = np.hypot(cx[m] - x, cz[m] - z)
+    q = int(np.argmin(d))
+    return float(cx[m][q]), float(cz[m][q])
 
 
 def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad: float,
@@ -210,7 +282,8 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
 
 def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
                  seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
-                 nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None):
+                 nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None,
+                 looked_deg: float | None = None):
     """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
     would come nearer than its radius to an occupied or uncertain cell
     (``safe``), or where its swept width (``half_width`` each side) would
@@ -220,10 +293,16 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     within ``pivot_ft`` (the footprint's half diagonal) seen free, or, given
     ``pivot_sweep`` (a named option: the footprint and the margin,
     ``DriveConfig.pivot="swept"``), every cell that footprint grown by the margin
-    sweeps through the turn (:func:`_pivot_seen_free`)."""
+    sweeps through the turn (:func:`_pivot_seen_free`).  After turns of more
+    than ``EYES_TURN_DEG`` in all it stops before the next forward move, to
+    look the new way first; ``looked_deg`` (a head's pan at the look just
+    taken, ``DriveConfig.head``) lets the move on when the turns' net angle
+    ends within ``EYES_TURN_DEG`` of the way that look faced: the head has
+    looked the new way already."""
     out = []
     x, z, h = est.x, est.z, est.heading_deg
     turned = 0.0
+    net = 0.0
     fm = safe.fmap
     for c in next_segment(cmds, step):
         if isinstance(c, Turn):
@@ -232,10 +311,12 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
             out.append(c)
             h = wrap(h + c.angle_deg)
             turned += abs(c.angle_deg)
+            net += c.angle_deg
             continue
         if not isinstance(c, Forward):
             break
-        if turned > EYES_TURN_DEG and out:
+        looked_way = looked_deg is not None and abs(wrap(net - looked_deg)) <= EYES_TURN_DEG
+        if turned > EYES_TURN_DEG and out and not looked_way:
             break                         # look the new way before driving into it
         known = seen_eyes if (seen_eyes is not None and turned <= EYES_TURN_DEG) else seen
         hr = math.radians(h)
@@ -520,3 +601,136 @@ def looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen,
         return None                       # its pivot (or move) breaks the safety rules
     done.add(fm.index(*cell))
     return new, f" (looking ahead at ({cell[0]:.1f}, {cell[1]:.1f}))"
+
+
+def _cell_key(fm: FloorMap, cell) -> tuple[int, int]:
+    """A cell's key that outlives the map (whose origin moves as it grows)."""
+    return int(math.floor(cell[0] / fm.cell)), int(math.floor(cell[1] / fm.cell))
+
+
+def _aimed_from(aimed: dict, fm: FloorMap, cell, x: float, z: float) -> bool:
+    return any(math.hypot(q[0] - x, q[1] - z) <= 0.3 for q in aimed.get(_cell_key(fm, cell), []))
+
+
+def _aim(fm: FloorMap, cell, at: State, prof: VehicleProfile, cfg, aimed: dict):
+    """(pan, tilt) at ``cell`` from ``at`` (:func:`head_aim`, the margin a
+    cell), recorded in ``aimed``."""
+    aimed.setdefault(_cell_key(fm, cell), []).append((at.x, at.z))
+    return head_aim(at.x, at.z, at.heading_deg, cell, prof, cfg.lowest_obstacle_ft, fm.cell)
+
+
+def drop_tiny_moves(cmds, min_ft: float = 0.05) -> list:
+    """``cmds`` without the straight moves shorter than ``min_ft`` among its
+    leading commands (before the first longer move), the turns on either side
+    of each joined into one: a path whose first point lies a hundredth of a
+    foot from the estimate (a cell centre) otherwise asks for a pivot to it,
+    a step of nothing and a pivot back, and the pivots' sum stops the move as a
+    turn not looked along (:func:`safe_prefix`).  Used with the head."""
+    out = []
+    lead = True
+    for c in cmds:
+        if lead and isinstance(c, Forward) and c.distance_ft < min_ft:
+            continue
+        if isinstance(c, Forward) and c.distance_ft >= min_ft:
+            lead = False
+        if lead and isinstance(c, Turn) and out and isinstance(out[-1], Turn):
+            out[-1] = Turn(round(wrap(out[-1].angle_deg + c.angle_deg), 3))
+            continue
+        out.append(c)
+    return out
+
+
+def path_heading(est: State, pts, min_ft: float = 0.3) -> float | None:
+    """The heading from the estimate to the first point of the path ``pts`` at
+    least ``min_ft`` away (a path's first point may lie a hundredth of a foot
+    off, and the bearing to it says nothing), None without one."""
+    for p in pts[1:]:
+        if math.hypot(p[0] - est.x, p[1] - est.z) >= min_ft:
+            return heading_to((est.x, est.z), p)
+    return None
+
+
+def head_look(fm: FloorMap, safe: Passable, est: State, pts, goal, seg, prof: VehicleProfile,
+              cfg, look_pan: float, pivot_ft: float, aimed: dict):
+    """(commands, note) of the pan-tilt head (``DriveConfig.head="pan-tilt"``)
+    for a cycle whose safe commands ``seg`` drive nowhere, or None (the loop
+    then turns the body as without a head).  The head, not the body, looks at
+    the first of:
+
+    * the first never-seen cell on the swept band of the path's next step +
+      ``near_visible_ft`` (+ two cells; :func:`first_unseen_on_band`): the
+      blind zone beside the way that cut the move, tilted down to show it;
+    * the never-seen (or once-hit) cell of the pivot circle nearest the
+      vehicle (:func:`unseen_in_circle`): a pivot needs it seen free;
+    * the cell where the path's execution stops for want of evidence
+      (:func:`_blocker`: unseen, or uncertain within the radius);
+
+    each at most once from one place (``aimed``: cell -> places); then the way
+    the path turns, when more than ``EYES_TURN_DEG`` from the way the last look
+    faced (``look_pan``): the head faces the path and looks, and the next
+    cycle's :func:`safe_prefix` lets the body turn and drive on at once."""
+    near0 = near_visible_ft(prof, cfg.lowest_obstacle_ft)
+    cands = []
+    if len(pts) > 1:
+        c = first_unseen_on_band(fm, pts, prof.width_ft / 2 + prof.margin_ft,
+                                 prof.step_ft + near0 + 2 * fm.cell)
+        if c is not None:
+            cands.append((c, "the way"))
+    c = unseen_in_circle(fm, est.x, est.z, pivot_ft)
+    if c is not None:
+        cands.append((c, "the pivot circle"))
+    if len(pts) > 1:
+        c = _blocker(fm, safe, pts, near0)
+        if c is not None:
+            cands.append((c, "the way's evidence"))
+    for cell, what in cands:
+        if math.hypot(cell[0] - est.x, cell[1] - est.z) < 1e-6 or \
+                _aimed_from(aimed, fm, cell, est.x, est.z):
+            continue
+        pan, tilt = _aim(fm, cell, est, prof, cfg, aimed)
+        return [Pan(pan), Tilt(tilt)], (f" (head at {what}: ({cell[0]:.1f}, {cell[1]:.1f}), "
+                                        f"pan {pan:g} tilt {tilt:g})")
+    way = path_heading(est, pts)
+    if way is not None:
+        t = wrap(way - est.heading_deg)
+        lo, hi = prof.pan_limits_deg
+        p = round(min(max(t, lo), hi), 2)
+        if abs(t) > EYES_TURN_DEG and abs(wrap(t - look_pan)) > EYES_TURN_DEG and \
+                abs(wrap(p - look_pan)) > 1.0:
+            return [Pan(p), Tilt(0.0)], f" (head to the path's way, pan {p:g})"
+    return None
+
+
+def head_commands(seg, est: State, fm: FloorMap, pts, prof: VehicleProfile, cfg,
+                  pan: float, tilt: float, aimed: dict) -> list:
+    """The cycle's commands with the pan-tilt head (``DriveConfig.head``):
+    a ``seg`` that moves the body is driven with the head straight ahead
+    (``PAN 0; TILT 0`` first when it is not), and is followed by the head's aim
+    for the next look, from the pose the commands end at (exactly, as
+    commanded): at the first never-seen cell on the swept band of the path
+    beyond the move (the move's length + the next step + ``near_visible_ft`` +
+    two cells), not aimed at from there before; straight ahead without one.
+    A ``seg`` that moves nothing (the head's own look, or nothing) is returned
+    as it is."""
+    moves = any(isinstance(c, (Forward, Back)) or (isinstance(c, Turn) and c.angle_deg != 0)
+                for c in seg)
+    if not moves:
+        return list(seg)
+    body = [c for c in seg if not isinstance(c, (Pan, Tilt))]
+    out = ([Pan(0.0), Tilt(0.0)] if (pan, tilt) != (0.0, 0.0) else []) + body
+    end = est
+    for c in body:
+        end = advance(end, c)
+    if len(pts) < 2:
+        return out
+    travel = sum(c.distance_ft for c in body if isinstance(c, (Forward, Back)))
+    near0 = near_visible_ft(prof, cfg.lowest_obstacle_ft)
+    cell = first_unseen_on_band(fm, pts, prof.width_ft / 2 + prof.margin_ft,
+                                travel + prof.step_ft + near0 + 2 * fm.cell)
+    if cell is None or math.hypot(cell[0] - end.x, cell[1] - end.z) <= fm.cell or \
+            _aimed_from(aimed, fm, cell, end.x, end.z):
+        return out
+    p, t = _aim(fm, cell, end, prof, cfg, aimed)
+    if (p, t) != (0.0, 0.0):
+        out += [Pan(p), Tilt(t)]
+    return out

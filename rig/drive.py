@@ -153,7 +153,7 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C, EYES, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
+    from planner.loop import DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
     MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
     from planner.planning import GOALS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
@@ -289,6 +289,13 @@ def add_loop_options(p) -> None:
                    help="plan paths that keep to what was in view: A* where a cell within the "
                         "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
                         "(not the dissertation's search; default 0: off)")
+    p.add_argument("--head", choices=HEADS, default=C.head,
+                   help="the rig's mount: 'fixed' (the default, pitched 25 deg down) or "
+                        "'pan-tilt': on a head that pans +-90 deg and tilts 0..-55 deg "
+                        "(PAN, TILT commands) and looks where the fixed rig pivots the "
+                        "vehicle only to look: at the first never-seen cell of its way, "
+                        "tilted down to show it, into its pivot circle, round (not 1985; "
+                        "not with --pose fused)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -311,9 +318,12 @@ def loop_config(args, goal, fail):
         fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
     if not 0 <= args.seen_cost < 1e6:
         fail(f"--seen-cost {args.seen_cost!r}: an extra cost per ft, 0 (off) or more")
+    if args.head == "pan-tilt" and args.pose == "fused":
+        fail("--head pan-tilt with --pose fused: the walk's camera estimate assumes the fixed "
+             "rig; use --pose dead_reckoning")
     if args.margin is not None and not 0 <= args.margin < 10:
         fail(f"--margin {args.margin!r}: a planning margin in feet, at least 0 and under 10")
-    profile = replace(DEFAULT, reverse=args.reverse == "on",
+    profile = replace(DEFAULT, reverse=args.reverse == "on", head=args.head == "pan-tilt",
                       margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
     return DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                        max_looks=args.max_looks, eyes=args.eyes, match=args.match,
@@ -330,7 +340,7 @@ def loop_config(args, goal, fail):
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
                        sight_lines=args.sight_lines, refute_hits=args.refute_hits,
-                       sides_apart=tuple(args.sides_apart),
+                       sides_apart=tuple(args.sides_apart), head=args.head,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 

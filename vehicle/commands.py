@@ -9,9 +9,18 @@ lines, verbs case-insensitive, numbers in feet and degrees::
                        profile allows reverse: ``VehicleProfile.reverse``)
     TURN -30           pivot in place; positive turns right (heading from +Z toward +X)
     ARC 1.5 45         drive a circular arc of radius 1.5 ft turning 45 deg right
+    PAN 40             turn the head to 40 deg right of the body (absolute, not by 40 more;
+                       PAN 0 is straight ahead); the body does not move
+    TILT -30           tilt the head to 30 deg down from the rig's mounting pitch
+                       (absolute; TILT 0 is the mount's own pitch)
     STOP               end of the string; nothing after it is allowed
 
-Short forms ``F``, ``B``, ``T``, ``A``, ``S`` are accepted.  ``#`` starts a comment.
+PAN and TILT are for a vehicle whose profile has a head (``VehicleProfile.head``,
+in the spirit of the HERO-1's head, which rotates on its body); the vehicle
+checks their angles against the profile's limits when it executes them
+(:meth:`vehicle.sim.Vehicle.execute`), the parser only that they lie within
+-180..180 deg.  Short forms ``F``, ``B``, ``T``, ``A``, ``P``, ``TI``, ``S``
+are accepted.  ``#`` starts a comment.
 :func:`parse` raises :class:`CommandError` naming the statement, its number
 and what is wrong; :func:`format_commands` writes the canonical string
 (``parse(format_commands(c)) == c``).
@@ -50,15 +59,26 @@ class Arc:
 
 
 @dataclass(frozen=True)
+class Pan:
+    angle_deg: float          # the head's pan relative to the body, positive right
+
+
+@dataclass(frozen=True)
+class Tilt:
+    angle_deg: float          # the head's tilt on top of the mounting pitch, negative down
+
+
+@dataclass(frozen=True)
 class Stop:
     pass
 
 
-Command = Forward | Back | Turn | Arc | Stop
+Command = Forward | Back | Turn | Arc | Pan | Tilt | Stop
 
 _VERBS = {"FORWARD": "FORWARD", "F": "FORWARD", "BACK": "BACK", "B": "BACK", "TURN": "TURN", "T": "TURN",
-          "ARC": "ARC", "A": "ARC", "STOP": "STOP", "S": "STOP"}
-_ARITY = {"FORWARD": 1, "BACK": 1, "TURN": 1, "ARC": 2, "STOP": 0}
+          "ARC": "ARC", "A": "ARC", "PAN": "PAN", "P": "PAN", "TILT": "TILT", "TI": "TILT",
+          "STOP": "STOP", "S": "STOP"}
+_ARITY = {"FORWARD": 1, "BACK": 1, "TURN": 1, "ARC": 2, "PAN": 1, "TILT": 1, "STOP": 0}
 _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)$")
 
 
@@ -93,7 +113,7 @@ def parse(text: str) -> list[Command]:
         verb = _VERBS.get(toks[0].upper())
         if verb is None:
             raise CommandError(f"{where}: unknown command {toks[0]!r} "
-                               f"(expected FORWARD, BACK, TURN, ARC or STOP)")
+                               f"(expected FORWARD, BACK, TURN, ARC, PAN, TILT or STOP)")
         args = toks[1:]
         if len(args) != _ARITY[verb]:
             raise CommandError(f"{where}: {verb} takes {_ARITY[verb]} number"
@@ -118,6 +138,10 @@ def parse(text: str) -> list[Command]:
             if abs(vals[1]) > 360:
                 raise CommandError(f"{where}: ARC angle must be within -360..360 deg")
             out.append(Arc(vals[0], vals[1]))
+        elif verb in ("PAN", "TILT"):
+            if abs(vals[0]) > 180:
+                raise CommandError(f"{where}: {verb} angle must be within -180..180 deg")
+            out.append(Pan(vals[0]) if verb == "PAN" else Tilt(vals[0]))
         else:
             out.append(Stop())
             stopped = True
@@ -141,6 +165,10 @@ def format_commands(cmds) -> str:
             parts.append(f"TURN {_num(c.angle_deg)}")
         elif isinstance(c, Arc):
             parts.append(f"ARC {_num(c.radius_ft)} {_num(c.angle_deg)}")
+        elif isinstance(c, Pan):
+            parts.append(f"PAN {_num(c.angle_deg)}")
+        elif isinstance(c, Tilt):
+            parts.append(f"TILT {_num(c.angle_deg)}")
         elif isinstance(c, Stop):
             parts.append("STOP")
         else:

@@ -15,6 +15,19 @@ may then back straight along its heading over space seen free, to see what is
 too near to show in a look or to get room to pivot (measured, not adopted:
 docs/planner.md).  ``margin_ft`` is added to the
 vehicle's radius when planning, against the error of the position estimate.
+
+The head (``head``, off by default: the rig is fixed, pan 0 and tilt 0 on top
+of ``camera_pitch_deg``): with ``head=True`` the rig sits on a head that pans
+about the vertical through the rig's midpoint (above the footprint's centre)
+within ``pan_limits_deg`` (-90..+90 deg, positive to the right as a TURN) and
+tilts about the rig's own x axis within ``tilt_limits_deg`` (-55..0 deg,
+negative down; added to ``camera_pitch_deg``, so -25 down to -80 deg: at -80
+the picture's lower edge looks 8 deg behind the vertical and the floor beside
+the footprint shows).  The HERO-1's head turns on its body in the same way; the
+limits are this project's choice (a cable-wound head, no slip ring: +-90 deg;
+no tilt above the mount, which already sees the far wall).  The head's
+encoders are assumed exact: the motion-command language's ``PAN`` and ``TILT``
+(:mod:`vehicle.commands`).
 """
 
 from __future__ import annotations
@@ -33,6 +46,9 @@ class VehicleProfile:
     step_ft: float = 1.5             # most forward travel between looks
     margin_ft: float = 0.15          # added to the radius for planning
     reverse: bool = False            # BACK allowed (the HERO-1's drive wheel reverses)
+    head: bool = False               # a pan-tilt head under the rig (PAN, TILT allowed)
+    pan_limits_deg: tuple[float, float] = (-90.0, 90.0)    # the head's pan, relative to the body
+    tilt_limits_deg: tuple[float, float] = (-55.0, 0.0)    # its tilt, on top of camera_pitch_deg
 
     def __post_init__(self):
         for name in ("width_ft", "length_ft", "camera_height_ft", "step_ft"):
@@ -40,6 +56,11 @@ class VehicleProfile:
                 raise ValueError(f"vehicle {name} must be positive, got {getattr(self, name)!r}")
         if self.turning_radius_ft < 0 or self.margin_ft < 0:
             raise ValueError("turning radius and margin must not be negative")
+        for name in ("pan_limits_deg", "tilt_limits_deg"):
+            lo, hi = getattr(self, name)
+            if not lo <= 0.0 <= hi:
+                raise ValueError(f"vehicle {name} must hold 0 (the head straight ahead), "
+                                 f"got {getattr(self, name)!r}")
 
     @property
     def footprint(self) -> tuple[float, float]:
@@ -56,3 +77,5 @@ class VehicleProfile:
 
 
 DEFAULT = VehicleProfile()
+PAN_TILT = VehicleProfile(head=True)
+"""The default vehicle with the pan-tilt head (``rig drive --head pan-tilt``)."""

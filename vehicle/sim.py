@@ -13,6 +13,15 @@ Every motion is swept in small steps (``sweep_ft``, ``sweep_deg``) and the true
 footprint is checked against the true room at each; at the first hit the
 vehicle stops there (its bumper), the collision is counted and the rest of the
 string is dropped.
+
+``PAN`` and ``TILT`` (a profile with a head, ``VehicleProfile.head``) set the
+head's angles (:attr:`Vehicle.pan_deg`, :attr:`Vehicle.tilt_deg`, relative to
+the body) without moving the body, so there is nothing to sweep or collide,
+and WITHOUT odometry noise: the head's encoders are assumed exact, and the
+dead reckoning of the body is untouched (no report, no track point).  An angle
+outside the profile's limits, or a head command for a profile without a head,
+is a ``ValueError`` naming the command, raised before anything of the string
+is executed.
 """
 
 from __future__ import annotations
@@ -21,7 +30,7 @@ import math
 from dataclasses import dataclass, field
 
 from world.collide import footprint_hits_boxes
-from .commands import Arc, Back, Forward, Stop, Turn, parse
+from .commands import Arc, Back, Forward, Pan, Stop, Tilt, Turn, format_commands, parse
 from .profile import DEFAULT, VehicleProfile
 
 
@@ -56,9 +65,20 @@ def advance(s: State, cmd) -> State:
         h2 = h + math.radians(cmd.angle_deg)
         return State(cx - sgn * r * math.cos(h2), cz + sgn * r * math.sin(h2),
                      _wrap(s.heading_deg + cmd.angle_deg))
-    if isinstance(cmd, Stop):
-        return s
+    if isinstance(cmd, (Stop, Pan, Tilt)):
+        return s                          # the head turns on the body: the body stays
     raise TypeError(f"not a motion command: {cmd!r}")
+
+
+def camera_pose(s: State, pan_deg: float, tilt_deg: float, profile: VehicleProfile = DEFAULT):
+    """The rig's pose (a ``world.pose.Pose``) on a body at ``s`` whose head is
+    panned ``pan_deg`` (right of the body) and tilted ``tilt_deg`` (on top of
+    the profile's ``camera_pitch_deg``): the head turns about the vertical
+    through the rig's midpoint, so a pan is the body turned by as much.  With
+    the head straight ahead (0, 0) the pose is exactly the fixed rig's."""
+    from world.pose import Pose
+    heading = s.heading_deg if pan_deg == 0 else _wrap(s.heading_deg + pan_deg)
+    return Pose(s.x, s.z, heading, profile.camera_pitch_deg + tilt_deg)
 
 
 def _pieces(cmd, sweep_ft: float, sweep_deg: float):
@@ -91,6 +111,8 @@ class Vehicle:
     sweep_deg: float = 2.0
     collisions: int = 0
     travelled_ft: float = 0.0
+    pan_deg: float = 0.0                 # the head's pan relative to the body (exact)
+    tilt_deg: float = 0.0                # its tilt on top of the profile's camera_pitch_deg
     true_track: list = field(default_factory=list)
     dead_track: list = field(default_factory=list)
 
@@ -111,11 +133,31 @@ class Vehicle:
             raise ValueError("BACK: this vehicle's profile does not allow reverse "
                              "(VehicleProfile.reverse is False)")
         for cmd in cmds:
+            if isinstance(cmd, (Pan, Tilt)):
+                self._check_head(cmd)
+        for cmd in cmds:
             if isinstance(cmd, Stop):
                 break
+            if isinstance(cmd, Pan):
+                self.pan_deg = float(cmd.angle_deg)
+                continue
+            if isinstance(cmd, Tilt):
+                self.tilt_deg = float(cmd.angle_deg)
+                continue
             if not self._one(cmd):
                 return False
         return True
+
+    def _check_head(self, cmd) -> None:
+        what = format_commands([cmd])
+        if not self.profile.head:
+            raise ValueError(f"{what}: this vehicle's profile has no head "
+                             f"(VehicleProfile.head is False)")
+        name = "pan_limits_deg" if isinstance(cmd, Pan) else "tilt_limits_deg"
+        lo, hi = getattr(self.profile, name)
+        if not lo <= cmd.angle_deg <= hi:
+            raise ValueError(f"{what}: outside the head's limits {lo:g}..{hi:g} deg "
+                             f"(VehicleProfile.{name})")
 
     def _one(self, cmd) -> bool:
         """Sweep one command; the odometry reports it once (as the wheels would

@@ -1,0 +1,229 @@
+"""The pan-tilt head (``DriveConfig.head="pan-tilt"``, ``rig drive --head pan-tilt``,
+not 1985, off by default): the PAN and TILT commands, the simulated vehicle's head,
+what a tilted look can show, where the head looks (angles derived by hand on
+hand-made maps), a panned look against a turned body, and the loop in the tiny
+room."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.floormap import FloorMap
+from planner.loop import DriveConfig, run
+from planner.motion import HALF_VFOV_DEG, far_floor_ft, head_aim, head_commands, head_look, \
+    near_visible_ft, safe_prefix, unseen_in_circle
+from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
+from planner.search import clearance_map
+from planner.tiny import GOAL, tiny_room
+from vehicle.commands import CommandError, Forward, Pan, Tilt, Turn, format_commands, parse
+from vehicle.profile import DEFAULT, PAN_TILT, VehicleProfile
+from vehicle.sim import State, Vehicle, camera_pose
+from world.odometry import OdometryNoise
+
+
+def free_map():
+    """16 x 16 ft, 0.25 ft cells, all seen free; the origin at a cell corner."""
+    return FloorMap(np.full((64, 64), FREE, np.uint8), -8.0, -8.0, 0.25)
+
+
+class Cfg:                    # what the head's functions read of a DriveConfig
+    lowest_obstacle_ft = 0.8
+
+
+# --- the command language -------------------------------------------------------------
+
+def test_pan_and_tilt_parse_format_and_round_trip():
+    cmds = parse("pan 40; TILT -30.5\nP -12; TI 0; FORWARD 1")
+    assert cmds == [Pan(40.0), Tilt(-30.5), Pan(-12.0), Tilt(0.0), Forward(1.0)]
+    text = format_commands(cmds)
+    assert text == "PAN 40; TILT -30.5; PAN -12; TILT 0; FORWARD 1"
+    assert parse(text) == cmds
+
+
+@pytest.mark.parametrize("text, words", [
+    ("PAN", "PAN takes 1 number, got 0"),
+    ("TILT 1 2", "TILT takes 1 number, got 2"),
+    ("PAN left", "'left' is not a number"),
+    ("PAN 200", "PAN angle must be within -180..180 deg"),
+    ("TILT -181", "TILT angle must be within -180..180 deg"),
+    ("LOOK 3", "expected FORWARD, BACK, TURN, ARC, PAN, TILT or STOP"),
+])
+def test_malformed_head_commands_are_refused_with_a_clear_message(text, words):
+    with pytest.raises(CommandError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        parse(text)
+
+
+# --- the simulated vehicle ------------------------------------------------------------
+
+def vehicle(profile=PAN_TILT, noise=None):
+    return Vehicle(np.zeros((0, 4)), (-10.0, 10.0, -10.0, 10.0), State(0.0, 0.0, 10.0),
+                   profile, noise)
+
+
+def test_pan_and_tilt_move_the_head_only_and_exactly():
+    v = vehicle(noise=OdometryNoise(seed=3))
+    assert v.execute("PAN 40; TILT -30")
+    assert (v.pan_deg, v.tilt_deg) == (40.0, -30.0)
+    assert v.true == State(0.0, 0.0, 10.0) and v.dead == State(0.0, 0.0, 10.0)
+    assert v.travelled_ft == 0.0 and v.collisions == 0
+    assert len(v.true_track) == 1 and len(v.dead_track) == 1     # no motion reported
+    assert v.execute("PAN 0")                                    # absolute, not relative
+    assert (v.pan_deg, v.tilt_deg) == (0.0, -30.0)
+
+
+def test_head_commands_leave_the_body_and_its_dead_reckoning_as_without_them():
+    """The odometry draws its noise per reported motion: the head reports none, so the
+    same noise seed gives the same dead-reckoned track with the head commands between."""
+    a, b = vehicle(noise=OdometryNoise(seed=7)), vehicle(noise=OdometryNoise(seed=7))
+    a.execute("FORWARD 1.2; PAN 30; TILT -20; TURN 15; PAN -45; FORWARD 0.8")
+    b.execute("FORWARD 1.2; TURN 15; FORWARD 0.8")
+    assert a.true_track == b.true_track and a.dead_track == b.dead_track
+    assert a.dead != a.true                                      # the noise was on
+    assert (a.pan_deg, a.tilt_deg) == (-45.0, -20.0)
+
+
+@pytest.mark.parametrize("text, words", [
+    ("PAN 95", "PAN 95: outside the head's limits -90..90 deg (VehicleProfile.pan_limits_deg)"),
+    ("PAN -90.5", "outside the head's limits -90..90 deg"),
+    ("TILT 5", "TILT 5: outside the head's limits -55..0 deg (VehicleProfile.tilt_limits_deg)"),
+    ("TILT -60", "outside the head's limits -55..0 deg"),
+])
+def test_head_angles_outside_the_profiles_limits_are_refused_before_anything_moves(text, words):
+    v = vehicle()
+    with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):
+        v.execute("FORWARD 1; " + text)
+    assert v.true == State(0.0, 0.0, 10.0) and (v.pan_deg, v.tilt_deg) == (0.0, 0.0)
+
+
+def test_a_profile_without_a_head_refuses_pan_and_tilt():
+    v = vehicle(DEFAULT)
+    for text in ("PAN 0", "TILT 0"):
+        with pytest.raises(ValueError, match="has no head"):
+            v.execute(text)
+    with pytest.raises(ValueError, match="must hold 0"):
+        VehicleProfile(head=True, tilt_limits_deg=(-55.0, -10.0))
+
+
+# --- what a tilted look shows ---------------------------------------------------------
+
+def test_near_visible_for_a_tilt_derived_by_hand():
+    # the picture's lower edge looks the pitch plus half the 120-line view (atan(60/180) =
+    # 18.435 deg) down; an 0.8 ft box top, 3 - 0.8 = 2.2 ft below the camera, shows from
+    # 2.2 / tan(edge)
+    assert HALF_VFOV_DEG == pytest.approx(18.4349, abs=1e-4)
+    assert near_visible_ft(DEFAULT, 0.8) == pytest.approx(2.2 / math.tan(math.radians(43.4349)),
+                                                          abs=1e-5)
+    assert near_visible_ft(DEFAULT, 0.8) == pytest.approx(2.3236, abs=1e-4)
+    # tilted 25 deg more (pitch -50): the edge 68.435 deg down, 2.2 / 2.5302 = 0.8695 ft
+    assert near_visible_ft(PAN_TILT, 0.8, -25.0) == pytest.approx(0.8695, abs=1e-4)
+    # tilted 55 deg (pitch -80): the edge 98.4 deg down, past the vertical: nothing too near
+    assert near_visible_ft(PAN_TILT, 0.8, -55.0) == 0.0
+    # the farthest floor: the upper edge 25 - 18.435 = 6.565 deg down, 3 / 0.11509 = 26.07 ft;
+    # at pitch -80, 61.565 deg down: 3 / 1.8466 = 1.62 ft
+    assert far_floor_ft(DEFAULT) == pytest.approx(26.07, abs=0.01)
+    assert far_floor_ft(PAN_TILT, -55.0) == pytest.approx(1.6246, abs=1e-3)
+
+
+def test_the_heads_aim_at_a_hand_made_cell():
+    # the cell (1, 1) from (0, 0) heading 0: bearing 45 deg; 1.414 ft away, less the margin
+    # 0.25: 1.1642 ft; the box top 2.2 ft down there: atan(2.2 / 1.1642) = 62.114 deg, so
+    # the pitch 18.435 - 62.114 = -43.679 deg, the tilt -43.679 + 25 = -18.68 deg
+    pan, tilt = head_aim(0.0, 0.0, 0.0, (1.0, 1.0), PAN_TILT, 0.8, 0.25)
+    assert pan == 45.0
+    assert tilt == -18.68
+    assert near_visible_ft(PAN_TILT, 0.8, tilt) == pytest.approx(math.sqrt(2) - 0.25, abs=0.01)
+    # from (2, -1) heading 90 (facing +X): the cell (1, 1) bears -26.57 deg, so pan
+    # -26.57 - 90 = -116.57: beyond the head's -90
+    assert head_aim(2.0, -1.0, 90.0, (1.0, 1.0), PAN_TILT, 0.8, 0.25)[0] == -90.0
+    # far away: no tilt at all (the mount already shows it), never above the mount's pitch
+    assert head_aim(0.0, 0.0, 0.0, (0.5, 5.0), PAN_TILT, 0.8, 0.25) == \
+        (round(math.degrees(math.atan2(0.5, 5.0)), 2), 0.0)
+    # nearer than the margin: the head's lowest tilt
+    assert head_aim(0.0, 0.0, 0.0, (0.1, 0.1), PAN_TILT, 0.8, 0.25) == (45.0, -55.0)
+
+
+def test_a_look_with_the_head_panned_is_the_look_of_the_body_turned_as_much():
+    from world.render import render_look
+    room = tiny_room()
+    a = render_look(room, camera_pose(State(0.5, 1.0, 10.0), 30.0, -20.0, PAN_TILT), seed=5,
+                    supersample=1)
+    b = render_look(room, camera_pose(State(0.5, 1.0, 40.0), 0.0, -20.0, PAN_TILT), seed=5,
+                    supersample=1)
+    c = render_look(room, camera_pose(State(0.5, 1.0, 40.0), 0.0, 0.0, PAN_TILT), seed=5,
+                    supersample=1)
+    assert np.array_equal(a.left_bi, b.left_bi) and np.array_equal(a.right_bi, b.right_bi)
+    assert np.array_equal(a.range_left, b.range_left)
+    assert not np.array_equal(a.left_bi, c.left_bi)          # the tilt shows something else
+    # the head at 0/0 is exactly the fixed rig's pose
+    p = camera_pose(State(0.5, 1.0, 180.0), 0.0, 0.0, DEFAULT)
+    assert (p.heading_deg, p.pitch_deg) == (180.0, -25.0)
+
+
+# --- where the head looks -------------------------------------------------------------
+
+def test_the_nearest_cell_of_the_pivot_circle_not_seen_free():
+    fm = free_map()
+    assert unseen_in_circle(fm, 0.1, 0.1, 0.64) is None
+    fm.cells[fm.index(-0.6, 0.1)] = UNKNOWN      # square -0.75..-0.5: 0.6 ft from (0.1, 0.1)
+    fm.cells[fm.index(0.1, -0.9)] = UNCERTAIN    # square z -1..-0.75: 0.85 ft: outside
+    fm.cells[fm.index(0.6, 0.1)] = OCCUPIED      # occupied: no look clears it
+    assert unseen_in_circle(fm, 0.1, 0.1, 0.64) == (-0.625, 0.125)
+    fm.cells[fm.index(0.1, 0.7)] = UNCERTAIN     # square z 0.5..0.75: 0.4 ft, centre 0.525
+    assert unseen_in_circle(fm, 0.1, 0.1, 0.64) == (0.125, 0.625)
+
+
+def test_the_head_looks_at_the_blind_cell_beside_the_way_then_at_the_pivot_circle():
+    fm = free_map()
+    est = State(0.0, 0.0, 0.0)
+    path = [(0.0, 0.0), (0.0, 6.0)]
+    fm.cells[fm.index(0.6, 1.1)] = UNKNOWN       # on the band (0.55 ft each side), 1.24 ft away
+    fm.cells[fm.index(-0.6, -0.1)] = UNKNOWN     # in the pivot circle (0.64 ft)
+    safe = clearance_map(fm, PAN_TILT.planning_radius_ft, "free", uncertain="blocked")
+    aimed = {}
+    got = head_look(fm, safe, est, path, (0.0, 6.0), [], PAN_TILT, Cfg, 0.0, 0.64, aimed)
+    # the band's cell (0.625, 1.125): bearing atan(0.625 / 1.125) = 29.05 deg; 1.287 ft, less
+    # 0.25: atan(2.2 / 1.037) = 64.77 deg down, the tilt 18.435 - 64.77 + 25 = -21.33 deg
+    assert got[0] == [Pan(29.05), Tilt(-21.33)]
+    got = head_look(fm, safe, est, path, (0.0, 6.0), [], PAN_TILT, Cfg, 29.05, 0.64, aimed)
+    # aimed at once from here: next, the pivot circle's (-0.625, -0.125): bearing -101.3
+    # deg, beyond the head's -90; 0.637 ft, less 0.25: atan(2.2 / 0.387) = 80.0 deg down,
+    # the tilt -36.6 deg
+    assert got[0] == [Pan(-90.0), Tilt(-36.58)]
+
+
+def test_a_move_is_driven_with_the_head_ahead_and_followed_by_the_next_aim():
+    fm = free_map()
+    est = State(0.0, 0.0, 0.0)
+    path = [(0.0, 0.0), (0.0, 6.0)]
+    fm.cells[fm.index(-0.3, 3.4)] = UNKNOWN      # on the band beyond a 1.5 ft move
+    out = head_commands([Forward(1.5)], est, fm, path, PAN_TILT, Cfg, 30.0, -20.0, {})
+    # from (0, 1.5): the cell (-0.375, 3.375) bears atan(-0.375 / 1.875) = -11.31 deg, 1.912 ft
+    # away, less 0.25: atan(2.2 / 1.662) = 52.93 deg down: the tilt -9.49 deg
+    assert out == [Pan(0.0), Tilt(0.0), Forward(1.5), Pan(-11.31), Tilt(-9.49)]
+    # a look of the head's own (no body motion) is left as it is
+    assert head_commands([Pan(10.0), Tilt(-5.0)], est, fm, path, PAN_TILT, Cfg, 0.0, 0.0,
+                         {}) == [Pan(10.0), Tilt(-5.0)]
+
+
+def test_a_turn_the_head_has_looked_along_is_driven_on_at_once():
+    fm = free_map()
+    safe = clearance_map(fm, PAN_TILT.planning_radius_ft, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    cmds = [Turn(40.0), Forward(1.0)]
+    est = State(0.0, 0.0, 0.0)
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, 0.55, 0.65, 0.64) == [Turn(40.0)]
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, 0.55, 0.65, 0.64,
+                       looked_deg=35.0) == cmds
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, 0.55, 0.65, 0.64,
+                       looked_deg=0.0) == [Turn(40.0)]
+
+
+# --- the loop -------------------------------------------------------------------------
+
+def test_the_loop_refuses_an_unknown_head_and_the_fused_estimate_with_a_head():
+    with pytest.raises(ValueError, match="unknown head 'swivel'"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, head="swivel"))
+    with pytest.raises(ValueError, match="pose 'fused'"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, head="pan-tilt",
+                                                           pose="fused"))
