@@ -227,3 +227,37 @@ def test_the_loop_refuses_an_unknown_head_and_the_fused_estimate_with_a_head():
     with pytest.raises(ValueError, match="pose 'fused'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, head="pan-tilt",
                                                            pose="fused"))
+
+
+def test_the_loop_with_the_head_reaches_the_tiny_rooms_goal_driving_with_the_head_ahead():
+    """Depth eyes (the planner's own share), the vehicle set down facing 60 deg off the
+    goal: the head looks before the body turns; no collision; every body motion is made
+    with the head straight ahead and every head angle within the limits."""
+    from world.odometry import OdometryNoise
+    res = run(tiny_room(), State(0.0, 0.0, 60.0),
+              DriveConfig(goal=GOAL, eyes="depth", head="pan-tilt"), noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    pan = tilt = 0.0
+    aims = 0
+    for cyc in res.cycles:
+        for c in parse(cyc.command) if cyc.command else []:
+            if isinstance(c, Pan):
+                pan = c.angle_deg
+                assert -90.0 <= pan <= 90.0
+                aims += pan != 0.0
+            elif isinstance(c, Tilt):
+                tilt = c.angle_deg
+                assert -55.0 <= tilt <= 0.0
+            else:
+                assert (pan, tilt) == (0.0, 0.0), cyc.command
+    assert aims >= 1                                    # the head was used
+
+
+def test_the_default_loop_issues_no_head_command():
+    from world.odometry import OdometryNoise
+    res = run(tiny_room(), State(0.0, 0.0, 60.0), DriveConfig(goal=GOAL, eyes="depth"),
+              noise=OdometryNoise(seed=1))
+    assert res.reached and res.collisions == 0
+    assert not any("PAN" in c.command or "TILT" in c.command for c in res.cycles)
