@@ -619,25 +619,33 @@ def _aim(fm: FloorMap, cell, at: State, prof: VehicleProfile, cfg, aimed: dict):
     return head_aim(at.x, at.z, at.heading_deg, cell, prof, cfg.lowest_obstacle_ft, fm.cell)
 
 
-def drop_tiny_moves(cmds, min_ft: float = 0.05) -> list:
-    """``cmds`` without the straight moves shorter than ``min_ft`` among its
-    leading commands (before the first longer move), the turns on either side
-    of each joined into one: a path whose first point lies a hundredth of a
-    foot from the estimate (a cell centre) otherwise asks for a pivot to it,
+def shortcut_first_leg(cmds, est: State, min_ft: float = 0.3) -> list:
+    """``cmds`` with a first straight move shorter than ``min_ft`` and the
+    straight move after it (only turns between) replaced by one straight move
+    from the estimate to where the second ends (the turn to it first, and a turn
+    after it to the heading the original commands had there): a path whose
+    first point is a cell centre a tenth of a foot off asks for a pivot to it,
     a step of nothing and a pivot back, and the pivots' sum stops the move as a
-    turn not looked along (:func:`safe_prefix`).  Used with the head."""
-    out = []
-    lead = True
-    for c in cmds:
-        if lead and isinstance(c, Forward) and c.distance_ft < min_ft:
-            continue
-        if isinstance(c, Forward) and c.distance_ft >= min_ft:
-            lead = False
-        if lead and isinstance(c, Turn) and out and isinstance(out[-1], Turn):
-            out[-1] = Turn(round(wrap(out[-1].angle_deg + c.angle_deg), 3))
-            continue
-        out.append(c)
-    return out
+    turn not looked along (:func:`safe_prefix`, which still checks the new
+    move whole).  Commands without such a leg are returned as they are.  Used
+    with the head (``DriveConfig.head``)."""
+    cmds = list(cmds)
+    fwd = [k for k, c in enumerate(cmds) if isinstance(c, Forward)]
+    if len(fwd) < 2 or cmds[fwd[0]].distance_ft >= min_ft or \
+            not all(isinstance(c, Turn) for k, c in enumerate(cmds[:fwd[1]]) if k != fwd[0]):
+        return cmds
+    end = est
+    for c in cmds[:fwd[1] + 1]:
+        end = advance(end, c)
+    d = math.hypot(end.x - est.x, end.z - est.z)
+    if d < 1e-9:
+        return cmds
+    h = heading_to((est.x, est.z), (end.x, end.z))
+    out = [Turn(round(wrap(h - est.heading_deg), 3)), Forward(round(d, 3))]
+    back = wrap(end.heading_deg - h)
+    if abs(back) >= 0.01:
+        out.append(Turn(round(back, 3)))
+    return out + cmds[fwd[1] + 1:]
 
 
 def path_heading(est: State, pts, min_ft: float = 0.3) -> float | None:

@@ -12,7 +12,7 @@ import pytest
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
 from planner.motion import HALF_VFOV_DEG, far_floor_ft, head_aim, head_commands, head_look, \
-    near_visible_ft, safe_prefix, unseen_in_circle
+    near_visible_ft, safe_prefix, shortcut_first_leg, unseen_in_circle
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from planner.search import clearance_map
 from planner.tiny import GOAL, tiny_room
@@ -217,6 +217,18 @@ def test_a_turn_the_head_has_looked_along_is_driven_on_at_once():
                        looked_deg=35.0) == cmds
     assert safe_prefix(cmds, est, safe, seen, 1.5, None, 0.55, 0.65, 0.64,
                        looked_deg=0.0) == [Turn(40.0)]
+
+
+def test_a_first_leg_of_a_tenth_of_a_foot_is_cut_short_by_the_straight_line():
+    est = State(0.0, 0.0, 0.0)
+    cmds = [Turn(90.0), Forward(0.1), Turn(-90.0), Forward(2.0), Turn(30.0), Forward(1.0)]
+    # the second leg ends at (0.1, 2.0) heading 0: straight there, atan(0.1 / 2) = 2.862 deg,
+    # sqrt(4.01) = 2.0025 ft, then back to heading 0 and on as before
+    assert shortcut_first_leg(cmds, est) == [Turn(2.862), Forward(2.002), Turn(-2.862),
+                                             Turn(30.0), Forward(1.0)]
+    long = [Turn(90.0), Forward(0.5), Turn(-90.0), Forward(2.0)]
+    assert shortcut_first_leg(long, est) == long
+    assert shortcut_first_leg([Turn(5.0), Forward(0.1)], est) == [Turn(5.0), Forward(0.1)]
 
 
 # --- the loop -------------------------------------------------------------------------
