@@ -674,9 +674,10 @@ def head_look(fm: FloorMap, safe: Passable, est: State, pts, goal, seg, prof: Ve
       (:func:`_blocker`: unseen, or uncertain within the radius);
 
     each at most once from one place (``aimed``: cell -> places); then the way
-    the path turns, when more than ``EYES_TURN_DEG`` from the way the last look
-    faced (``look_pan``): the head faces the path and looks, and the next
-    cycle's :func:`safe_prefix` lets the body turn and drive on at once."""
+    the path turns (:func:`path_heading`), when more than ``EYES_TURN_DEG`` from
+    the way the last look faced (``look_pan``), once from one place: the head
+    faces the path and looks, and the next cycle's :func:`safe_prefix` lets the
+    body turn and drive on at once."""
     near0 = near_visible_ft(prof, cfg.lowest_obstacle_ft)
     cands = []
     if len(pts) > 1:
@@ -703,8 +704,11 @@ def head_look(fm: FloorMap, safe: Passable, est: State, pts, goal, seg, prof: Ve
         t = wrap(way - est.heading_deg)
         lo, hi = prof.pan_limits_deg
         p = round(min(max(t, lo), hi), 2)
+        key = ("way", int(round(p)))           # each way once from one place
         if abs(t) > EYES_TURN_DEG and abs(wrap(t - look_pan)) > EYES_TURN_DEG and \
-                abs(wrap(p - look_pan)) > 1.0:
+                abs(wrap(p - look_pan)) > 1.0 and \
+                not any(math.hypot(q[0] - est.x, q[1] - est.z) <= 0.3 for q in aimed.get(key, [])):
+            aimed.setdefault(key, []).append((est.x, est.z))
             return [Pan(p), Tilt(0.0)], f" (head to the path's way, pan {p:g})"
     return None
 
