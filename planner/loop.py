@@ -45,6 +45,23 @@ the path as needed during the traversal".
   edge-based eyes no points at all, so this drives into blank walls (measured:
   the bundled lab's back wall) and is kept only as a named experiment.
 
+``head="pan-tilt"`` (``rig drive --head pan-tilt``, not 1985, off by
+default; not with ``pose="fused"``, whose walk assumes the fixed rig): the rig
+on a head (``VehicleProfile.head``, the commands ``PAN`` and ``TILT``).  Each
+cycle is still one look, rendered at the TRUE pose with the heading plus the
+pan and the pitch plus the tilt, and placed by the ESTIMATE with the same
+(exact) angles; what it proves follows its tilt (``near_visible_ft`` for the
+tilt, the blank-column assumption no farther than the floor in view,
+``far_floor_ft``).  Where the fixed rig pivots only to look, the head looks
+instead (:func:`planner.motion.head_look`: the first never-seen cell beside
+the way, tilted down to show it, the pivot circle, the way's evidence, the
+path's way; then round: toward the goal, +-45, +-90 deg; the body's sweep
+only after that), with no pivot check (the body does not move).  The body
+drives with the head at 0/0; after the move the head is aimed at the first
+never-seen cell on the band beyond it, for the next look
+(:func:`planner.motion.head_commands`); the look-ahead's cut-and-pivot is not
+used (the tilted head sees the cell from 0.9 ft or nearer).
+
 The vehicle is set down in a clear spot (``start_clear_ft``, 2.5 ft, as the
 generated rooms keep around the start): a look proves nothing nearer than
 ``near_visible_ft`` (2.3 ft with the default profile), so without this it
