@@ -607,12 +607,14 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 # can prove depends on its tilt (nearer, farther floor)
                 est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
                 model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
-                # a tilted look assumes nothing of its blank columns: tilted at a box
-                # near by, its whole picture may be one blank face or top (room 48, the
-                # 1985 eyes: carved free through it, a collision); level, no farther
-                # than the floor it shows
-                model.blank_ft = None if look_tilt < 0 or not cfg.blank_ft else \
-                    min(cfg.blank_ft, far_floor_ft(prof, look_tilt))
+                # a look the head turned assumes nothing of its blank columns: tilted
+                # at a box near by, its whole picture may be one blank face (room 48, the
+                # 1985 eyes: carved free through it, a collision); panned, it looks where
+                # no look of the fixed rig went first (room 98, oracle edges: a blank box
+                # face carved, a collision).  Straight ahead as the fixed rig (and no
+                # farther than the floor it shows, inert at 0/0)
+                model.blank_ft = None if look_tilt != 0 or look_pan != 0 or \
+                    not cfg.blank_ft else min(cfg.blank_ft, far_floor_ft(prof, look_tilt))
             model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
                          look.left_bi if cfg.floor_eyes != "off" else None,
                          look.range_left if cfg.eyes == "depth" else None)
