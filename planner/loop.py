@@ -51,8 +51,8 @@ on a head (``VehicleProfile.head``, the commands ``PAN`` and ``TILT``).  Each
 cycle is still one look, rendered at the TRUE pose with the heading plus the
 pan and the pitch plus the tilt, and placed by the ESTIMATE with the same
 (exact) angles; what it proves follows its tilt (``near_visible_ft`` for the
-tilt, the blank-column assumption no farther than the floor in view,
-``far_floor_ft``).  Where the fixed rig pivots only to look, the head looks
+tilt), and a look the head turned (panned or tilted) assumes nothing of its
+blank columns (measured: docs/planner.md, "A pan-tilt head").  Where the fixed rig pivots only to look, the head looks
 instead (:func:`planner.motion.head_look`: the first never-seen cell beside
 the way, tilted down to show it, the pivot circle, the way's evidence, the
 path's way; then round: toward the goal, +-45, +-90 deg; the body's sweep
@@ -98,7 +98,7 @@ from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
 from .evidence import Perception, floor_stats, mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import back_prefix, fetch_evidence, far_floor_ft, \
+from .motion import back_prefix, fetch_evidence, head_blank_ft, \
     drop_passed, shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
@@ -607,14 +607,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 # can prove depends on its tilt (nearer, farther floor)
                 est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
                 model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
-                # a look the head turned assumes nothing of its blank columns: tilted
-                # at a box near by, its whole picture may be one blank face (room 48, the
-                # 1985 eyes: carved free through it, a collision); panned, it looks where
-                # no look of the fixed rig went first (room 98, oracle edges: a blank box
-                # face carved, a collision).  Straight ahead as the fixed rig (and no
-                # farther than the floor it shows, inert at 0/0)
-                model.blank_ft = None if look_tilt != 0 or look_pan != 0 or \
-                    not cfg.blank_ft else min(cfg.blank_ft, far_floor_ft(prof, look_tilt))
+                model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
             model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
                          look.left_bi if cfg.floor_eyes != "off" else None,
                          look.range_left if cfg.eyes == "depth" else None)

@@ -214,6 +214,21 @@ def far_floor_ft(profile: VehicleProfile, tilt_deg: float = 0.0) -> float:
     return profile.camera_height_ft / math.tan(math.radians(-up))
 
 
+def head_blank_ft(blank_ft: float | None, prof: VehicleProfile, pan_deg: float,
+                  tilt_deg: float) -> float | None:
+    """How far a look of the head at (``pan_deg``, ``tilt_deg``) assumes its
+    blank columns free (``DriveConfig.blank_ft``; None: not at all).  A look
+    the head turned assumes nothing: tilted at a box near by its whole picture
+    may be one blank face (room 48, the 1985 eyes: carved free through it, a
+    collision), and panned it looks where no straight-ahead look went first
+    (room 98, oracle edges: a blank box face carved, a collision).  Straight
+    ahead it assumes as the fixed rig, no farther than the floor it shows
+    (:func:`far_floor_ft`, 26 ft on the mount: the same)."""
+    if pan_deg != 0 or tilt_deg != 0 or not blank_ft:
+        return None
+    return min(blank_ft, far_floor_ft(prof, tilt_deg))
+
+
 def head_aim(x: float, z: float, heading_deg: float, cell, prof: VehicleProfile,
              lowest_obstacle_ft: float, margin_ft: float) -> tuple[float, float]:
     """(pan, tilt) in degrees that bring ``cell`` (x, z) into the picture of a

@@ -11,7 +11,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
-from planner.motion import HALF_VFOV_DEG, far_floor_ft, head_aim, head_commands, head_look, \
+from planner.motion import HALF_VFOV_DEG, far_floor_ft, head_aim, head_blank_ft, head_commands, head_look, \
     drop_passed, near_visible_ft, safe_prefix, shortcut_first_leg, unseen_in_circle
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from planner.search import clearance_map
@@ -123,6 +123,14 @@ def test_near_visible_for_a_tilt_derived_by_hand():
     # at pitch -80, 61.565 deg down: 3 / 1.8466 = 1.62 ft
     assert far_floor_ft(DEFAULT) == pytest.approx(26.07, abs=0.01)
     assert far_floor_ft(PAN_TILT, -55.0) == pytest.approx(1.6246, abs=1e-3)
+
+
+def test_a_look_the_head_turned_assumes_nothing_of_its_blank_columns():
+    assert head_blank_ft(8.0, PAN_TILT, 0.0, 0.0) == 8.0         # straight ahead: the fixed rig's
+    assert head_blank_ft(30.0, PAN_TILT, 0.0, 0.0) == pytest.approx(26.07, abs=0.01)
+    assert head_blank_ft(8.0, PAN_TILT, 20.0, 0.0) is None
+    assert head_blank_ft(8.0, PAN_TILT, 0.0, -10.0) is None
+    assert head_blank_ft(None, PAN_TILT, 0.0, 0.0) is None
 
 
 def test_the_heads_aim_at_a_hand_made_cell():
