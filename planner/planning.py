@@ -68,16 +68,54 @@ def _nearest_reachable(p: Passable, start, goal):
     return float(xs[k]), float(zs[k])
 
 
-def _still_good(p: Passable, prev, start) -> list | None:
-    """The previous path from the vehicle's new position, if still passable."""
+REJOINS = ("waypoint", "leg")        # where a kept path resumes (DriveConfig.rejoin, _still_good)
+
+
+def _nearest_leg(prev, start) -> int:
+    """Index m of the leg prev[m]-prev[m+1] nearest the point ``start``
+    (point-to-segment distance); of legs equally near (within 1e-6 ft), the
+    LATER one, so a vehicle standing on a waypoint is past it."""
+    a = np.asarray(prev[:-1], float)
+    b = np.asarray(prev[1:], float)
+    s = np.asarray(start, float)
+    ab = b - a
+    ll = (ab ** 2).sum(axis=1)
+    t = np.clip(((s - a) * ab).sum(axis=1) / np.where(ll > 0, ll, 1.0), 0.0, 1.0)
+    d = np.hypot(*(a + t[:, None] * ab - s).T)
+    return int(np.flatnonzero(d <= d.min() + 1e-6)[-1])
+
+
+def _still_good(p: Passable, prev, start, rejoin: str = "waypoint") -> list | None:
+    """The previous path from the vehicle's new position, if still passable.
+
+    Where it resumes (``rejoin``): ``"waypoint"`` (the loop's rule until
+    2026-12-01): at the previous path's waypoint nearest the vehicle, or the
+    one after it when the vehicle sees that one directly; so a vehicle that
+    drove a short way past a corner (a move cut short where its way was not
+    yet seen) is nearer the corner than the next one and is sent back to it,
+    and from the corner forward again: the to-and-fro that used up the 60
+    looks of rooms 8 11 12 15 32 34 37 40 (docs/planner.md, "The kept path
+    that sent the vehicle back").  ``"leg"`` (a named option, not 1985): at
+    the end of the previous path's leg nearest the vehicle (point to
+    segment), when the vehicle sees it directly, else at that leg's start; a
+    waypoint already passed along the path is never gone back to."""
+    if rejoin not in REJOINS:
+        raise ValueError(f"unknown rejoin {rejoin!r}; one of {', '.join(REJOINS)}")
     if not prev or len(prev) < 2:
         return None
-    # drop the waypoints already passed: continue from the nearest leg's end
-    rest = [tuple(start)] + [tuple(q) for q in prev[1:]]
-    d = [math.hypot(q[0] - start[0], q[1] - start[1]) for q in rest[1:]]
-    k = int(np.argmin(d))
-    if k > 0 and line_of_sight(p, start, rest[k + 1]):
-        rest = [tuple(start)] + rest[k + 1:]
+    if rejoin == "leg":
+        m = _nearest_leg(prev, start)
+        nxt = [tuple(q) for q in prev[m + 1:]]
+        if not line_of_sight(p, start, nxt[0]):
+            nxt = [tuple(prev[m])] + nxt
+        rest = [tuple(start)] + nxt
+    else:
+        # drop the waypoints already passed: continue from the nearest waypoint
+        rest = [tuple(start)] + [tuple(q) for q in prev[1:]]
+        d = [math.hypot(q[0] - start[0], q[1] - start[1]) for q in rest[1:]]
+        k = int(np.argmin(d))
+        if k > 0 and line_of_sight(p, start, rest[k + 1]):
+            rest = [tuple(start)] + rest[k + 1:]
     if all(line_of_sight(p, a, b) for a, b in zip(rest[:-1], rest[1:])):
         return rest
     return None
@@ -243,7 +281,8 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
         pts = find(p, start, aim)
         note = "path to the goal" if aim == tuple(map(float, goal)) else \
             f"path to the goal's disc at ({aim[0]:.2f}, {aim[1]:.2f})"
-        old = _still_good(p, prev, start) if prev and to_goal(prev[-1]) else None
+        old = _still_good(p, prev, start, cfg.rejoin) \
+            if prev and to_goal(prev[-1]) else None
         if old is not None and cost(old) <= cost(pts) + cfg.keep_ft:
             pts, note = old, "path to the goal (kept)"
         elif prev:

@@ -1,0 +1,166 @@
+"""Where the kept path resumes (issue 11, 2026-12-01; ``DriveConfig.rejoin``):
+the to-and-fro that used up the 60 looks of rooms 8 11 12 15 32 34 37 40
+(depth eyes, noise off).  A vehicle that drove a short way past a corner of
+its kept path was nearer that corner than the next waypoint, so the
+``"waypoint"`` rule sent it back to the corner, and from the corner forward
+again.  ``"leg"`` (a named option) resumes at the end of the leg nearest
+the vehicle.  Hand-made floor maps; every path, length and command derived
+by hand."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.floormap import FloorMap
+from planner.loop import DriveConfig
+from planner.octree import FREE, OCCUPIED
+from planner.planning import REJOINS, _nearest_leg, _still_good, plan
+from planner.search import clearance_map, line_of_sight, path_length
+from vehicle.commands import Forward, Turn
+from vehicle.profile import DEFAULT
+from vehicle.sim import State
+
+# an L-shaped kept path: from (-3, 0) east to the corner (0, 0), then north to the goal
+CORNER, GOAL = (0.0, 0.0), (0.0, 4.0)
+PREV = [(-3.0, 0.0), CORNER, GOAL]
+
+
+def free_map(n=64):
+    """n x n cells of 0.25 ft, all seen free, x and z -8..8 ft."""
+    return FloorMap(np.full((n, n), FREE, np.uint8), -n / 8, -n / 8, 0.25)
+
+
+def passable(fm):
+    return clearance_map(fm, DEFAULT.planning_radius_ft, "free")
+
+
+def test_the_nearest_leg_by_point_to_segment_distance_later_on_a_tie():
+    # (0, 0.5): 0.5 ft from leg 0 (its end, the corner), 0 from leg 1
+    assert _nearest_leg(PREV, (0.0, 0.5)) == 1
+    # (-1, 0.2): 0.2 ft from leg 0, 1 ft from leg 1
+    assert _nearest_leg(PREV, (-1.0, 0.2)) == 0
+    # on the corner: 0 from both, the later one (the corner counts as passed)
+    assert _nearest_leg(PREV, CORNER) == 1
+
+
+def test_past_the_corner_the_waypoint_rule_goes_back_and_the_leg_rule_on():
+    p = passable(free_map())
+    s = (0.0, 0.5)                       # 0.5 ft past the corner, on the leg north
+    # waypoint: the corner (0.5 ft) is nearer than the goal (3.5 ft): back to it
+    back = _still_good(p, PREV, s, "waypoint")
+    assert back == [s, CORNER, GOAL]
+    assert path_length(back) == pytest.approx(0.5 + 4.0)
+    # leg: the nearest leg is the one north; resume at its end
+    on = _still_good(p, PREV, s, "leg")
+    assert on == [s, GOAL]
+    assert path_length(on) == pytest.approx(3.5)
+    # before the corner both rules agree: (-1, 0) resumes at the corner
+    assert _still_good(p, PREV, (-1.0, 0.0), "waypoint") == \
+        _still_good(p, PREV, (-1.0, 0.0), "leg") == [(-1.0, 0.0), CORNER, GOAL]
+
+
+def test_the_kept_way_back_is_within_keep_ft_so_plan_keeps_it():
+    # the new path from (0, 0.5) is the straight 3.5 ft north; the way back
+    # 4.5 ft is within keep_ft (3 ft) of it, so "waypoint" keeps it and the
+    # first command turns the vehicle round; "leg" drives on 3.5 ft
+    fm = free_map()
+    est = State(0.0, 0.5, 0.0)           # heading 0: +Z, the leg's direction
+    for rule, first in (("waypoint", Turn), ("leg", Forward)):
+        cfg = DriveConfig(goal=GOAL, rejoin=rule)
+        pts, cmds, note = plan(fm, est, GOAL, cfg, PREV)
+        assert note == "path to the goal (kept)"
+        assert isinstance(cmds[0], first)
+    pts, cmds, _ = plan(fm, est, GOAL, DriveConfig(goal=GOAL, rejoin="waypoint"), PREV)
+    assert abs(cmds[0].angle_deg) == pytest.approx(180.0)
+    pts, cmds, _ = plan(fm, est, GOAL, DriveConfig(goal=GOAL, rejoin="leg"), PREV)
+    assert pts == [(0.0, 0.5), GOAL]
+    assert cmds == [Forward(3.5)]
+
+
+def drive_cut(cmds, state, budget_ft):
+    """Execute the commands exactly (pivot turns, straight legs) until
+    ``budget_ft`` of forward travel is used: a move cut short, as the loop's
+    safe prefix cuts one where the way is not yet seen."""
+    x, z, h = state.x, state.z, state.heading_deg
+    for c in cmds:
+        if isinstance(c, Turn):
+            h += c.angle_deg
+            continue
+        d = min(c.distance_ft, budget_ft)
+        x += d * math.sin(math.radians(h))
+        z += d * math.cos(math.radians(h))
+        budget_ft -= d
+        if budget_ft <= 1e-9:
+            break
+    return State(round(x, 9), round(z, 9), h)
+
+
+@pytest.mark.parametrize("rule", REJOINS)
+def test_moves_cut_at_half_a_foot_oscillate_under_waypoint_and_advance_under_leg(rule):
+    # each cycle: plan with the kept path, drive 0.5 ft of it.  From the corner
+    # the vehicle goes 0.5 ft north; "waypoint" then sends it back to the
+    # corner (turn round, 0.5 ft), and from the corner north again: z 0.5, 0,
+    # 0.5, 0 ... for ever.  "leg" goes on: z 0.5, 1.0, ... 3.5 (the goal's
+    # tolerance, 0.75 ft, reached at z 3.5).
+    fm = free_map()
+    state, prev = State(0.0, 0.0, 0.0), PREV
+    zs = []
+    for _ in range(8):
+        if math.hypot(state.x - GOAL[0], state.z - GOAL[1]) <= 0.75:
+            break
+        pts, cmds, _ = plan(fm, state, GOAL, DriveConfig(goal=GOAL, rejoin=rule), prev)
+        prev = pts
+        state = drive_cut(cmds, state, 0.5)
+        assert state.x == pytest.approx(0.0, abs=1e-9)
+        zs.append(round(state.z, 6))
+    if rule == "waypoint":
+        assert zs == [0.5, 0.0] * 4
+    else:
+        assert zs == [0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5]
+
+
+def test_a_blocked_kept_path_is_abandoned_under_either_rule():
+    # a box across the leg north at z 2..2.5, x -0.5..0.5: the kept path is no
+    # longer passable, so plan replans round it
+    fm = free_map()
+    i0, j0 = fm.index(-0.5, 2.0)
+    fm.cells[i0:i0 + 2, j0:j0 + 4] = OCCUPIED
+    p = passable(fm)
+    s = (0.0, 0.5)
+    for rule in REJOINS:
+        assert _still_good(p, PREV, s, rule) is None
+        pts, cmds, note = plan(fm, State(*s, 0.0), GOAL, DriveConfig(goal=GOAL, rejoin=rule),
+                               PREV)
+        assert note == "path to the goal (replanned)"
+        assert pts[0] == s and pts[-1] == GOAL and len(pts) > 2
+        assert all(line_of_sight(p, a, b) for a, b in zip(pts[:-1], pts[1:]))
+        # round the box: every point of the new path at least the planning
+        # radius from the box's true rectangle (sampled every 0.05 ft)
+        for a, b in zip(pts[:-1], pts[1:]):
+            for t in np.linspace(0.0, 1.0, int(math.hypot(b[0] - a[0], b[1] - a[1]) / 0.05) + 2):
+                x, z = a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])
+                dx, dz = max(-0.5 - x, 0.0, x - 0.5), max(2.0 - z, 0.0, z - 2.5)
+                assert math.hypot(dx, dz) >= DEFAULT.planning_radius_ft - 1e-9
+
+
+def test_the_leg_rule_resumes_at_the_legs_start_when_its_end_is_not_in_sight():
+    # the vehicle at (1.5, 0.3): 1.5 ft from the leg north, 1.53 from the leg
+    # east, so the leg north is nearest; a box x 1.25..2.25, z 1.5..2.0 (grown
+    # by the planning radius 0.79 ft) lies across its straight line to the
+    # goal (it crosses z 0.71 at x 1.33); the corner is in sight (the line to
+    # it stays 1.2 ft south of the box) and the leg north is clear (x 0..0.25
+    # is 1 ft from the box): it rejoins at the leg's start, the corner
+    fm = free_map()
+    i0, j0 = fm.index(1.25, 1.5)
+    fm.cells[i0:i0 + 2, j0:j0 + 4] = OCCUPIED
+    p = passable(fm)
+    s = (1.5, 0.3)
+    assert _nearest_leg(PREV, s) == 1
+    assert not line_of_sight(p, s, GOAL)
+    assert _still_good(p, PREV, s, "leg") == [s, CORNER, GOAL]
+
+
+def test_an_unknown_rule_is_one_clear_error():
+    with pytest.raises(ValueError, match="unknown rejoin 'nearest'; one of waypoint, leg"):
+        _still_good(passable(free_map()), PREV, (0.0, 0.5), "nearest")
