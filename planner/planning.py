@@ -97,8 +97,9 @@ def _still_good(p: Passable, prev, start, rejoin: str = "waypoint") -> list | No
     looks of rooms 8 11 12 15 32 34 37 40 (docs/planner.md, "The kept path
     that sent the vehicle back").  ``"leg"`` (a named option, not 1985): at
     the end of the previous path's leg nearest the vehicle (point to
-    segment), when the vehicle sees it directly, else at that leg's start; a
-    waypoint already passed along the path is never gone back to."""
+    segment), when the vehicle sees it directly, else at that leg's start; so
+    a waypoint already passed is gone back to only when the way on from
+    where the vehicle stands is not passable on the map."""
     if rejoin not in REJOINS:
         raise ValueError(f"unknown rejoin {rejoin!r}; one of {', '.join(REJOINS)}")
     if not prev or len(prev) < 2:
@@ -158,6 +159,8 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     if cfg.uncertain not in UNCERTAIN_PLANS:
         raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
                          f"{', '.join(UNCERTAIN_PLANS)}")
+    if cfg.rejoin not in REJOINS:
+        raise ValueError(f"unknown rejoin {cfg.rejoin!r}; one of {', '.join(REJOINS)}")
     if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
         return _plan(fm, est, goal, cfg, prev, "blocked")
     try:

@@ -164,3 +164,6 @@ def test_the_leg_rule_resumes_at_the_legs_start_when_its_end_is_not_in_sight():
 def test_an_unknown_rule_is_one_clear_error():
     with pytest.raises(ValueError, match="unknown rejoin 'nearest'; one of waypoint, leg"):
         _still_good(passable(free_map()), PREV, (0.0, 0.5), "nearest")
+    # plan refuses it on the first cycle, before any path is kept
+    with pytest.raises(ValueError, match="unknown rejoin 'nearest'"):
+        plan(free_map(), State(0.0, 0.5, 0.0), GOAL, DriveConfig(goal=GOAL, rejoin="nearest"))
