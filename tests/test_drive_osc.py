@@ -144,13 +144,14 @@ def test_a_blocked_kept_path_is_abandoned_under_either_rule():
                 assert math.hypot(dx, dz) >= DEFAULT.planning_radius_ft - 1e-9
 
 
-def test_the_leg_rule_resumes_at_the_legs_start_when_its_end_is_not_in_sight():
+def test_the_leg_rule_does_not_keep_a_path_whose_way_on_is_not_in_sight():
     # the vehicle at (1.5, 0.3): 1.5 ft from the leg north, 1.53 from the leg
     # east, so the leg north is nearest; a box x 1.25..2.25, z 1.5..2.0 (grown
     # by the planning radius 0.79 ft) lies across its straight line to the
-    # goal (it crosses z 0.71 at x 1.33); the corner is in sight (the line to
-    # it stays 1.2 ft south of the box) and the leg north is clear (x 0..0.25
-    # is 1 ft from the box): it rejoins at the leg's start, the corner
+    # leg's end, the goal (it crosses z 0.71 at x 1.33).  The corner is in
+    # sight (the line to it stays 1.2 ft south of the box) and the leg north
+    # is clear (x 0..0.25 is 1 ft from the box), but going back to the corner
+    # is not kept: the path is dropped and plan searches anew
     fm = free_map()
     i0, j0 = fm.index(1.25, 1.5)
     fm.cells[i0:i0 + 2, j0:j0 + 4] = OCCUPIED
@@ -158,7 +159,12 @@ def test_the_leg_rule_resumes_at_the_legs_start_when_its_end_is_not_in_sight():
     s = (1.5, 0.3)
     assert _nearest_leg(PREV, s) == 1
     assert not line_of_sight(p, s, GOAL)
-    assert _still_good(p, PREV, s, "leg") == [s, CORNER, GOAL]
+    assert line_of_sight(p, s, CORNER) and line_of_sight(p, CORNER, GOAL)
+    assert _still_good(p, PREV, s, "leg") is None
+    # the waypoint rule resumes at the nearest waypoint, the corner (1.53 ft; the goal 3.99)
+    assert _still_good(p, PREV, s, "waypoint") == [s, CORNER, GOAL]
+    _, _, note = plan(fm, State(*s, 0.0), GOAL, DriveConfig(goal=GOAL, rejoin="leg"), PREV)
+    assert note == "path to the goal (replanned)"
 
 
 def test_an_unknown_rule_is_one_clear_error():
