@@ -12,6 +12,12 @@ and the rooms one rule reaches and the other does not.
 
     python bench/drive_rejoin.py --rooms 40 --eyes depth --no-noise
     python bench/drive_rejoin.py --rooms 100 --eyes truth --out rejoin.json
+    python bench/drive_rejoin.py --rooms 100 --eyes depth --no-noise \
+        --variants rejoin=leg rejoin=leg,blind_zone=true     # any DriveConfig fields
+
+``--variants`` names the runs to compare (each a comma-separated list of
+``DriveConfig`` fields set on top of the options; the default: ``rejoin=waypoint``
+and ``rejoin=leg``); the first is the reference the others are counted against.
 
 (``rig drive`` and ``bench/drive.py`` do not take ``--rejoin`` yet; this
 script builds their ``DriveConfig`` from the same options and sets the one
@@ -34,12 +40,30 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from drive import FT_PER_M, seeded_tasks, stop_kind  # noqa: E402  (bench/drive.py)
 
-RULES = ("waypoint", "leg")
+RULES = ("rejoin=waypoint", "rejoin=leg")
 
 
-def summary(rows, rule):
-    """The overall figures of one rule over the rooms run."""
-    runs = [r[rule] for r in rows]
+def parse_variant(text: str, base) -> dict:
+    """{field: value} of a variant ``"field=value,field=value"``, each value
+    converted to the type of ``base``'s field (bool: true / false)."""
+    out = {}
+    for item in text.split(","):
+        name, eq, value = item.partition("=")
+        if not eq or not hasattr(base, name):
+            raise ValueError(f"variant {text!r}: {item!r} is not FIELD=VALUE of a DriveConfig field")
+        now = getattr(base, name)
+        if isinstance(now, bool):
+            if value not in ("true", "false"):
+                raise ValueError(f"variant {text!r}: {name} is true or false, not {value!r}")
+            out[name] = value == "true"
+        else:
+            out[name] = type(now)(value)
+    return out
+
+
+def summary(rows, name):
+    """The overall figures of one variant over the rooms run."""
+    runs = [r[name] for r in rows]
     ok = [r for r in runs if r["reached"]]
     ratios = [r["ratio"] for r in ok if r["ratio"]]
     metres = sum(r["travelled_ft"] for r in runs) / FT_PER_M
@@ -62,16 +86,22 @@ def main(argv=None) -> int:
     ap.add_argument("--first", type=int, default=1, help="first room seed")
     ap.add_argument("--no-noise", action="store_true", help="odometry noise off (a diagnostic)")
     add_loop_options(ap)
-    ap.add_argument("--out", help="write per-room results and both summaries as JSON")
+    ap.add_argument("--variants", nargs="+", default=list(RULES), metavar="FIELD=VALUE[,…]",
+                    help="the runs to compare, the first the reference (default: "
+                         "rejoin=waypoint rejoin=leg)")
+    ap.add_argument("--out", help="write per-room results and the summaries as JSON")
     args = ap.parse_args(argv)
 
     from planner.loop import run
     from world.odometry import OdometryNoise
 
+    names = list(args.variants)
+    if len(set(names)) != len(names) or not names:
+        ap.error("--variants: give one or more different variants")
     rows = []
     t0 = time.perf_counter()
-    print(f"{'room':>4}  {'waypoint: ok coll looks ratio':>29}  {'leg: ok coll looks ratio':>24}  "
-          f"reasons (waypoint | leg)")
+    print(f"{'room':>4}  " + "  ".join(f"{n}: ok coll looks ratio" for n in names)
+          + "  reasons")
     try:
         for seed, room, start, goal in seeded_tasks(args):
             if goal is None:
@@ -79,46 +109,53 @@ def main(argv=None) -> int:
                 continue
             base = loop_config(args, goal, ap.error)
             row = {"room": seed, "goal": goal}
-            for rule in RULES:
-                cfg = dataclasses.replace(base, rejoin=rule)
+            for name in names:
+                try:
+                    cfg = dataclasses.replace(base, **parse_variant(name, base))
+                except ValueError as exc:
+                    ap.error(f"--variants: {exc}")
                 noise = None if args.no_noise else OdometryNoise(seed=seed)
                 res = run(room, start, cfg, noise=noise, keep_maps=False)
                 ratio = res.travelled_ft / res.optimal_ft if (res.reached and res.optimal_ft) \
                     else None
-                row[rule] = {"reached": res.reached, "reason": res.reason,
+                row[name] = {"reached": res.reached, "reason": res.reason,
                              "collisions": res.collisions, "looks": res.looks,
                              "travelled_ft": res.travelled_ft, "optimal_ft": res.optimal_ft,
                              "ratio": ratio}
             rows.append(row)
 
-            def cell(r):
+            def cell(r, width):
                 ratio = "-" if r["ratio"] is None else f"{r['ratio']:.2f}"
                 return f"{'yes' if r['reached'] else 'no':>3} {r['collisions']:>4} " \
-                       f"{r['looks']:>5} {ratio:>5}"
-            w, g = row["waypoint"], row["leg"]
-            print(f"{seed:>4}  {cell(w):>29}  {cell(g):>24}  {w['reason'][:48]} | "
-                  f"{g['reason'][:48]}", flush=True)
+                       f"{r['looks']:>5} {ratio:>5}".rjust(width)
+            print(f"{seed:>4}  " + "  ".join(cell(row[n], len(n) + 21) for n in names) + "  "
+                  + " | ".join(row[n]["reason"][:48] for n in names), flush=True)
     except KeyboardInterrupt:
         print("stopped by Ctrl-C; the rooms finished so far follow")
     if not rows:
         print("no rooms")
         return 1
-    out = {rule: summary(rows, rule) for rule in RULES}
-    won = [r["room"] for r in rows if r["leg"]["reached"] and not r["waypoint"]["reached"]]
-    lost = [r["room"] for r in rows if r["waypoint"]["reached"] and not r["leg"]["reached"]]
-    out["leg_reaches_waypoint_does_not"] = won
-    out["waypoint_reaches_leg_does_not"] = lost
+    out = {"variants": {n: summary(rows, n) for n in names}}
+    ref = names[0]
+    for n in names[1:]:
+        out["variants"][n]["reaches_reference_does_not"] = [
+            r["room"] for r in rows if r[n]["reached"] and not r[ref]["reached"]]
+        out["variants"][n]["reference_reaches_this_does_not"] = [
+            r["room"] for r in rows if r[ref]["reached"] and not r[n]["reached"]]
     out["seconds"] = time.perf_counter() - t0
     print()
-    for rule in RULES:
-        s = out[rule]
-        f = (lambda v: "-" if v is None else f"{v:.2f}")
-        print(f"{rule:>8}: {s['reached']}/{s['rooms']} reached ({100 * s['success_rate']:.1f} %), "
+    f = (lambda v: "-" if v is None else f"{v:.2f}")
+    for n in names:
+        s = out["variants"][n]
+        print(f"{n}: {s['reached']}/{s['rooms']} reached ({100 * s['success_rate']:.1f} %), "
               f"{s['collisions']} collisions, path/optimum median {f(s['ratio_median'])} "
-              f"max {f(s['ratio_max'])}, {f(s['looks_per_metre'])} looks per metre")
-        print(f"{'':>10}stops: " + "; ".join(f"{k} {' '.join(map(str, v))}"
-                                              for k, v in s["stop_reasons"].items()))
-    print(f"leg reaches, waypoint does not: {won}; waypoint reaches, leg does not: {lost}")
+              f"max {f(s['ratio_max'])}, {f(s['looks_per_metre'])} looks per metre, "
+              f"{s['looks']} looks")
+        print("    stops: " + "; ".join(f"{k} {' '.join(map(str, v))}"
+                                         for k, v in s["stop_reasons"].items()))
+        if n != ref:
+            print(f"    reaches, {ref} does not: {s['reaches_reference_does_not']}; "
+                  f"{ref} reaches, this does not: {s['reference_reaches_this_does_not']}")
     print(f"{out['seconds']:.0f} s")
     if args.out:
         tmp = Path(args.out).with_suffix(Path(args.out).suffix + ".tmp")

@@ -250,6 +250,33 @@ def seen_search(p: Passable, start, goal, band: np.ndarray, weight: float):
     return shorten(taut, raw)
 
 
+def avoid_blind(p: Passable, start, near_ft: float, half_width: float) -> Passable:
+    """``p`` with the cells closed where the vehicle's swept width would meet
+    a never-seen (UNKNOWN) cell whose centre lies within ``near_ft`` of the
+    vehicle at ``start``: space no look from here can show, so a move through
+    it would be refused (:mod:`planner.motion`) however often the vehicle
+    looked (``DriveConfig.blind_zone``, a named option, not the
+    dissertation's).  A cell is closed when some point of its square lies
+    within ``half_width`` of such a cell's centre (the kernel of
+    :func:`unseen_band`): a planning preference, not a safety check (the
+    motion checks stay as they are).  The start's own cell keeps its state."""
+    fm = p.fmap
+    ii, jj = np.indices(fm.shape)
+    cx, cz = fm.centre(ii, jj)
+    blind = (fm.cells == UNKNOWN) & (np.hypot(cx - start[0], cz - start[1]) <= near_ft)
+    r = half_width / fm.cell
+    n = int(math.ceil(r + 0.5))
+    d = np.maximum(np.abs(np.arange(-n, n + 1)) - 0.5, 0.0)
+    kernel = ((d[:, None] ** 2 + d[None, :] ** 2) <= r * r + 1e-9).astype(np.uint8)
+    closed = cv2.dilate(blind.astype(np.uint8), kernel, borderType=cv2.BORDER_CONSTANT,
+                        borderValue=0) > 0
+    ok = p.ok & ~closed
+    si, sj = fm.index(*start)
+    if fm.inside(si, sj):
+        ok[si, sj] = p.ok[si, sj]
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown, p.at)
+
+
 def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
           nearest: bool = True):
     search = SEARCHES[cfg.search]
@@ -271,6 +298,18 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     aim = tuple(map(float, goal))
     if cfg.goal_region == "disc":
         aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
+    if cfg.blind_zone:
+        # plan round the space near the vehicle no look from here can show,
+        # when some path avoids it; else as before
+        from .motion import near_visible_ft
+        prof = cfg.profile
+        pb = avoid_blind(p, start, near_visible_ft(prof, cfg.lowest_obstacle_ft),
+                         prof.width_ft / 2 + prof.margin_ft)
+        try:
+            find(pb, start, aim)
+            p = pb
+        except NoPath:
+            pass
 
     def to_goal(q) -> bool:
         # a previous path is kept only when it ends at the goal point itself,

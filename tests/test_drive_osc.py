@@ -173,3 +173,65 @@ def test_an_unknown_rule_is_one_clear_error():
     # plan refuses it on the first cycle, before any path is kept
     with pytest.raises(ValueError, match="unknown rejoin 'nearest'"):
         plan(free_map(), State(0.0, 0.5, 0.0), GOAL, DriveConfig(goal=GOAL, rejoin="nearest"))
+
+
+# --- planning round the blind zone (DriveConfig.blind_zone, a named option) ------------
+
+NEAR = 2.3            # near_visible_ft of the default profile, rounded (2.31 ft)
+HALF = DEFAULT.width_ft / 2 + DEFAULT.margin_ft    # 0.55 ft
+
+
+def test_the_blind_zone_closes_the_cells_beside_a_near_unseen_cell():
+    # an unseen cell x 0.5..0.75, z 1.0..1.25 (centre 1.29 ft from the vehicle,
+    # inside 2.3 ft): a cell k columns / l rows away is closed when its nearest
+    # point, (max(|k| - 0.5, 0), max(|l| - 0.5, 0)) cells, lies within 0.55 ft
+    # = 2.2 cells of that centre: |k|, |l| <= 2 (2 and 2: 1.5^2 + 1.5^2 = 4.5 <=
+    # 4.84), not 3 (2.5^2 = 6.25)
+    from planner.octree import UNKNOWN
+    from planner.planning import avoid_blind
+    fm = free_map()
+    i0, j0 = fm.index(0.6, 1.1)
+    fm.cells[i0, j0] = UNKNOWN
+    p = passable(fm)
+    q = avoid_blind(p, (0.0, 0.0), NEAR, HALF)
+    closed = p.ok & ~q.ok
+    ii, jj = np.nonzero(closed)
+    assert (ii.min(), ii.max(), jj.min(), jj.max()) == (i0 - 2, i0 + 2, j0 - 2, j0 + 2)
+    assert closed.sum() == 25 - (~p.ok[i0 - 2:i0 + 3, j0 - 2:j0 + 3]).sum()
+    # the same cell 3.1 ft away is no blind spot: a look from here can show it
+    fm2 = free_map()
+    fm2.cells[fm2.index(0.1, 3.1)] = UNKNOWN
+    p2 = passable(fm2)
+    assert (avoid_blind(p2, (0.0, 0.0), NEAR, HALF).ok == p2.ok).all()
+    # the start's own cell keeps its state even beside an unseen cell
+    fm3 = free_map()
+    fm3.cells[fm3.index(0.3, 0.1)] = UNKNOWN
+    p3 = passable(fm3)
+    si, sj = fm3.index(0.0, 0.0)
+    assert avoid_blind(p3, (0.0, 0.0), NEAR, HALF).ok[si, sj] == p3.ok[si, sj]
+
+
+def test_blind_zone_plans_round_a_near_unseen_cell_or_as_before_when_it_cannot():
+    # the goal 5 ft north; an unseen cell x 0..0.25, z 1.0..1.25 on the straight way.
+    # Without the option the path is straight through it (unknown plans free);
+    # with it every point of the path stays more than 0.55 ft - half a cell
+    # diagonal from that cell's centre (0.125, 1.125)
+    from planner.octree import UNKNOWN
+    fm = free_map()
+    fm.cells[fm.index(0.1, 1.1)] = UNKNOWN
+    est, goal = State(0.0, 0.0, 0.0), (0.0, 5.0)
+    plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal))
+    assert plain == [(0.0, 0.0), goal]
+    round_, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone=True))
+    assert round_ != plain and round_[0] == (0.0, 0.0) and round_[-1] == goal
+    for a, b in zip(round_[:-1], round_[1:]):
+        for t in np.linspace(0.0, 1.0, 200):
+            x, z = a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])
+            assert math.hypot(x - 0.125, z - 1.125) > HALF - 0.25 * math.sqrt(2) / 2
+    # unseen cells all round the vehicle at 1 ft: no path avoids them, so the plan is as without
+    ring = free_map()
+    ii, jj = np.indices(ring.shape)
+    cx, cz = ring.centre(ii, jj)
+    ring.cells[np.abs(np.hypot(cx, cz) - 1.0) < 0.15] = UNKNOWN
+    assert plan(ring, est, goal, DriveConfig(goal=goal, blind_zone=True))[0] == \
+        plan(ring, est, goal, DriveConfig(goal=goal))[0]
