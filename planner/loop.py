@@ -126,8 +126,8 @@ class DriveConfig:
     keep_ft: float = 3.0                  # keep the old path unless a new one is this much shorter
     rejoin: str = "waypoint"              # where the kept path resumes: "waypoint" (nearest) or
                                           # "leg" (the nearest leg's end; planning._still_good)
-    blind_zone: bool = False              # plan round never-seen cells nearer than a look shows,
-                                          # when a path avoids them (planning.avoid_blind)
+    blind_zone: str = "off"               # plan round never-seen cells nearer than a look shows:
+                                          # "any" / "short" (within keep_ft; planning.avoid_blind)
     trust_view: bool = False              # drive into never-seen cells of the view just looked at
     known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
     start_clear_ft: float = 2.5           # the vehicle is set down this far from anything

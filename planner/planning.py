@@ -69,6 +69,7 @@ def _nearest_reachable(p: Passable, start, goal):
 
 
 REJOINS = ("waypoint", "leg")        # where a kept path resumes (DriveConfig.rejoin, _still_good)
+BLIND_ZONES = ("off", "any", "short")    # planning round the blind zone (DriveConfig.blind_zone)
 
 
 def _nearest_leg(prev, start) -> int:
@@ -158,6 +159,8 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
                          f"{', '.join(UNCERTAIN_PLANS)}")
     if cfg.rejoin not in REJOINS:
         raise ValueError(f"unknown rejoin {cfg.rejoin!r}; one of {', '.join(REJOINS)}")
+    if cfg.blind_zone not in BLIND_ZONES:
+        raise ValueError(f"unknown blind_zone {cfg.blind_zone!r}; one of {', '.join(BLIND_ZONES)}")
     if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
         return _plan(fm, est, goal, cfg, prev, "blocked")
     try:
@@ -298,16 +301,18 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     aim = tuple(map(float, goal))
     if cfg.goal_region == "disc":
         aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
-    if cfg.blind_zone:
+    if cfg.blind_zone != "off":
         # plan round the space near the vehicle no look from here can show,
-        # when some path avoids it; else as before
+        # when some path avoids it ("short": one at most keep_ft longer than
+        # the plain path); else as before
         from .motion import near_visible_ft
         prof = cfg.profile
         pb = avoid_blind(p, start, near_visible_ft(prof, cfg.lowest_obstacle_ft),
                          prof.width_ft / 2 + prof.margin_ft)
         try:
-            find(pb, start, aim)
-            p = pb
+            round_ = find(pb, start, aim)
+            if cfg.blind_zone == "any" or cost(round_) <= cost(find(p, start, aim)) + cfg.keep_ft:
+                p = pb
         except NoPath:
             pass
 

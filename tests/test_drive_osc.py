@@ -222,7 +222,7 @@ def test_blind_zone_plans_round_a_near_unseen_cell_or_as_before_when_it_cannot()
     est, goal = State(0.0, 0.0, 0.0), (0.0, 5.0)
     plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal))
     assert plain == [(0.0, 0.0), goal]
-    round_, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone=True))
+    round_, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="any"))
     assert round_ != plain and round_[0] == (0.0, 0.0) and round_[-1] == goal
     for a, b in zip(round_[:-1], round_[1:]):
         for t in np.linspace(0.0, 1.0, 200):
@@ -233,5 +233,29 @@ def test_blind_zone_plans_round_a_near_unseen_cell_or_as_before_when_it_cannot()
     ii, jj = np.indices(ring.shape)
     cx, cz = ring.centre(ii, jj)
     ring.cells[np.abs(np.hypot(cx, cz) - 1.0) < 0.15] = UNKNOWN
-    assert plan(ring, est, goal, DriveConfig(goal=goal, blind_zone=True))[0] == \
+    assert plan(ring, est, goal, DriveConfig(goal=goal, blind_zone="any"))[0] == \
         plan(ring, est, goal, DriveConfig(goal=goal))[0]
+
+
+def test_blind_zone_short_takes_the_way_round_only_within_keep_ft():
+    # an unseen bar z 1.0..1.25 across x -2.25..2.25 (every cell centre within
+    # 2.3 ft of the vehicle but the two end ones, 2.40 ft), continued by walls
+    # of occupied cells to the map's west edge and east to x 5: the way round
+    # the bar's grown cells runs east of x 5, 13 ft or more (up to the wall's
+    # end and back: 5 + 5 ft at least, plus the 4 ft north), against 5 ft
+    # straight through.  "any" takes it; "short" (more than keep_ft = 3 ft
+    # longer) plans straight as without the option.
+    from planner.octree import UNKNOWN
+    fm = free_map()
+    i0, _ = fm.index(0.0, 1.1)
+    xs = fm.centre(0, np.arange(fm.shape[1]))[0]
+    fm.cells[i0, (xs > -2.25) & (xs < 2.25)] = UNKNOWN
+    fm.cells[i0, (xs < -2.25) | ((xs > 2.25) & (xs < 5.0))] = OCCUPIED
+    est, goal = State(0.0, 0.0, 0.0), (0.0, 5.0)
+    plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal))
+    assert plain == [(0.0, 0.0), goal]
+    any_, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="any"))
+    assert path_length(any_) > 5.0 + 3.0 and max(x for x, _ in any_) > 5.0
+    assert plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="short"))[0] == plain
+    with pytest.raises(ValueError, match="unknown blind_zone 'on'; one of off, any, short"):
+        plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="on"))
