@@ -3,7 +3,9 @@
 :func:`plan` searches the map grown by the vehicle's radius (the
 dissertation's search or A*, :mod:`planner.search`), pulls the path taut and
 turns it into commands (:mod:`planner.trajectory`), keeps the previous path
-while it stays good, plans to the goal's disc under ``goal_region="disc"``
+while it stays good (resumed where ``DriveConfig.rejoin`` says: :func:`_still_good`),
+plans round the blind zone near the vehicle under ``DriveConfig.blind_zone``
+(:func:`avoid_blind`), plans to the goal's disc under ``goal_region="disc"``
 (:func:`goal_target`) and heads for the reachable cell nearest an unreachable
 goal.  :func:`true_optimum` is the benchmark's yardstick (A* on the TRUE
 room), :func:`random_goal` a reachable goal for a generated room.
