@@ -143,6 +143,10 @@ class DriveConfig:
     confirm_looks: int = 2                # looks that must hit a cell before it is believed
     free_looks: int = 1                   # carvings that must cross a cell before it is free
     keep_ft: float = 3.0                  # keep the old path unless a new one is this much shorter
+    rejoin: str = "waypoint"              # where the kept path resumes: "waypoint" (nearest) or
+                                          # "leg" (the nearest leg's end; planning._still_good)
+    blind_zone: str = "off"               # plan round never-seen cells nearer than a look shows:
+                                          # "any" / "short" (within keep_ft; planning.avoid_blind)
     trust_view: bool = False              # drive into never-seen cells of the view just looked at
     known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
     start_clear_ft: float = 2.5           # the vehicle is set down this far from anything

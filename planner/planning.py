@@ -3,7 +3,9 @@
 :func:`plan` searches the map grown by the vehicle's radius (the
 dissertation's search or A*, :mod:`planner.search`), pulls the path taut and
 turns it into commands (:mod:`planner.trajectory`), keeps the previous path
-while it stays good, plans to the goal's disc under ``goal_region="disc"``
+while it stays good (resumed where ``DriveConfig.rejoin`` says: :func:`_still_good`),
+plans round the blind zone near the vehicle under ``DriveConfig.blind_zone``
+(:func:`avoid_blind`), plans to the goal's disc under ``goal_region="disc"``
 (:func:`goal_target`) and heads for the reachable cell nearest an unreachable
 goal.  :func:`true_optimum` is the benchmark's yardstick (A* on the TRUE
 room), :func:`random_goal` a reachable goal for a generated room.
@@ -68,16 +70,53 @@ def _nearest_reachable(p: Passable, start, goal):
     return float(xs[k]), float(zs[k])
 
 
-def _still_good(p: Passable, prev, start) -> list | None:
-    """The previous path from the vehicle's new position, if still passable."""
+REJOINS = ("waypoint", "leg")        # where a kept path resumes (DriveConfig.rejoin, _still_good)
+BLIND_ZONES = ("off", "any", "short")    # planning round the blind zone (DriveConfig.blind_zone)
+
+
+def _nearest_leg(prev, start) -> int:
+    """Index m of the leg prev[m]-prev[m+1] nearest the point ``start``
+    (point-to-segment distance); of legs equally near (within 1e-6 ft), the
+    LATER one, so a vehicle standing on a waypoint is past it."""
+    a = np.asarray(prev[:-1], float)
+    b = np.asarray(prev[1:], float)
+    s = np.asarray(start, float)
+    ab = b - a
+    ll = (ab ** 2).sum(axis=1)
+    t = np.clip(((s - a) * ab).sum(axis=1) / np.where(ll > 0, ll, 1.0), 0.0, 1.0)
+    d = np.hypot(*(a + t[:, None] * ab - s).T)
+    return int(np.flatnonzero(d <= d.min() + 1e-6)[-1])
+
+
+def _still_good(p: Passable, prev, start, rejoin: str = "waypoint") -> list | None:
+    """The previous path from the vehicle's new position, if still passable.
+
+    Where it resumes (``rejoin``): ``"waypoint"`` (the loop's rule until
+    2026-12-01): at the previous path's waypoint nearest the vehicle, or the
+    one after it when the vehicle sees that one directly; so a vehicle that
+    drove a short way past a corner (a move cut short where its way was not
+    yet seen) is nearer the corner than the next one and is sent back to it,
+    and from the corner forward again: the to-and-fro that used up the 60
+    looks of rooms 8 11 12 15 32 34 37 40 (docs/planner.md, "The kept path
+    that sent the vehicle back").  ``"leg"`` (a named option, not 1985): at
+    the end of the previous path's leg nearest the vehicle (point to
+    segment); when the way from the vehicle to it is not passable the path
+    is not kept (the search plans anew), so a waypoint already passed is
+    never gone back to.  (Resuming at the leg's start instead took room 18,
+    depth eyes with the noise, back 1.5 ft to a corner it had passed.)"""
+    if rejoin not in REJOINS:
+        raise ValueError(f"unknown rejoin {rejoin!r}; one of {', '.join(REJOINS)}")
     if not prev or len(prev) < 2:
         return None
-    # drop the waypoints already passed: continue from the nearest leg's end
-    rest = [tuple(start)] + [tuple(q) for q in prev[1:]]
-    d = [math.hypot(q[0] - start[0], q[1] - start[1]) for q in rest[1:]]
-    k = int(np.argmin(d))
-    if k > 0 and line_of_sight(p, start, rest[k + 1]):
-        rest = [tuple(start)] + rest[k + 1:]
+    if rejoin == "leg":
+        rest = [tuple(start)] + [tuple(q) for q in prev[_nearest_leg(prev, start) + 1:]]
+    else:
+        # drop the waypoints already passed: continue from the nearest waypoint
+        rest = [tuple(start)] + [tuple(q) for q in prev[1:]]
+        d = [math.hypot(q[0] - start[0], q[1] - start[1]) for q in rest[1:]]
+        k = int(np.argmin(d))
+        if k > 0 and line_of_sight(p, start, rest[k + 1]):
+            rest = [tuple(start)] + rest[k + 1:]
     if all(line_of_sight(p, a, b) for a, b in zip(rest[:-1], rest[1:])):
         return rest
     return None
@@ -120,6 +159,10 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     if cfg.uncertain not in UNCERTAIN_PLANS:
         raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
                          f"{', '.join(UNCERTAIN_PLANS)}")
+    if cfg.rejoin not in REJOINS:
+        raise ValueError(f"unknown rejoin {cfg.rejoin!r}; one of {', '.join(REJOINS)}")
+    if cfg.blind_zone not in BLIND_ZONES:
+        raise ValueError(f"unknown blind_zone {cfg.blind_zone!r}; one of {', '.join(BLIND_ZONES)}")
     if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
         return _plan(fm, est, goal, cfg, prev, "blocked")
     try:
@@ -212,6 +255,33 @@ def seen_search(p: Passable, start, goal, band: np.ndarray, weight: float):
     return shorten(taut, raw)
 
 
+def avoid_blind(p: Passable, start, near_ft: float, half_width: float) -> Passable:
+    """``p`` with the cells closed where the vehicle's swept width would meet
+    a never-seen (UNKNOWN) cell whose centre lies within ``near_ft`` of the
+    vehicle at ``start``: space no look from here can show, so a move through
+    it would be refused (:mod:`planner.motion`) however often the vehicle
+    looked (``DriveConfig.blind_zone``, a named option, not the
+    dissertation's).  A cell is closed when some point of its square lies
+    within ``half_width`` of such a cell's centre (the kernel of
+    :func:`unseen_band`): a planning preference, not a safety check (the
+    motion checks stay as they are).  The start's own cell keeps its state."""
+    fm = p.fmap
+    ii, jj = np.indices(fm.shape)
+    cx, cz = fm.centre(ii, jj)
+    blind = (fm.cells == UNKNOWN) & (np.hypot(cx - start[0], cz - start[1]) <= near_ft)
+    r = half_width / fm.cell
+    n = int(math.ceil(r + 0.5))
+    d = np.maximum(np.abs(np.arange(-n, n + 1)) - 0.5, 0.0)
+    kernel = ((d[:, None] ** 2 + d[None, :] ** 2) <= r * r + 1e-9).astype(np.uint8)
+    closed = cv2.dilate(blind.astype(np.uint8), kernel, borderType=cv2.BORDER_CONSTANT,
+                        borderValue=0) > 0
+    ok = p.ok & ~closed
+    si, sj = fm.index(*start)
+    if fm.inside(si, sj):
+        ok[si, sj] = p.ok[si, sj]
+    return Passable(ok, p.clearance, p.blocked, fm, p.radius, p.unknown, p.at)
+
+
 def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
           nearest: bool = True):
     search = SEARCHES[cfg.search]
@@ -233,6 +303,20 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     aim = tuple(map(float, goal))
     if cfg.goal_region == "disc":
         aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))
+    if cfg.blind_zone != "off":
+        # plan round the space near the vehicle no look from here can show,
+        # when some path avoids it ("short": one at most keep_ft longer than
+        # the plain path); else as before
+        from .motion import near_visible_ft
+        prof = cfg.profile
+        pb = avoid_blind(p, start, near_visible_ft(prof, cfg.lowest_obstacle_ft),
+                         prof.width_ft / 2 + prof.margin_ft)
+        try:
+            round_ = find(pb, start, aim)
+            if cfg.blind_zone == "any" or cost(round_) <= cost(find(p, start, aim)) + cfg.keep_ft:
+                p = pb
+        except NoPath:
+            pass
 
     def to_goal(q) -> bool:
         # a previous path is kept only when it ends at the goal point itself,
@@ -243,7 +327,8 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
         pts = find(p, start, aim)
         note = "path to the goal" if aim == tuple(map(float, goal)) else \
             f"path to the goal's disc at ({aim[0]:.2f}, {aim[1]:.2f})"
-        old = _still_good(p, prev, start) if prev and to_goal(prev[-1]) else None
+        old = _still_good(p, prev, start, cfg.rejoin) \
+            if prev and to_goal(prev[-1]) else None
         if old is not None and cost(old) <= cost(pts) + cfg.keep_ft:
             pts, note = old, "path to the goal (kept)"
         elif prev:
