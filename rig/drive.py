@@ -155,7 +155,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
     MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
-    from planner.planning import GOALS, UNCERTAIN_PLANS
+    from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
     p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,
@@ -296,6 +296,14 @@ def add_loop_options(p) -> None:
                         "vehicle only to look: at the first never-seen cell of its way, "
                         "tilted down to show it, into its pivot circle, round (not 1985; "
                         "not with --pose fused)")
+    p.add_argument("--rejoin", choices=REJOINS, default=C.rejoin,
+                   help="where a kept path resumes: 'waypoint' (the default: at the waypoint "
+                        "nearest the vehicle, which can send it back to a corner it has just "
+                        "passed) or 'leg' (at the end of the leg nearest it; not 1985)")
+    p.add_argument("--blind-zone", choices=BLIND_ZONES, default=C.blind_zone,
+                   help="plan round never-seen cells nearer than a look can show, when some "
+                        "path avoids them: 'off' (default), 'any', or 'short' (only when at "
+                        "most the kept-path allowance longer; not 1985)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -341,6 +349,7 @@ def loop_config(args, goal, fail):
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
                        sight_lines=args.sight_lines, refute_hits=args.refute_hits,
                        sides_apart=tuple(args.sides_apart), head=args.head,
+                       rejoin=args.rejoin, blind_zone=args.blind_zone,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 
