@@ -143,10 +143,13 @@ class DriveConfig:
     confirm_looks: int = 2                # looks that must hit a cell before it is believed
     free_looks: int = 1                   # carvings that must cross a cell before it is free
     keep_ft: float = 3.0                  # keep the old path unless a new one is this much shorter
-    rejoin: str = "waypoint"              # where the kept path resumes: "waypoint" (nearest) or
-                                          # "leg" (the nearest leg's end; planning._still_good)
-    blind_zone: str = "off"               # plan round never-seen cells nearer than a look shows:
-                                          # "any" / "short" (within keep_ft; planning.avoid_blind)
+    rejoin: str = "leg"                   # where the kept path resumes: "leg" (the nearest leg's
+                                          # end; planning._still_good; the default since 2026-12-01
+                                          # 22:00) or "waypoint" (the nearest waypoint, before)
+    blind_zone: str = "short"             # plan round never-seen cells nearer than a look shows:
+                                          # "short" (only within keep_ft; planning.avoid_blind;
+                                          # the default since 2026-12-01 22:00), "any" (loses the
+                                          # lab under sight_lines="band") or "off" (before)
     trust_view: bool = False              # drive into never-seen cells of the view just looked at
     known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
     start_clear_ft: float = 2.5           # the vehicle is set down this far from anything
@@ -308,6 +311,8 @@ class Cycle:
     path: list = field(default_factory=list)
     fmap: FloorMap | None = None
     scan_s: float = 0.0         # the rig's scan alone (part of work_s): the matcher's cost
+    track_len: int = 0          # poses in the true (and estimate) track once the cycle's
+                                # commands ran: the track has one pose per command, not per cycle
 
 
 @dataclass
@@ -727,7 +732,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             stuck = 0 if progressed else stuck + 1
             cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
                         left, format_commands(seg), note, t1 - t0, t2 - t1,
-                        list(pts), fm if keep_maps else None, scan_s)
+                        list(pts), fm if keep_maps else None, scan_s, len(veh.true_track))
             cycles.append(cyc)
             if on_cycle:
                 on_cycle(cyc)

@@ -56,10 +56,10 @@ def write_gif(path: Path, frames, ms_per_frame: int = 500) -> None:
 def frames_of(result, room):
     from planner.pictures import drive_map
     frames = []
-    for k, c in enumerate(result.cycles):
+    for c in result.cycles:
         title = f"look {c.look}: {c.command or '-'}"
         frames.append(drive_map(c.fmap, room.bounds, room.obstacles, c.path,
-                                result.true_track[:k + 2], result.estimate_track[:k + 2],
+                                result.true_track[:c.track_len], result.estimate_track[:c.track_len],
                                 result.goal, title[:60], heading=True))
     return frames
 
@@ -297,13 +297,13 @@ def add_loop_options(p) -> None:
                         "tilted down to show it, into its pivot circle, round (not 1985; "
                         "not with --pose fused)")
     p.add_argument("--rejoin", choices=REJOINS, default=C.rejoin,
-                   help="where a kept path resumes: 'waypoint' (the default: at the waypoint "
-                        "nearest the vehicle, which can send it back to a corner it has just "
-                        "passed) or 'leg' (at the end of the leg nearest it; not 1985)")
+                   help="where a kept path resumes: 'leg' (the default since 2026-12-01: at "
+                        "the end of the leg nearest the vehicle) or 'waypoint' (at the waypoint "
+                        "nearest it, which can send it back to a corner it has just passed)")
     p.add_argument("--blind-zone", choices=BLIND_ZONES, default=C.blind_zone,
                    help="plan round never-seen cells nearer than a look can show, when some "
-                        "path avoids them: 'off' (default), 'any', or 'short' (only when at "
-                        "most the kept-path allowance longer; not 1985)")
+                        "path avoids them: 'short' (the default since 2026-12-01: only when at "
+                        "most the kept-path allowance longer), 'any', or 'off' (as before)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 

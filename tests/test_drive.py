@@ -42,6 +42,12 @@ def test_closed_loop_reaches_the_goal_in_the_tiny_room():
     assert 2 <= res.looks <= 12
     cmds = [c.command for c in res.cycles]
     assert all(c for c in cmds)                            # every cycle issued a command
+    # the track holds the start and one pose per executed command; each cycle records where
+    # its commands end in it (the pictures' frames draw the track up to there)
+    from vehicle.commands import parse
+    ends = np.cumsum([len(parse(c)) for c in cmds]) + 1
+    assert [c.track_len for c in res.cycles] == ends.tolist()
+    assert res.cycles[-1].track_len == len(res.true_track) == len(res.estimate_track)
 
 
 def test_closed_loop_with_the_rig_eyes_reaches_the_lab_goal():

@@ -220,7 +220,7 @@ def test_blind_zone_plans_round_a_near_unseen_cell_or_as_before_when_it_cannot()
     fm = free_map()
     fm.cells[fm.index(0.1, 1.1)] = UNKNOWN
     est, goal = State(0.0, 0.0, 0.0), (0.0, 5.0)
-    plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal))
+    plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="off"))
     assert plain == [(0.0, 0.0), goal]
     round_, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="any"))
     assert round_ != plain and round_[0] == (0.0, 0.0) and round_[-1] == goal
@@ -234,7 +234,7 @@ def test_blind_zone_plans_round_a_near_unseen_cell_or_as_before_when_it_cannot()
     cx, cz = ring.centre(ii, jj)
     ring.cells[np.abs(np.hypot(cx, cz) - 1.0) < 0.15] = UNKNOWN
     assert plan(ring, est, goal, DriveConfig(goal=goal, blind_zone="any"))[0] == \
-        plan(ring, est, goal, DriveConfig(goal=goal))[0]
+        plan(ring, est, goal, DriveConfig(goal=goal, blind_zone="off"))[0]
 
 
 def test_blind_zone_short_takes_the_way_round_only_within_keep_ft():
@@ -252,7 +252,7 @@ def test_blind_zone_short_takes_the_way_round_only_within_keep_ft():
     fm.cells[i0, (xs > -2.25) & (xs < 2.25)] = UNKNOWN
     fm.cells[i0, (xs < -2.25) | ((xs > 2.25) & (xs < 5.0))] = OCCUPIED
     est, goal = State(0.0, 0.0, 0.0), (0.0, 5.0)
-    plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal))
+    plain, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="off"))
     assert plain == [(0.0, 0.0), goal]
     any_, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="any"))
     assert path_length(any_) > 5.0 + 3.0 and max(x for x, _ in any_) > 5.0
