@@ -62,6 +62,13 @@ never-seen cell on the band beyond it, for the next look
 (:func:`planner.motion.head_commands`); the look-ahead's cut-and-pivot is not
 used (the tilted head sees the cell from 0.9 ft or nearer).
 
+``head="assist"`` (``rig drive --head assist``, not 1985, off by default; not with
+``pose="fused"``): the fixed rig's cycle unchanged, and where it would stop or pivot
+only to look, a second look in the same cycle with the head aimed by
+:func:`planner.motion.head_look` (assuming nothing of its blank columns), the cycle
+then decided again on the map with it; the body drives with the head at 0/0
+(docs/planner.md, "The head that only adds looks").
+
 The vehicle is set down in a clear spot (``start_clear_ft``, 2.5 ft, as the
 generated rooms keep around the start): a look proves nothing nearer than
 ``near_visible_ft`` (2.3 ft with the default profile), so without this it
