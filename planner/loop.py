@@ -62,6 +62,13 @@ never-seen cell on the band beyond it, for the next look
 (:func:`planner.motion.head_commands`); the look-ahead's cut-and-pivot is not
 used (the tilted head sees the cell from 0.9 ft or nearer).
 
+``head="assist"`` (``rig drive --head assist``, not 1985, off by default; not with
+``pose="fused"``): the fixed rig's cycle unchanged, and where it would stop or pivot
+only to look, a second look in the same cycle with the head aimed by
+:func:`planner.motion.head_look` (assuming nothing of its blank columns), the cycle
+then decided again on the map with it; the body drives with the head at 0/0
+(docs/planner.md, "The head that only adds looks").
+
 The vehicle is set down in a clear spot (``start_clear_ft``, 2.5 ft, as the
 generated rooms keep around the start): a look proves nothing nearer than
 ``near_visible_ft`` (2.3 ft with the default profile), so without this it
@@ -121,7 +128,7 @@ FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop 
 
 
 REFUTE_HITS = ("off", "under")        # DriveConfig.refute_hits
-HEADS = ("fixed", "pan-tilt")         # DriveConfig.head
+HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 
 
@@ -294,6 +301,10 @@ class DriveConfig:
                                           # cell of the way (tilted down to see it), into the
                                           # pivot circle, round; the body drives with the
                                           # head at 0/0 (head_commands)
+                                          # "assist": the fixed rig's cycle unchanged, and
+                                          # where it would stop or pivot only to look, the
+                                          # head's look (head_look) added first, the cycle
+                                          # decided again with it (looks counts both)
 
 
 @dataclass
@@ -313,6 +324,7 @@ class Cycle:
     scan_s: float = 0.0         # the rig's scan alone (part of work_s): the matcher's cost
     track_len: int = 0          # poses in the true (and estimate) track once the cycle's
                                 # commands ran: the track has one pose per command, not per cycle
+    head_looks: int = 0         # head="assist": the head's looks added to this cycle's
 
 
 @dataclass
@@ -514,6 +526,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     if cfg.head not in HEADS:
         raise ValueError(f"unknown head {cfg.head!r}; one of {', '.join(HEADS)}")
     head = cfg.head == "pan-tilt"
+    assist = cfg.head == "assist"
+    if assist and cfg.pose == "fused":
+        raise ValueError("head 'assist' with pose 'fused': the walk's camera estimate "
+                         "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
     if head:
         if cfg.pose == "fused":
             raise ValueError("head 'pan-tilt' with pose 'fused': the walk's camera estimate "
@@ -539,6 +555,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                    veh.dead)[0])
     model = perception_factory(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                                near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
+    fixed_near, fixed_blank = model.near_ft, model.blank_ft
     model.growth = cfg.growth
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve
@@ -590,119 +607,155 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
                 reached, reason = True, "goal reached"
                 break
-            t0 = time.perf_counter()
-            tp = veh.true
-            look_pan, look_tilt = veh.pan_deg, veh.tilt_deg
-            look = render_look(room, camera_pose(tp, look_pan, look_tilt, prof),
-                               seed=cfg.look_seed + look_no,
-                               supersample=cfg.supersample)
-            t1 = time.perf_counter()
-            scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
-            scan_s = time.perf_counter() - t1
-            points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
-            if walker is None:
-                est = veh.dead
-            else:
-                rec = walker.step(look, look.pose, veh.dead, look_dead, scan=scan)
-                est = State(*rec.estimates["fused"])
-            look_est, look_dead = est, veh.dead
-            if known is None:             # before the first look: the clear spot set down in
-                known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
-                                  cfg.start_clear_ft + 1.0)
-                mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
-            est_cam = est
-            if head:
-                # the look placed by the estimate with the head's exact angles; what it
-                # can prove depends on its tilt (nearer, farther floor)
-                est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
-                model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
-                model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
-            model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
-                         look.left_bi if cfg.floor_eyes != "off" else None,
-                         look.range_left if cfg.eyes == "depth" else None)
-            fm = model.floor_map([(est.x, est.z), goal])
-            mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
-                             prof.margin_ft if cfg.track_free == "swept" else None)
-            if cfg.known_walls:
-                mark_walls(fm, room.bounds)
-            known = fm
-            safe = clearance_map(fm, prof.planning_radius_ft,
-                                 "blocked" if cfg.safety == "strict" else "free",
-                                 uncertain="blocked", at=cfg.clearance_at)
-            seen = fm.cells != UNKNOWN
-            seen_eyes = None
-            if cfg.trust_view:
-                seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
-            fetching = False
-            try:
-                pts, cmds, note = plan(fm, est, goal, cfg, drop_passed(prev_path, est)
-                                       if head else prev_path)
-                if head:
-                    cmds = shortcut_first_leg(cmds, est)
-                seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
-                                   prof.width_ft / 2 + prof.margin_ft,
-                                   prof.length_ft / 2 + prof.margin_ft,
-                                   pivot_r, pivot_sweep, look_pan if head else None)
-                left = path_length(pts)
-                if cfg.look_ahead and not head and any(isinstance(c, Forward) for c in seg):
-                    got = looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
-                                        pivot_sweep, ahead_cells, pivot_r)
-                    if got is not None:
-                        seg, how = got
-                        note += how
-                        fetching = True   # its pivot is the look: no sweep instead
-                if head and not any(isinstance(c, Forward) for c in seg):
-                    got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, look_pan,
-                                    pivot_r, aimed)
-                    if got is not None:
-                        seg, how = got
-                        note += how
-                        fetching = True
-                if not fetching and not any(isinstance(c, Forward) for c in seg) and \
-                        cfg.look_around == "evidence":
-                    got = fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
-                    if got is not None:
-                        seg, how = got
-                        note += how
-                        fetching = True
-                if not fetching and not any(isinstance(c, Forward) for c in seg):
-                    # nothing known free ahead: face the path and look again
-                    first = pts[1] if len(pts) > 1 else goal
-                    t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
-                    if head and path_heading(est, pts) is not None:
-                        # (with the head: the first path point 0.3 ft away or more; the
-                        # fixed rig's loop keeps its own)
-                        t = wrap(path_heading(est, pts) - est.heading_deg)
-                    seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
-                        pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
-                last_reason = ""
-                prev_path = pts
-            except NoPath as exc:
-                pts, left, note, seg = [], None, str(exc), []
-                last_reason = str(exc)
-            if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
-                                                for c in seg)):
-                # no motion: turn to look, toward the goal first, then sweep
-                sweep += 1
-                t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
-                if abs(t) < 10 or sweep > 1:
-                    t = 35.0 if sweep % 2 else -70.0
-                back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
-                if head and sweep <= len(HEAD_SWEEP_DEG) + 1:
-                    # the head looks round first: toward the goal, then to either side
-                    p = t if sweep == 1 else HEAD_SWEEP_DEG[sweep - 2]
-                    lo, hi = prof.pan_limits_deg
-                    seg = [Pan(round(min(max(p, lo), hi), 2)), Tilt(0.0)]
-                    note += " (looking round with the head)"
-                elif pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
-                    seg = [Turn(round(t, 2))]
-                    note += " (turning to look)"
-                elif back:
-                    seg = back
-                    note += " (cannot turn here: backing to where it can)"
+            extra_looks = 0                   # assist: the head's looks added this cycle
+            if assist:
+                saved = ({k: list(v) for k, v in tried.items()}, set(ahead_cells), sweep,
+                         prev_path, last_reason)
+                look_pan = look_tilt = 0.0
+            while True:
+                t0 = time.perf_counter()
+                tp = veh.true
+                if not assist:
+                    look_pan, look_tilt = veh.pan_deg, veh.tilt_deg
+                look = render_look(room, camera_pose(tp, look_pan, look_tilt, prof),
+                                   seed=cfg.look_seed + look_no + 100000 * extra_looks,
+                                   supersample=cfg.supersample)
+                t1 = time.perf_counter()
+                scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
+                scan_s = time.perf_counter() - t1
+                points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
+                if walker is None:
+                    est = veh.dead
                 else:
-                    seg = []
-                    note += " (cannot turn: space within its radius not seen free)"
+                    rec = walker.step(look, look.pose, veh.dead, look_dead, scan=scan)
+                    est = State(*rec.estimates["fused"])
+                look_est, look_dead = est, veh.dead
+                if known is None:             # before the first look: the clear spot set down in
+                    known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
+                                      cfg.start_clear_ft + 1.0)
+                    mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
+                est_cam = est
+                if assist:
+                    # the fixed rig's look as without a head; the head's added look
+                    # assumes nothing of its blank columns (head_blank_ft)
+                    if extra_looks:
+                        est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
+                    model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt) \
+                        if extra_looks else fixed_near
+                    model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt) \
+                        if extra_looks else fixed_blank
+                if head:
+                    # the look placed by the estimate with the head's exact angles; what it
+                    # can prove depends on its tilt (nearer, farther floor)
+                    est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
+                    model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
+                    model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
+                model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
+                             look.left_bi if cfg.floor_eyes != "off" else None,
+                             look.range_left if cfg.eyes == "depth" else None)
+                fm = model.floor_map([(est.x, est.z), goal])
+                mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
+                                 prof.margin_ft if cfg.track_free == "swept" else None)
+                if cfg.known_walls:
+                    mark_walls(fm, room.bounds)
+                known = fm
+                safe = clearance_map(fm, prof.planning_radius_ft,
+                                     "blocked" if cfg.safety == "strict" else "free",
+                                     uncertain="blocked", at=cfg.clearance_at)
+                seen = fm.cells != UNKNOWN
+                seen_eyes = None
+                if cfg.trust_view:
+                    seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
+                fetching = False
+                try:
+                    pts, cmds, note = plan(fm, est, goal, cfg, drop_passed(prev_path, est)
+                                           if head else prev_path)
+                    if head:
+                        cmds = shortcut_first_leg(cmds, est)
+                    seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
+                                       prof.width_ft / 2 + prof.margin_ft,
+                                       prof.length_ft / 2 + prof.margin_ft,
+                                       pivot_r, pivot_sweep, look_pan if head else None)
+                    left = path_length(pts)
+                    if cfg.look_ahead and not head and any(isinstance(c, Forward) for c in seg):
+                        got = looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
+                                            pivot_sweep, ahead_cells, pivot_r)
+                        if got is not None:
+                            seg, how = got
+                            note += how
+                            fetching = True   # its pivot is the look: no sweep instead
+                    if head and not any(isinstance(c, Forward) for c in seg):
+                        got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, look_pan,
+                                        pivot_r, aimed)
+                        if got is not None:
+                            seg, how = got
+                            note += how
+                            fetching = True
+                    if not fetching and not any(isinstance(c, Forward) for c in seg) and \
+                            cfg.look_around == "evidence":
+                        got = fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
+                        if got is not None:
+                            seg, how = got
+                            note += how
+                            fetching = True
+                    if not fetching and not any(isinstance(c, Forward) for c in seg):
+                        # nothing known free ahead: face the path and look again
+                        first = pts[1] if len(pts) > 1 else goal
+                        t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
+                        if head and path_heading(est, pts) is not None:
+                            # (with the head: the first path point 0.3 ft away or more; the
+                            # fixed rig's loop keeps its own)
+                            t = wrap(path_heading(est, pts) - est.heading_deg)
+                        seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
+                            pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
+                    last_reason = ""
+                    prev_path = pts
+                except NoPath as exc:
+                    pts, left, note, seg = [], None, str(exc), []
+                    last_reason = str(exc)
+                if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
+                                                    for c in seg)):
+                    # no motion: turn to look, toward the goal first, then sweep
+                    sweep += 1
+                    t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
+                    if abs(t) < 10 or sweep > 1:
+                        t = 35.0 if sweep % 2 else -70.0
+                    back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
+                    if head and sweep <= len(HEAD_SWEEP_DEG) + 1:
+                        # the head looks round first: toward the goal, then to either side
+                        p = t if sweep == 1 else HEAD_SWEEP_DEG[sweep - 2]
+                        lo, hi = prof.pan_limits_deg
+                        seg = [Pan(round(min(max(p, lo), hi), 2)), Tilt(0.0)]
+                        note += " (looking round with the head)"
+                    elif pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
+                        seg = [Turn(round(t, 2))]
+                        note += " (turning to look)"
+                    elif back:
+                        seg = back
+                        note += " (cannot turn here: backing to where it can)"
+                    else:
+                        seg = []
+                        note += " (cannot turn: space within its radius not seen free)"
+                if assist and extra_looks == 0 and (
+                        not any(isinstance(c, Forward) for c in seg) or fetching):
+                    # the fixed loop is about to stop or pivot only to look: the head
+                    # looks first, the cycle is decided again with that look added
+                    got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, 0.0,
+                                    pivot_r, aimed) if pts else None
+                    if got is not None:
+                        aim = [c for c in got[0] if isinstance(c, (Pan, Tilt))]
+                        look_pan = next((c.angle_deg for c in aim if isinstance(c, Pan)), 0.0)
+                        look_tilt = next((c.angle_deg for c in aim if isinstance(c, Tilt)), 0.0)
+                        tried.clear()
+                        tried.update(saved[0])
+                        ahead_cells.clear()
+                        ahead_cells.update(saved[1])
+                        sweep, prev_path, last_reason = saved[2:]
+                        extra_looks, assist_note = 1, got[1].replace(" (head at", " (assist: head at")
+                        continue
+                break
+            if extra_looks:
+                note += assist_note
             if head:
                 seg = head_commands(seg, est, fm, pts, prof, cfg, veh.pan_deg, veh.tilt_deg,
                                     aimed)
@@ -732,7 +785,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             stuck = 0 if progressed else stuck + 1
             cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
                         left, format_commands(seg), note, t1 - t0, t2 - t1,
-                        list(pts), fm if keep_maps else None, scan_s, len(veh.true_track))
+                        list(pts), fm if keep_maps else None, scan_s, len(veh.true_track),
+                        extra_looks)
             cycles.append(cyc)
             if on_cycle:
                 on_cycle(cyc)
@@ -753,7 +807,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         reason = f"stopped by Ctrl-C after {len(cycles)} looks"
     seconds = time.perf_counter() - t_start
     final_err = math.hypot(veh.true.x - goal[0], veh.true.z - goal[1])
-    return DriveResult(reached, reason, len(cycles), veh.travelled_ft, opt, opt_grid,
+    return DriveResult(reached, reason, len(cycles) + sum(c.head_looks for c in cycles),
+                       veh.travelled_ft, opt, opt_grid,
                        veh.collisions, seconds, cycles, list(veh.true_track),
                        list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
                        cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match,

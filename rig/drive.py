@@ -294,8 +294,9 @@ def add_loop_options(p) -> None:
                         "'pan-tilt': on a head that pans +-90 deg and tilts 0..-55 deg "
                         "(PAN, TILT commands) and looks where the fixed rig pivots the "
                         "vehicle only to look: at the first never-seen cell of its way, "
-                        "tilted down to show it, into its pivot circle, round (not 1985; "
-                        "not with --pose fused)")
+                        "tilted down to show it, into its pivot circle, round; 'assist': "
+                        "the fixed rig's cycle unchanged, the head's look added only where it "
+                        "would stop or pivot only to look (not 1985; neither with --pose fused)")
     p.add_argument("--rejoin", choices=REJOINS, default=C.rejoin,
                    help="where a kept path resumes: 'leg' (the default since 2026-12-01: at "
                         "the end of the leg nearest the vehicle) or 'waypoint' (at the waypoint "

@@ -290,3 +290,51 @@ def test_the_default_loop_issues_no_head_command():
               noise=OdometryNoise(seed=1))
     assert res.reached and res.collisions == 0
     assert not any("PAN" in c.command or "TILT" in c.command for c in res.cycles)
+
+
+# --- head="assist": the head's looks added to the fixed rig's -----------------------------
+
+def _commands(res):
+    return [c.command for c in res.cycles]
+
+
+def test_assist_without_a_stop_to_look_is_the_fixed_rigs_cycle():
+    """Depth eyes, set down facing the goal: the fixed rig never stops or pivots only to
+    look, so the assisting head never looks and every command is the fixed rig's."""
+    fixed = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="depth"))
+    assist = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="depth",
+                                                               head="assist"))
+    assert fixed.reached and all("FORWARD" in c for c in _commands(fixed))
+    assert _commands(assist) == _commands(fixed)
+    assert [c.head_looks for c in assist.cycles] == [0] * len(assist.cycles)
+    assert assist.looks == fixed.looks
+
+
+def test_assist_adds_the_heads_look_where_the_fixed_rig_pivots_only_to_look():
+    """Set down 60 deg off the goal: the fixed rig's first cycle is a pivot only to look
+    (TURN -60, no move).  With the assisting head the same cycle takes a second look,
+    the head aimed (head_aim) at the first never-seen cell of the way, and the cycle's
+    commands are decided again with it; the looks counted are both; no PAN or TILT is
+    commanded (the body always drives with the head ahead)."""
+    start = State(0.0, 0.0, 60.0)
+    fixed = run(tiny_room(), start, DriveConfig(goal=GOAL, eyes="depth"))
+    assert fixed.cycles[0].command == "TURN -60"
+    res = run(tiny_room(), start, DriveConfig(goal=GOAL, eyes="depth", head="assist"))
+    first = res.cycles[0]
+    assert first.head_looks == 1 and "assist: head at the way" in first.note
+    # the aim is head_aim's at the cell the note names (to 0.1 ft), from the start
+    cell = tuple(float(v) for v in first.note.split("way: (")[1].split(")")[0].split(", "))
+    pan, tilt = head_aim(0.0, 0.0, 60.0, cell, PAN_TILT, Cfg.lowest_obstacle_ft, 0.25)
+    got_pan = float(first.note.split("pan ")[1].split(" ")[0])
+    got_tilt = float(first.note.split("tilt ")[1].rstrip(")"))
+    assert abs(got_pan - pan) < 1.5 and abs(got_tilt - tilt) < 1.5   # (the note rounds the cell)
+    assert -90.0 < got_pan < -45.0                # toward the goal, which lies 60 deg left
+    assert res.looks == len(res.cycles) + sum(c.head_looks for c in res.cycles)
+    assert res.reached and res.collisions == 0
+    assert not any("PAN" in c or "TILT" in c for c in _commands(res))
+
+
+def test_assist_refuses_the_fused_estimate():
+    with pytest.raises(ValueError, match="assist.*pose 'fused'"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, head="assist",
+                                                           pose="fused"))
