@@ -623,8 +623,17 @@ def _cell_key(fm: FloorMap, cell) -> tuple[int, int]:
     return int(math.floor(cell[0] / fm.cell)), int(math.floor(cell[1] / fm.cell))
 
 
+AIMED_FROM_FT = 0.3          # the head looks at one thing once from one place (this near)
+
+
+def _looked_from(aimed: dict, key, x: float, z: float) -> bool:
+    """The head has looked at ``key`` (a cell's :func:`_cell_key`, or a way)
+    from within ``AIMED_FROM_FT`` of (x, z)."""
+    return any(math.hypot(q[0] - x, q[1] - z) <= AIMED_FROM_FT for q in aimed.get(key, []))
+
+
 def _aimed_from(aimed: dict, fm: FloorMap, cell, x: float, z: float) -> bool:
-    return any(math.hypot(q[0] - x, q[1] - z) <= 0.3 for q in aimed.get(_cell_key(fm, cell), []))
+    return _looked_from(aimed, _cell_key(fm, cell), x, z)
 
 
 def _aim(fm: FloorMap, cell, at: State, prof: VehicleProfile, cfg, aimed: dict):
@@ -749,7 +758,7 @@ def head_look(fm: FloorMap, safe: Passable, est: State, pts, goal, seg, prof: Ve
         key = ("way", int(round(p)))           # each way once from one place
         if abs(t) > EYES_TURN_DEG and abs(wrap(t - look_pan)) > EYES_TURN_DEG and \
                 abs(wrap(p - look_pan)) > 1.0 and \
-                not any(math.hypot(q[0] - est.x, q[1] - est.z) <= 0.3 for q in aimed.get(key, [])):
+                not _looked_from(aimed, key, est.x, est.z):
             aimed.setdefault(key, []).append((est.x, est.z))
             return [Pan(p), Tilt(0.0)], f" (head to the path's way, pan {p:g})"
     return None
