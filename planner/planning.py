@@ -205,6 +205,15 @@ def goal_target(p: Passable, start, goal, radius: float):
     return float(cx.ravel()[k]), float(cz.ravel()[k])
 
 
+def _reach_kernel(radius: float, cell: float) -> np.ndarray:
+    """The dilation kernel of the cells some point of whose square lies within
+    ``radius`` of the centre cell's centre (cells of side ``cell``)."""
+    r = radius / cell
+    n = int(math.ceil(r + 0.5))
+    d = np.maximum(np.abs(np.arange(-n, n + 1)) - 0.5, 0.0)
+    return ((d[:, None] ** 2 + d[None, :] ** 2) <= r * r + 1e-9).astype(np.uint8)
+
+
 def unseen_band(fm: FloorMap, radius: float) -> np.ndarray:
     """(nz, nx) bool: the cells where the vehicle's centre would have a
     never-seen (UNKNOWN) cell within ``radius`` (some point of that cell's
@@ -212,12 +221,9 @@ def unseen_band(fm: FloorMap, radius: float) -> np.ndarray:
     asks a look to show that cell before the vehicle may drive or pivot
     there (:mod:`planner.motion`: the swept width, its nose, the pivot's
     circle).  Cells off the map do not count."""
-    r = radius / fm.cell
-    n = int(math.ceil(r + 0.5))
-    d = np.maximum(np.abs(np.arange(-n, n + 1)) - 0.5, 0.0)
-    kernel = ((d[:, None] ** 2 + d[None, :] ** 2) <= r * r + 1e-9).astype(np.uint8)
     unknown = (fm.cells == UNKNOWN).astype(np.uint8)
-    return cv2.dilate(unknown, kernel, borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
+    return cv2.dilate(unknown, _reach_kernel(radius, fm.cell), borderType=cv2.BORDER_CONSTANT,
+                      borderValue=0) > 0
 
 
 def path_cost(fm: FloorMap, pts, band: np.ndarray, weight: float) -> float:
@@ -269,12 +275,8 @@ def avoid_blind(p: Passable, start, near_ft: float, half_width: float) -> Passab
     ii, jj = np.indices(fm.shape)
     cx, cz = fm.centre(ii, jj)
     blind = (fm.cells == UNKNOWN) & (np.hypot(cx - start[0], cz - start[1]) <= near_ft)
-    r = half_width / fm.cell
-    n = int(math.ceil(r + 0.5))
-    d = np.maximum(np.abs(np.arange(-n, n + 1)) - 0.5, 0.0)
-    kernel = ((d[:, None] ** 2 + d[None, :] ** 2) <= r * r + 1e-9).astype(np.uint8)
-    closed = cv2.dilate(blind.astype(np.uint8), kernel, borderType=cv2.BORDER_CONSTANT,
-                        borderValue=0) > 0
+    closed = cv2.dilate(blind.astype(np.uint8), _reach_kernel(half_width, fm.cell),
+                        borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0
     ok = p.ok & ~closed
     si, sj = fm.index(*start)
     if fm.inside(si, sj):
