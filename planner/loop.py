@@ -635,21 +635,15 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                                       cfg.start_clear_ft + 1.0)
                     mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
                 est_cam = est
-                if assist:
-                    # the fixed rig's look as without a head; the head's added look
-                    # assumes nothing of its blank columns (head_blank_ft)
-                    if extra_looks:
-                        est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
-                    model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt) \
-                        if extra_looks else fixed_near
-                    model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt) \
-                        if extra_looks else fixed_blank
-                if head:
-                    # the look placed by the estimate with the head's exact angles; what it
-                    # can prove depends on its tilt (nearer, farther floor)
+                if head or (assist and extra_looks):
+                    # the head's look placed by the estimate with the head's exact angles;
+                    # what it can prove depends on its tilt (nearer, farther floor), and a
+                    # look the head turned assumes nothing of its blank columns
                     est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
                     model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
                     model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
+                elif assist:              # the fixed rig's own look, as without a head
+                    model.near_ft, model.blank_ft = fixed_near, fixed_blank
                 model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
                              look.left_bi if cfg.floor_eyes != "off" else None,
                              look.range_left if cfg.eyes == "depth" else None)
