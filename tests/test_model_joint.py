@@ -553,8 +553,10 @@ def test_the_bundled_walk_with_the_in_place_filter_is_the_plain_filters(monkeypa
     for a, b in zip(plain.records, fast.records):
         assert (a.matched, a.used, a.added, a.model_size) == (b.matched, b.used, b.added,
                                                               b.model_size)
+        # 1e-9, as for the covariances below: OpenBLAS picks its kernels by CPU, and on
+        # an AMD EPYC the two filters' different operation orders part by ~1e-10 rad.
         np.testing.assert_allclose(b.estimates["fused"], a.estimates["fused"],
-                                   rtol=1e-10, atol=1e-12)
+                                   rtol=1e-9, atol=1e-12)
     assert plain.joint.ids == fast.joint.ids
     assert _rel(fast.joint.cov, plain.joint.cov) < 1e-9
     assert _rel(fast.joint.consider_cov, plain.joint.consider_cov) < 1e-9
