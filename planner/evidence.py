@@ -34,7 +34,7 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, 
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
-from .perception import CX_128, FOCAL_128, floor_scan
+from .perception import CX_128, CY_128, FOCAL_128, MIN_RANGE_FT, camera_points, floor_scan
 
 
 # The mechanisms that make a floor-map cell FREE (free_obstacle_cells names them)
@@ -251,7 +251,15 @@ class Perception:
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
         self.sight_lines = "band"         # or "low", "low-all" (DriveConfig.sight_lines)
         self.seen_over = 0                # under "low": cells on sight lines not proven
-        self.refute_hits = "off"          # or "under" (DriveConfig.refute_hits)
+        self.refute_hits = "off"          # or "under", "through" (DriveConfig.refute_hits)
+        # refute_hits="through": every hit so far (its located 3-D point, covariance, range
+        # and look), which of them a later look saw through, and the hits each cell grew from
+        self.seen_pts = np.zeros((0, 3))
+        self.seen_cov = np.zeros((0, 3, 3))
+        self.seen_range = np.zeros(0)
+        self.seen_look = np.zeros(0, int)
+        self.seen_through = np.zeros(0, bool)
+        self.grown_from: dict[int, list[int]] = {}
         self.claims: dict[int, float] = {}    # packed key -> the lowest drop of a hit grown there
         self.refuted = 0                  # cells a later ray passed under (refute_hits)
         self._look_keys = np.zeros(0, np.int64)   # the current look's grown hit cells
@@ -364,6 +372,8 @@ class Perception:
         R = pose.rotation()
         left = pose.camera_centre("left")
         res = self.tree.getResolution()
+        if self.refute_hits == "through" and depth is None and len(scan_points):
+            self._refute_through(scan_points, R, left, res)
         rays = top = None
         if self.floor_eyes != "off" and picture is not None:
             rays = floor_rays(R, left)
@@ -450,8 +460,10 @@ class Perception:
                 with self._carving(TWO_LOOK_SIDES):
                     mark_keys_free(self.tree, self.two_look_sides.confirm(
                         keys, (est.x, est.z, est.heading_deg)))
-            if self.refute_hits != "off" and fs.hit_drop is not None and len(grown):
+            if self.refute_hits == "under" and fs.hit_drop is not None and len(grown):
                 self._claim(grown, fs.hits, fs.hit_drop)
+            if self.refute_hits == "through" and fs.hit_xyz is not None and len(fs.hits):
+                self._remember_hits(fs, cov, left, res)
             if self.occupied == "looks":
                 if len(grown):
                     mark_occupied(self.tree, grown)
@@ -492,7 +504,7 @@ class Perception:
             length = np.hypot(ends[:, 0] - left[0], ends[:, 2] - left[2])
             before_end = dist <= (length - np.maximum(np.asarray(short, float), res))[seg]
         keep = (dist >= np.asarray(starts, float)[seg]) & before_end
-        if self.refute_hits != "off" and self.claims:
+        if self.refute_hits == "under" and self.claims:
             self._refute_under(samples, dist, seg, starts, before_end, left, res)
         over = np.unique(cell_keys(samples[~keep], res))
         self.seen_over += int(len(np.setdiff1d(over, cell_keys(samples[keep], res))))
@@ -544,6 +556,94 @@ class Perception:
                 n += 1
         self.refuted += n
         return n
+
+    def _remember_hits(self, fs, cov, left, res: float) -> None:
+        """``refute_hits="through"``: keep each hit of this look (its located
+        3-D point, covariance, range) and the floor-slab cells it put on the
+        map (its own cell, its growth by ``cov``, the surface spans it ends),
+        so that a later look that sees through the point frees its cells of
+        it (:meth:`_refute_through`)."""
+        first = len(self.seen_range)
+        n = len(fs.hits)
+        self.seen_pts = np.vstack([self.seen_pts, fs.hit_xyz])
+        self.seen_cov = np.concatenate([self.seen_cov, fs.hit_cov])
+        self.seen_range = np.concatenate([self.seen_range, fs.hit_range])
+        self.seen_look = np.concatenate([self.seen_look, np.full(n, self.look_no)])
+        self.seen_through = np.concatenate([self.seen_through, np.zeros(n, bool)])
+        spans_of = {}
+        for a, b in fs.spans:
+            spans_of.setdefault(a, []).append((a, b))
+            spans_of.setdefault(b, []).append((a, b))
+        for h in range(n):
+            cells = np.vstack([cell_centres(fs.hits[h:h + 1], res),
+                               features_cells(fs.hits[h:h + 1], cov[h:h + 1], res),
+                               spans_cells(fs.hits, spans_of.get(h, []), res)])
+            cells = cells[np.abs(cells[:, 1] - left[1]) < res]
+            for k in np.unique(cell_keys(cells, res)):
+                self.grown_from.setdefault(int(k), []).append(first + h)
+
+    def _refute_through(self, scan_points, R, left, res: float) -> int:
+        """``refute_hits="through"`` (a named option, not 1985): a hit that a
+        later, nearer look sees through.  A located point claims a surface at
+        its place in 3-D.  Projected into a later look (its estimated pose),
+        the claim falls on a picture column and line; where that look stands
+        nearer to it than the look that located it (so it sees it more
+        sharply: ``MIN_RANGE_FT`` or more away, at least a cell nearer than
+        the claim's own range) and locates two points or more within 2 columns and 4 lines of
+        that pixel, each farther than the claim by both their error bounds
+        (the claim's two sigma along the new sight line plus the point's
+        ``ep``: the two cannot be one surface), its ray passed through the place the claim says is
+        solid: the claim is refuted, unless that look also locates a point
+        there within those bounds (the claim's edge seen again: at an
+        occluding boundary the surface behind shows beside it).  A cell every one of whose hits is
+        refuted shows UNKNOWN, never free (:meth:`_apply_expired`, the
+        expiry's display), until a hit raises it again; confirmed (occupied)
+        cells stay.  Returns the hits refuted by this look."""
+        alive = np.flatnonzero(~self.seen_through)
+        if not len(alive):
+            return 0
+        R = np.asarray(R, float)
+        rel = self.seen_pts[alive] - np.asarray(left, float)
+        c = rel @ R                                   # into the camera's axes
+        z = c[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            col = c[:, 0] / z * FOCAL_128 + CX_128 + 0.5
+            row = c[:, 1] / z * FOCAL_128 + CY_128 - 0.5
+        xyz_c, _, line, loc1, ep = camera_points(scan_points)
+        ok = (xyz_c[:, 2] >= MIN_RANGE_FT) & (ep <= 0.25 * xyz_c[:, 2])
+        xyz_c, line, loc1, ep = xyz_c[ok], line[ok], loc1[ok], ep[ok]
+        if not len(xyz_c):
+            return 0
+        cand = (z >= MIN_RANGE_FT) & (z < self.seen_range[alive] - res) & (col >= 1) & \
+            (col <= 128) & (row >= line.min() - 4) & (row <= line.max() + 4) & \
+            (self.seen_look[alive] < self.look_no)
+        if not cand.any():
+            return 0
+        idx, z, col, row, rel = alive[cand], z[cand], col[cand], row[cand], rel[cand]
+        u = rel / np.linalg.norm(rel, axis=1)[:, None]
+        two_sigma = 2 * np.sqrt(np.clip(np.einsum("ni,nij,nj->n", u, self.seen_cov[idx], u),
+                                        0, None))
+        near_px = (np.abs(loc1[None, :] - col[:, None]) <= 2) & \
+            (np.abs(line[None, :] - row[:, None]) <= 4)
+        bound = two_sigma[:, None] + ep[None, :]
+        beyond = xyz_c[None, :, 2] - z[:, None] > bound
+        # a point there as well (the claim's edge again, at an occluding boundary the
+        # surface behind beside it): not seen through
+        again = (np.abs(xyz_c[None, :, 2] - z[:, None]) <= bound) & \
+            (np.abs(loc1[None, :] - col[:, None]) <= 1)
+        through = idx[((near_px & beyond).sum(1) >= 2) & ((near_px & again).sum(1) < 2)]
+        if not len(through):
+            return 0
+        self.seen_through[through] = True
+        gone = set(through.tolist())
+        n = 0
+        for k, src in self.grown_from.items():
+            if gone.intersection(src) and all(self.seen_through[i] for i in src) and \
+                    k not in self.expired:
+                self.expired[k] = float("nan")
+                n += 1
+        self.refuted += n
+        return len(through)
 
     def _assumed_low_keys(self, left, ends, starts) -> np.ndarray:
         """:func:`~planner.octree.assumed_free_keys` of the assumed lines

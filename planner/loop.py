@@ -127,7 +127,7 @@ FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature
 FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop (Perception.update)
 
 
-REFUTE_HITS = ("off", "under")        # DriveConfig.refute_hits
+REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 
@@ -293,7 +293,11 @@ class DriveConfig:
     refute_hits: str = "off"              # (not 1985; a named option) "under": a hit cell a
                                           # later sight line passes under (below the hit's
                                           # lowest located point, to a surface beyond it)
-                                          # shows unknown, never free (Perception.refute_hits)
+                                          # shows unknown, never free (Perception.refute_hits);
+                                          # "through": a hit a later, nearer look sees through
+                                          # (two points located farther at its pixel) refuted,
+                                          # a cell all of whose hits are refuted unknown
+                                          # (Perception._refute_through)
     head: str = "fixed"                   # (not 1985; a named option) "fixed": the rig as
                                           # mounted; "pan-tilt": on a head (PAN, TILT;
                                           # VehicleProfile.head) that looks where the loop

@@ -152,6 +152,9 @@ class FloorScan:
     hit_drop: np.ndarray | None = None    # under ``low_y``: (H,) how far below the camera
                                           # (ft) the lowest supported point of each hit's
                                           # column lies (``Perception.refute_hits``)
+    hit_xyz: np.ndarray | None = None     # (H, 3) the located point each hit stands on, in
+                                          # the room (3-D, before the floor projection)
+    hit_range: np.ndarray | None = None   # (H,) its range (LCSL's dp, along the camera's axis)
 
 
 CARVE = ("range", "error")
@@ -393,15 +396,18 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     else:
         free_ends, assumed, fcols = empty, np.zeros(0, bool), np.zeros(0, int)
         fstart, far_start = np.zeros(0), None
+    located = dict(hit_xyz=room[near] if len(cols) else empty,
+                   hit_range=rng if len(cols) else np.zeros(0))
     if low_y is None:
         return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
-                         far_ends, far_cols)
+                         far_ends, far_cols, **located)
     return FloorScan(origin, hits, hit_cov, free_ends, spans, assumed, cols, fcols,
                      far_ends, far_cols, start, fstart,
                      far_start if far_ends is not None else None,
                      ep[near] * np.hypot(hits[:, 0] - origin[0], hits[:, 2] - origin[2])
                      / np.maximum(rng, 1e-12),
-                     room[np.array(lowest, int), 1] - origin[1] if len(cols) else np.zeros(0))
+                     room[np.array(lowest, int), 1] - origin[1] if len(cols) else np.zeros(0),
+                     **located)
 
 
 BLANK_SIDES = ("cut", "two-looks")   # what becomes of the side columns blank_px cuts off

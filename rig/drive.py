@@ -268,10 +268,12 @@ def add_loop_options(p) -> None:
                    help="for --blank-sides two-looks: the two looks at least FT apart or "
                         f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
                         f"{C.sides_apart[1]:g} deg)")
-    p.add_argument("--refute-hits", choices=("off", "under"), default=C.refute_hits,
+    p.add_argument("--refute-hits", choices=("off", "under", "through"), default=C.refute_hits,
                    help="'under' (not 1985): a hit cell a later sight line passes under (below "
                         "the hit's lowest located point, to a surface beyond) shows unknown, "
-                        "never free; 'off' (default)")
+                        "never free; 'through' (not 1985): a hit a later, nearer look sees "
+                        "through (two located points farther at its pixel) is refuted, a cell "
+                        "all of whose hits are refuted shows unknown; 'off' (default)")
     p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
                    help="what a sight line to a located point frees: 'low' (default; not "
                         "1985): only where its ray runs below the lowest obstacle's top (a box "

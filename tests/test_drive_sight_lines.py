@@ -14,7 +14,7 @@ import pytest
 from planner.evidence import SIGHT_TO_HIT, FreeProvenance, Perception, free_obstacle_cells
 from planner.floormap import FLOOR_Y
 from planner.loop import DriveConfig
-from planner.octree import FREE, UNCERTAIN, UNKNOWN, VolumeOfInterest
+from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest
 from planner.perception import CX_128, CY_128, FOCAL_128, floor_scan, low_start
 from rig.scan import Point
 from vehicle.sim import State
@@ -336,3 +336,144 @@ def test_refute_hits_is_off_by_default_and_a_bad_value_is_refused():
     assert DriveConfig.refute_hits == "off"
     with pytest.raises(ValueError, match="refute_hits"):
         run(bundled_lab(), State(0.0, 0.0, 0.0), DriveConfig(goal=(4.5, 11.0), refute_hits="x"))
+
+
+# --- refute_hits="through": a hit a later, nearer look sees through --------------------
+
+NEARER = 1.5                              # the second look stands this much nearer (ft)
+
+
+def _through_model():
+    m = _model("low")
+    m.refute_hits = "through"
+    return m
+
+
+def _seen_at(point, z_cam):
+    """The scan lines within 4 of where the room ``point`` shows from the left
+    camera moved ``z_cam`` ft forward (the same heading and pitch: R is the
+    same), and its column."""
+    c = R.T @ (np.asarray(point) - (LEFT + np.array([0.0, 0.0, z_cam])))
+    col = c[0] / c[2] * FOCAL_128 + CX_128 + 0.5
+    row = c[1] / c[2] * FOCAL_128 + CY_128 - 0.5
+    return c[2], int(round(col)), [ln for ln in range(8, 113, 2) if abs(ln - row) <= 4]
+
+
+def _far_edge(col, lines, dist, ep=0.1):
+    """:func:`_edge` located from the nearer camera, ``dist`` ft of floor from it
+    (R is the same, so the range along the axis is the same function of dist)."""
+    return _edge(col, lines, dist, ep)
+
+
+def _false_hit_then(second, state=State(0.0, NEARER, 0.0)):
+    m = _through_model()
+    first = _edge(64, _lines_between(0.5, 1.2, 4.5), dist=4.5, ep=0.05)
+    m.update(first, State(0.0, 0.0, 0.0), Pose, PITCH)
+    fs = floor_scan(first, R, LEFT, BAND, low_y=LOW_Y)
+    before = _state_at_hit(m, fs.hits[0])
+    m.update(second(fs), state, Pose, PITCH)
+    return m, fs, before, _state_at_hit(m, fs.hits[0])
+
+
+def test_a_hit_a_nearer_look_sees_through_shows_unknown_never_free():
+    # a false match 4.5 ft away (0.5-1.2 ft below the camera).  From 1.5 ft nearer its
+    # located point is 3 ft ahead on the axis; the second look locates a wall edge 6.5 ft
+    # of floor away on the very pixels where that point would show: its rays went through
+    # the place the hit says is solid
+    def wall_behind(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+        assert 2.5 <= z < fs.hit_range[0] and len(lines) >= 2
+        return _far_edge(col, lines, 6.5)
+    m, fs, before, after = _false_hit_then(wall_behind)
+    assert fs.hit_xyz[0][2] == pytest.approx(4.5, abs=0.01)      # at its 4.5 ft, in 3-D
+    assert before == UNCERTAIN and after == UNKNOWN and m.refuted > 0
+    assert m.seen_through[:1].all()
+
+
+def test_a_hit_seen_again_where_it_is_is_not_refuted():
+    # the same point located again from nearer (a real edge): confirmed, not refuted
+    def same_place(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+        return _far_edge(col, lines, 4.5 - NEARER, ep=0.05)
+    m, fs, before, after = _false_hit_then(same_place)
+    assert before == UNCERTAIN and after != UNKNOWN and m.refuted == 0
+    assert not m.seen_through.any()
+
+
+def test_a_point_beyond_within_the_error_bounds_or_alone_refutes_nothing():
+    # 0.3 ft behind the claim, located within 0.35 ft (the claim's 2 sigma, 0.05 ft, and
+    # the point's ep, 0.3 ft, summed): they may be one surface, not seen through
+    def just_behind(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+        return _far_edge(col, lines, 4.5 - NEARER + 0.3, ep=0.3)
+    m, _, before, after = _false_hit_then(just_behind)
+    assert before == after == UNCERTAIN and m.refuted == 0
+
+    # one located point beyond (a false match of the later look, perhaps): not enough
+    def one_point(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+        return _far_edge(col, lines[:1], 6.5) + _edge(20, [60, 62], 6.5)
+    m, _, before, after = _false_hit_then(one_point)
+    assert before == after == UNCERTAIN and m.refuted == 0
+
+
+def test_an_edge_seen_again_beside_the_surface_behind_it_is_not_refuted():
+    # an occluding boundary: the later look locates the claim's edge again at its place
+    # (two lines, its column) and the wall behind it beside it (two lines, the next
+    # column): the edge is there, so it is not seen through
+    def edge_and_wall(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+        return _far_edge(col, lines[:2], 4.5 - NEARER, ep=0.05) + \
+            _far_edge(col + 1, lines[1:3], 6.5)
+    m, _, before, after = _false_hit_then(edge_and_wall)
+    assert before == UNCERTAIN and after != UNKNOWN and m.refuted == 0
+
+    # the same wall with the edge seen on one line only (a false match there is as likely):
+    # seen through
+    def one_line_and_wall(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+        return _far_edge(col, lines[:1], 4.5 - NEARER, ep=0.05) + \
+            _far_edge(col + 1, lines[1:3], 6.5)
+    m, _, before, after = _false_hit_then(one_line_and_wall)
+    assert before == UNCERTAIN and after == UNKNOWN and m.refuted > 0
+
+
+def test_a_look_no_nearer_than_the_hits_own_refutes_nothing():
+    # a later look from the very place of the first, locating a wall 8 ft away on the
+    # hit's own pixels: it sees the claim no more sharply than the look that located it
+    # (one of the two is a false match, and which is not known), so it is not taken
+    # against it
+    def wall_from_there(fs):
+        z, col, lines = _seen_at(fs.hit_xyz[0], 0.0)
+        assert z == pytest.approx(fs.hit_range[0]) and len(lines) >= 2
+        return _far_edge(col, lines, 8.0)
+    m, _, before, after = _false_hit_then(wall_from_there, State(0.0, 0.0, 0.0))
+    assert before == after == UNCERTAIN and m.refuted == 0
+
+
+def test_a_confirmed_cell_stays_and_a_refuted_one_comes_back_when_hit_again():
+    m = _through_model()
+    first = _edge(64, _lines_between(0.5, 1.2, 4.5), dist=4.5, ep=0.05)
+    fs = floor_scan(first, R, LEFT, BAND, low_y=LOW_Y)
+    z, col, lines = _seen_at(fs.hit_xyz[0], NEARER)
+    m.update(first, State(0.0, 0.0, 0.0), Pose, PITCH)
+    m.update(first, State(0.0, 0.0, 0.0), Pose, PITCH)        # hit twice: occupied
+    assert _state_at_hit(m, fs.hits[0]) == OCCUPIED
+    m.update(_far_edge(col, lines, 6.5), State(0.0, NEARER, 0.0), Pose, PITCH)
+    assert m.seen_through[:2].all()                          # both of its hits
+    assert _state_at_hit(m, fs.hits[0]) == OCCUPIED          # confirmed cells never go
+    # a refuted once-hit cell, located again, is back
+    m, fs, before, after = _false_hit_then(lambda fs: _far_edge(
+        *_seen_at(fs.hit_xyz[0], NEARER)[1:], 6.5))
+    assert after == UNKNOWN
+    m.update(first, State(0.0, 0.0, 0.0), Pose, PITCH)
+    assert _state_at_hit(m, fs.hits[0]) in (UNCERTAIN, OCCUPIED)
+
+
+def test_refute_hits_through_reaches_the_loop():
+    from rig.drive import add_loop_options, loop_config
+    import argparse
+    ap = argparse.ArgumentParser()
+    add_loop_options(ap)
+    cfg = loop_config(ap.parse_args(["--refute-hits", "through"]), (4.5, 11.0), ap.error)
+    assert cfg.refute_hits == "through"
