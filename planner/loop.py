@@ -39,7 +39,10 @@ the path as needed during the traversal".
 * **execute**: the first ``step`` feet of the commands, cut where the
   vehicle would come within its radius of an occupied or uncertain cell, or
   its swept width (and nose) would enter a cell not seen free; a pivot needs
-  its circle seen free; after a turn of more than 15 deg it looks first.  ``trust_view``
+  its circle seen free; after a turn of more than 15 deg it looks first.  Where that
+  drives nowhere within a step of the goal's disc, ``approach="disc"`` (the default
+  since 2026-12-02, not 1985) takes the straight move the same rules allow that ends
+  nearest the goal inside its tolerance (:func:`planner.motion.disc_approach`).  ``trust_view``
   (off by default) also lets it into never-seen cells inside the field of view
   just looked at, while it still faces that way: a blank wall gives the
   edge-based eyes no points at all, so this drives into blank walls (measured:
@@ -247,12 +250,13 @@ class DriveConfig:
                                           # along the pitched optical axis (short by up to
                                           # its cosine); "point": the located point's own
                                           # horizontal position
-    approach: str = "path"                # the last move near the goal: "path": the planned
-                                          # path's prefix only; "disc" (a named option, not
-                                          # 1985): where that drives nowhere within a step of
-                                          # the goal's disc, the shortest straight move that
-                                          # ends inside tolerance_ft - 0.1 of the goal and
-                                          # passes safe_prefix whole (motion.disc_approach)
+    approach: str = "disc"                # the last move near the goal: "disc" (not 1985;
+                                          # the default since 2026-12-02 01:20): where the
+                                          # path's safe prefix drives nowhere within a step of
+                                          # the goal's disc, of the straight moves safe_prefix
+                                          # allows the one ending nearest the goal, inside
+                                          # tolerance_ft - 0.1 (motion.disc_approach); "path":
+                                          # the path's prefix only (the default before)
     goal_region: str = "point"            # what the planner plans to: "point": the goal
                                           # itself (refused when the map puts an obstacle
                                           # within the planning radius of it); "disc": the

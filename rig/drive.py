@@ -209,10 +209,10 @@ def add_loop_options(p) -> None:
                         "features fused look by look (Chapter IV's octree regenerated from "
                         "the symbolic model)")
     p.add_argument("--approach", choices=APPROACHES, default=C.approach,
-                   help="the last move near the goal: the planned path's safe prefix only "
-                        "(default), or disc: where that drives nowhere, the shortest straight "
-                        "move that ends inside the goal tolerance (less 0.1 ft) and passes "
-                        "the same safety rules (not 1985)")
+                   help="the last move near the goal: disc (default since 2026-12-02; not "
+                        "1985): where the path's safe prefix drives nowhere, the straight move "
+                        "the same safety rules allow that ends nearest the goal inside its "
+                        "tolerance less 0.1 ft; path: the path's safe prefix only (before)")
     p.add_argument("--goal-region", choices=GOALS, default=C.goal_region,
                    help="what the planner plans to: the goal point (default; refused when the "
                         "map puts an obstacle within the vehicle's radius of it) or the "

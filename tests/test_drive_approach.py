@@ -1,5 +1,5 @@
 """The last move into the goal's disc (``DriveConfig.approach="disc"``, ``rig drive
---approach disc``, not 1985): where the planned path's last foot needs cells ahead
+--approach disc``, not 1985, the default since 2026-12-02): where the planned path's last foot needs cells ahead
 of the nose that no look showed free, the shortest straight move that ends inside
 the goal tolerance and keeps every safety rule.  Hand-made floor maps; the
 swept rectangles checked by their own geometry, sampled finer than the code does."""
@@ -168,8 +168,8 @@ def test_a_goal_more_than_a_step_beyond_the_disc_is_not_approached():
 
 
 def test_the_bundled_lab_on_oracle_edges_is_reached_with_the_disc_move():
-    # rig drive --eyes truth: by default the drive ends 0.87 ft from the goal, turning
-    # in place (docs/planner.md, "The last foot"); with the disc move it is reached
+    # rig drive --eyes truth --approach path: the drive ends 0.87 ft from the goal,
+    # turning in place (docs/planner.md, "The last foot"); with the disc move it is reached
     from rig.drive import DEFAULT_LAB_GOAL
     from world.odometry import OdometryNoise
     from world.room import bundled_lab
@@ -188,6 +188,7 @@ def test_the_bundled_lab_on_oracle_edges_is_reached_with_the_disc_move():
 def test_rig_drive_and_the_bench_take_approach(monkeypatch, tmp_path):
     from rigtools import drive_config
     assert drive_config(monkeypatch, tmp_path, "--approach", "disc").approach == "disc"
-    assert drive_config(monkeypatch, tmp_path).approach == DriveConfig.approach
+    assert drive_config(monkeypatch, tmp_path, "--approach", "path").approach == "path"
+    assert drive_config(monkeypatch, tmp_path).approach == "disc"    # the default since 2026-12-02
     with pytest.raises(ValueError, match="approach"):
         run(None, EST, DriveConfig(goal=GOAL, approach="nearest"))
