@@ -305,7 +305,7 @@ def main(argv=None) -> int:
         "sight_lines": args.sight_lines,
         "sides_apart": list(args.sides_apart),
         "occupied": args.occupied, "hit_at": args.hit_at,
-        "feature_pose": args.feature_pose, "goal_region": args.goal_region,
+        "feature_pose": args.feature_pose, "goal_region": args.goal_region, "approach": args.approach,
         "floor_eyes": args.floor_eyes, "expire_uncertain": args.expire_uncertain,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),

@@ -39,7 +39,10 @@ the path as needed during the traversal".
 * **execute**: the first ``step`` feet of the commands, cut where the
   vehicle would come within its radius of an occupied or uncertain cell, or
   its swept width (and nose) would enter a cell not seen free; a pivot needs
-  its circle seen free; after a turn of more than 15 deg it looks first.  ``trust_view``
+  its circle seen free; after a turn of more than 15 deg it looks first.  Where that
+  drives nowhere within a step of the goal's disc, ``approach="disc"`` (the default
+  since 2026-12-02, not 1985) takes the straight move the same rules allow that ends
+  nearest the goal inside its tolerance (:func:`planner.motion.disc_approach`).  ``trust_view``
   (off by default) also lets it into never-seen cells inside the field of view
   just looked at, while it still faces that way: a blank wall gives the
   edge-based eyes no points at all, so this drives into blank walls (measured:
@@ -105,13 +108,13 @@ from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
 from .evidence import Perception, floor_stats, mark_walls
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
-from .motion import back_prefix, fetch_evidence, head_blank_ft, \
+from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
     drop_passed, shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
-from .planning import GOALS, UNCERTAIN_PLANS, plan, true_optimum
+from .planning import GOAL_SLACK_FT, GOALS, UNCERTAIN_PLANS, plan, true_optimum
 from .search import NoPath, clearance_map, path_length
 from .trajectory import heading_to, wrap
 
@@ -129,6 +132,7 @@ FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop 
 
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
+APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 
 
@@ -246,6 +250,13 @@ class DriveConfig:
                                           # along the pitched optical axis (short by up to
                                           # its cosine); "point": the located point's own
                                           # horizontal position
+    approach: str = "disc"                # the last move near the goal: "disc" (not 1985;
+                                          # the default since 2026-12-02 01:20): where the
+                                          # path's safe prefix drives nowhere within a step of
+                                          # the goal's disc, of the straight moves safe_prefix
+                                          # allows the one ending nearest the goal, inside
+                                          # tolerance_ft - 0.1 (motion.disc_approach); "path":
+                                          # the path's prefix only (the default before)
     goal_region: str = "point"            # what the planner plans to: "point": the goal
                                           # itself (refused when the map puts an obstacle
                                           # within the planning radius of it); "disc": the
@@ -524,7 +535,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                           ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
                           ("blank_sides", BLANK_SIDES), ("sight_lines", SIGHT_LINES),
                           ("occupied", OCCUPIEDS), ("hit_at", PLACES),
-                          ("feature_pose", FEATURE_POSES)):
+                          ("feature_pose", FEATURE_POSES), ("approach", APPROACHES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head not in HEADS:
@@ -682,7 +693,17 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                             seg, how = got
                             note += how
                             fetching = True   # its pivot is the look: no sweep instead
-                    if head and not any(isinstance(c, Forward) for c in seg):
+                    if cfg.approach == "disc" and not any(isinstance(c, Forward) for c in seg) \
+                            and math.hypot(est.x - goal[0], est.z - goal[1]) <= \
+                            cfg.tolerance_ft + prof.step_ft:
+                        # the path's last foot refused: the shortest safe move into the disc
+                        got = disc_approach(est, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0),
+                                            safe, seen, prof, pivot_r, pivot_sweep)
+                        if got is not None:
+                            seg, how = got
+                            note += how
+                            fetching = True
+                    if head and not fetching and not any(isinstance(c, Forward) for c in seg):
                         got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, look_pan,
                                         pivot_r, aimed)
                         if got is not None:

@@ -797,3 +797,58 @@ def head_commands(seg, est: State, fm: FloorMap, pts, prof: VehicleProfile, cfg,
     if (p, t) != (0.0, 0.0):
         out += [Pan(p), Tilt(t)]
     return out
+
+
+APPROACH_STEP_DEG = 2.0      # approach="disc": the headings tried, this far apart
+
+
+def disc_approach(est: State, goal, radius: float, safe: Passable, seen: np.ndarray,
+                  prof: VehicleProfile, pivot_ft: float, pivot_sweep=None):
+    """(commands, note) of the final move under ``DriveConfig.approach="disc"``
+    (a named option, not 1985), or None: of the straight moves (no longer than
+    the profile's step, nor past the point of their line nearest the goal) cut
+    where :func:`safe_prefix` cuts them (the swept width and nose seen, nothing
+    known within the radius), the one that ends nearest the goal, when that
+    end lies inside the disc of ``radius`` about it; the pivot to its heading
+    must pass :func:`pivot_allowed`.  Chapter IV reaches the goal "within a
+    tolerance"; the planned path ends at the goal point, and its last foot can
+    need cells ahead of the vehicle's nose that no look showed free: nearer
+    than ``near_visible_ft`` (2.3 ft) no look can show them, so the vehicle
+    turns in place until its looks are used up (the bundled lab with oracle
+    edges: 0.87 ft from its goal; docs/planner.md, "The last foot").  The
+    headings tried are ``APPROACH_STEP_DEG`` apart from the vehicle's own,
+    those whose line passes within ``radius`` of the goal; ties go to the
+    smaller turn.  A pivot of more than ``EYES_TURN_DEG`` is
+    made alone (the vehicle looks the new way before it drives, as
+    :func:`safe_prefix` asks); the next cycle finds the same move ahead."""
+    half_width = prof.width_ft / 2 + prof.margin_ft
+    nose = prof.length_ft / 2 + prof.margin_ft
+    rx, rz = goal[0] - est.x, goal[1] - est.z
+    cands = []
+    n = int(round(180.0 / APPROACH_STEP_DEG))
+    for k in range(-n + 1, n + 1):        # turns from the heading, straight ahead among them
+        turn = k * APPROACH_STEP_DEG
+        h = wrap(est.heading_deg + turn)
+        hr = math.radians(h)
+        ux, uz = math.sin(hr), math.cos(hr)
+        along = rx * ux + rz * uz
+        if along <= 0.05 or abs(rx * uz - rz * ux) >= radius:
+            continue                      # its line never enters the disc
+        reach = math.floor(min(prof.step_ft, along) * 100) / 100
+        seg = safe_prefix([Forward(reach)], State(est.x, est.z, h), safe, seen, reach,
+                          None, half_width, nose, 0.0)
+        d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
+        end = (est.x + d * ux, est.z + d * uz)
+        off = math.hypot(end[0] - goal[0], end[1] - goal[1])
+        if d > 0.05 and off <= radius:
+            cands.append((round(off, 3), abs(turn), turn, d, end))
+    for off, _, turn, d, end in sorted(cands):
+        pivot = [Turn(turn)] if turn != 0 else []
+        if pivot and not pivot_allowed(safe.fmap, est, pivot[0].angle_deg, prof, pivot_sweep,
+                                       pivot_ft):
+            continue
+        to = f"to ({end[0]:.2f}, {end[1]:.2f}), {off:.2f} ft from the goal"
+        if abs(turn) > EYES_TURN_DEG:
+            return pivot, f" (turning for the last move into the goal's disc, {to})"
+        return pivot + [Forward(d)], f" (the last move into the goal's disc, {to})"
+    return None

@@ -153,7 +153,7 @@ def cmd_drive(args) -> int:
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
+    from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
     MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
@@ -208,6 +208,11 @@ def add_loop_options(p) -> None:
                         "covariance (default), or regenerated each cycle from the floor "
                         "features fused look by look (Chapter IV's octree regenerated from "
                         "the symbolic model)")
+    p.add_argument("--approach", choices=APPROACHES, default=C.approach,
+                   help="the last move near the goal: disc (default since 2026-12-02; not "
+                        "1985): where the path's safe prefix drives nowhere, the straight move "
+                        "the same safety rules allow that ends nearest the goal inside its "
+                        "tolerance less 0.1 ft; path: the path's safe prefix only (before)")
     p.add_argument("--goal-region", choices=GOALS, default=C.goal_region,
                    help="what the planner plans to: the goal point (default; refused when the "
                         "map puts an obstacle within the vehicle's radius of it) or the "
@@ -345,7 +350,7 @@ def loop_config(args, goal, fail):
                        look_around=args.look_around, progress=args.progress,
                        look_ahead=args.look_ahead, seen_cost=args.seen_cost,
                        uncertain=args.uncertain, track_free=args.track_free,
-                       goal_region=args.goal_region, floor_eyes=args.floor_eyes,
+                       goal_region=args.goal_region, approach=args.approach, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
