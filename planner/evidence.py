@@ -20,6 +20,7 @@ in safety (``bench/drive.py --losses``).
 
 from __future__ import annotations
 
+import math
 from contextlib import contextmanager
 
 import numpy as np
@@ -30,7 +31,7 @@ from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_be
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
-from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
+from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
@@ -790,15 +791,36 @@ def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
     return free.all(1)
 
 
-def mark_walls(fm: FloorMap, bounds) -> None:
-    """The floor plan: every cell reaching past the walls is occupied."""
+def mark_walls(fm: FloorMap, bounds, grow=(0.0, 0.0)) -> None:
+    """The floor plan: every cell reaching past the walls is occupied; with
+    ``grow`` = (gx, gz) ft, past the walls moved that far into the room (the
+    side walls by gx, the near and far walls by gz: :func:`wall_growth`)."""
     nz, nx = fm.shape
     xs = fm.x0 + np.arange(nx + 1) * fm.cell
     zs = fm.z0 + np.arange(nz + 1) * fm.cell
-    bx0, bx1, bz0, bz1 = bounds
+    gx, gz = grow
+    bx0, bx1, bz0, bz1 = bounds[0] + gx, bounds[1] - gx, bounds[2] + gz, bounds[3] - gz
     out_x = (xs[:-1] < bx0) | (xs[1:] > bx1)
     out_z = (zs[:-1] < bz0) | (zs[1:] > bz1)
     fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
+
+
+WALL_SIGMAS = 2.0       # the floor plan grown as a feature is (planner.octree: 2 sigma)
+
+
+def wall_growth(pose_cov, sigmas: float = WALL_SIGMAS) -> tuple[float, float]:
+    """How far the floor plan's walls are grown into the room on a map placed
+    by a pose estimate with (x, z, heading) covariance ``pose_cov``: ``sigmas``
+    standard deviations of the estimate's x (for the side walls) and z (for the
+    near and far walls), each at most :data:`planner.octree.MAX_GROWTH_FT` as a
+    feature's growth is.  Why: the looks are placed by the estimate, the walls
+    by the room's truth; a pose off by d puts every look d away from the walls
+    it saw, and a blank column's assumed free floor (``blank_ft``), stopped only
+    by the plan's wall, then runs d past the wall the vehicle will meet
+    (room 7 under ``--head assist``: 1.05 ft of drift, a pivot into the side wall)."""
+    cov = np.asarray(pose_cov, float)
+    return tuple(float(min(sigmas * math.sqrt(max(cov[k, k], 0.0)), MAX_GROWTH_FT))
+                 for k in (0, 1))
 
 
 def floor_stats(model: "Perception") -> dict:

@@ -78,7 +78,12 @@ The room's walls are given as a floor plan (``known_walls``, on by
 default; the furniture is not): the edge-based eyes find no points on a
 blank wall, and a false far match would otherwise let a sight line through
 it (measured on the bundled lab: without the plan the vehicle drove into the
-left wall).
+left wall).  The plan is in the room's frame and the looks are placed by the
+estimate, so each cycle its walls are grown into the room by two standard
+deviations of the estimate's position (:func:`planner.evidence.wall_growth`,
+the odometry's covariance, at most 1.5 ft as a feature's growth): with the
+plan exact a blank column's assumed floor ran past the wall by the drift
+(docs/planner.md, "The head that only adds looks", room 7).
 
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
@@ -102,7 +107,7 @@ import numpy as np
 from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
-from .evidence import Perception, floor_stats, mark_walls
+from .evidence import Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import back_prefix, fetch_evidence, head_blank_ft, \
@@ -648,6 +653,11 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                              look.left_bi if cfg.floor_eyes != "off" else None,
                              look.range_left if cfg.eyes == "depth" else None)
                 fm = model.floor_map([(est.x, est.z), goal])
+                grow = wall_growth(dead_cov)
+                if cfg.known_walls and any(grow):
+                    # the plan's walls as sure as the pose that places the looks
+                    # beside them; the track the vehicle stood on stays free
+                    mark_walls(fm, room.bounds, grow)
                 mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                                  prof.margin_ft if cfg.track_free == "swept" else None)
                 if cfg.known_walls:

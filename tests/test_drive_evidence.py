@@ -237,3 +237,29 @@ def test_bench_sorts_the_stop_reasons_by_kind():
     assert k("stopped: the vehicle hit something (true footprint against the room)") == \
         "collision"
     assert k("stopped by Ctrl-C after 2 looks") == "other"
+
+
+# --- the floor plan's walls grown by the pose's uncertainty (planner.evidence) -------------
+
+def test_the_walls_grow_by_two_standard_deviations_of_the_estimate_at_most_a_features_growth():
+    from planner.evidence import wall_growth
+    assert wall_growth(np.zeros((3, 3))) == (0.0, 0.0)
+    # sigma_x 0.3 ft, sigma_z 0.2 ft: 0.6 and 0.4 ft (the heading's variance plays no part)
+    gx, gz = wall_growth(np.diag([0.09, 0.04, 0.5]))
+    assert (gx, gz) == pytest.approx((0.6, 0.4))
+    # sigma 1 ft: 2 ft, capped at the 1.5 ft a feature is grown at most (planner.octree)
+    assert wall_growth(np.diag([1.0, 0.01, 0.0])) == pytest.approx((1.5, 0.2))
+
+
+def test_grown_walls_occupy_the_cells_reaching_past_the_walls_moved_in():
+    from planner.evidence import mark_walls
+    fm = FloorMap(np.full((16, 16), FREE, np.uint8), 0.0, 0.0, 0.25)   # walls 0..4 x 0..4 ft
+    mark_walls(fm, (0.0, 4.0, 0.0, 4.0))
+    assert (fm.cells == FREE).all()                     # every cell inside the plain walls
+    mark_walls(fm, (0.0, 4.0, 0.0, 4.0), (0.5, 0.25))
+    occ = fm.cells == OCCUPIED
+    # by hand: columns 0-1 (x < 0.5) and 14-15 (x > 3.5), rows 0 (z < 0.25) and 15 (z > 3.75)
+    want = np.zeros((16, 16), bool)
+    want[:, [0, 1, 14, 15]] = True
+    want[[0, 15], :] = True
+    assert (occ == want).all() and occ.sum() == 256 - 12 * 14

@@ -338,3 +338,21 @@ def test_assist_refuses_the_fused_estimate():
     with pytest.raises(ValueError, match="assist.*pose 'fused'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, head="assist",
                                                            pose="fused"))
+
+
+def test_assist_in_room_7_does_not_drive_into_the_wall_its_drift_moved():
+    """The traced collision (docs/planner.md, "The head that only adds looks"): room 7,
+    the 1985 eyes, the odometry noise of seed 7.  The estimate drifts 1.05 ft toward the
+    right-hand wall; a blank column's assumed floor, stopped only by the floor plan's wall
+    (placed by the truth), ran that far past the wall the vehicle met, and a pivot at look
+    29 hit it.  With the plan's walls grown by the estimate's 2 sigma it does not."""
+    from planner.planning import random_goal
+    from world.room import generate_room
+    room = generate_room(7)
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(7))
+    res = run(room, start, DriveConfig(goal=goal, head="assist"), noise=OdometryNoise(seed=7),
+              keep_maps=False)
+    assert res.collisions == 0 and "hit something" not in res.reason
+    assert res.travelled_ft > 15.0          # it went as far as where it used to collide
