@@ -79,11 +79,13 @@ default; the furniture is not): the edge-based eyes find no points on a
 blank wall, and a false far match would otherwise let a sight line through
 it (measured on the bundled lab: without the plan the vehicle drove into the
 left wall).  The plan is in the room's frame and the looks are placed by the
-estimate, so each cycle its walls are grown into the room by two standard
+estimate, so what a look only assumes (its blank columns' floor, the sides
+two looks saw blank) stops short of the plan's walls by two standard
 deviations of the estimate's position (:func:`planner.evidence.wall_growth`,
-the odometry's covariance, at most 1.5 ft as a feature's growth): with the
-plan exact a blank column's assumed floor ran past the wall by the drift
-(docs/planner.md, "The head that only adds looks", room 7).
+the odometry's covariance, at most 1.5 ft as a feature's growth): stopped by
+the plan itself it ran past the wall by the drift (docs/planner.md, "The head
+that only adds looks", room 7).  What a look proves (a sight line to a point
+it located) is not cut.
 
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
@@ -649,15 +651,16 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
                 elif assist:              # the fixed rig's own look, as without a head
                     model.near_ft, model.blank_ft = fixed_near, fixed_blank
+                if cfg.known_walls:
+                    # the plan is the room's truth, the look is placed by the estimate:
+                    # what the look only assumes stops short of the plan by the pose's 2 sigma
+                    gx, gz = wall_growth(dead_cov)
+                    bx0, bx1, bz0, bz1 = room.bounds
+                    model.assume_within = (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz)
                 model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
                              look.left_bi if cfg.floor_eyes != "off" else None,
                              look.range_left if cfg.eyes == "depth" else None)
                 fm = model.floor_map([(est.x, est.z), goal])
-                grow = wall_growth(dead_cov)
-                if cfg.known_walls and any(grow):
-                    # the plan's walls as sure as the pose that places the looks
-                    # beside them; the track the vehicle stood on stays free
-                    mark_walls(fm, room.bounds, grow)
                 mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
                                  prof.margin_ft if cfg.track_free == "swept" else None)
                 if cfg.known_walls:

@@ -251,15 +251,18 @@ def test_the_walls_grow_by_two_standard_deviations_of_the_estimate_at_most_a_fea
     assert wall_growth(np.diag([1.0, 0.01, 0.0])) == pytest.approx((1.5, 0.2))
 
 
-def test_grown_walls_occupy_the_cells_reaching_past_the_walls_moved_in():
-    from planner.evidence import mark_walls
-    fm = FloorMap(np.full((16, 16), FREE, np.uint8), 0.0, 0.0, 0.25)   # walls 0..4 x 0..4 ft
-    mark_walls(fm, (0.0, 4.0, 0.0, 4.0))
-    assert (fm.cells == FREE).all()                     # every cell inside the plain walls
-    mark_walls(fm, (0.0, 4.0, 0.0, 4.0), (0.5, 0.25))
-    occ = fm.cells == OCCUPIED
-    # by hand: columns 0-1 (x < 0.5) and 14-15 (x > 3.5), rows 0 (z < 0.25) and 15 (z > 3.75)
-    want = np.zeros((16, 16), bool)
-    want[:, [0, 1, 14, 15]] = True
-    want[[0, 15], :] = True
-    assert (occ == want).all() and occ.sum() == 256 - 12 * 14
+def test_assumed_lines_are_cut_a_cell_past_where_they_leave_the_walls_less_the_growth():
+    from planner.evidence import within_walls
+    o = np.array([1.0, 2.0, 1.0])                      # the camera 2 ft up at (1, 1)
+    ends = np.array([[9.0, 0.0, 1.0],                  # along +x: leaves x = 3 at t = 0.25
+                     [1.0, 0.0, 9.0],                  # along +z: leaves z = 5 at t = 0.5
+                     [1.5, 0.0, 1.5],                  # inside: kept whole
+                     [-3.0, 0.0, -3.0]])               # toward (0, 0) corner: x = 0 at t = 0.25
+    out = within_walls(o, ends, (0.0, 3.0, 0.0, 5.0), 0.25)
+    L = np.linalg.norm(ends - o, axis=1)
+    t = np.minimum(1.0, np.array([0.25, 0.5, 1.0, 0.25]) + 0.25 / L)   # by hand, a cell on
+    assert out == pytest.approx(o + t[:, None] * (ends - o))
+    assert out[2] == pytest.approx(ends[2])
+    # from outside the walls less the growth (the estimate within 2 sigma of a wall): nothing
+    assert within_walls(np.array([3.5, 2.0, 1.0]), ends, (0.0, 3.0, 0.0, 5.0), 0.25) == \
+        pytest.approx(np.repeat([[3.5, 2.0, 1.0]], 4, 0))
