@@ -113,7 +113,7 @@ from .evidence import Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import back_prefix, fetch_evidence, head_blank_ft, \
-    drop_passed, shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
+    shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
@@ -675,8 +675,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
                 fetching = False
                 try:
-                    pts, cmds, note = plan(fm, est, goal, cfg, drop_passed(prev_path, est)
-                                           if head else prev_path)
+                    pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
                     if head:
                         cmds = shortcut_first_leg(cmds, est)
                     seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,

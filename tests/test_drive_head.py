@@ -12,7 +12,7 @@ import pytest
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig, run
 from planner.motion import HALF_VFOV_DEG, far_floor_ft, head_aim, head_blank_ft, head_commands, head_look, \
-    drop_passed, near_visible_ft, safe_prefix, shortcut_first_leg, unseen_in_circle
+    near_visible_ft, safe_prefix, shortcut_first_leg, unseen_in_circle
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from planner.search import clearance_map
 from planner.tiny import GOAL, tiny_room
@@ -237,15 +237,6 @@ def test_a_first_leg_of_a_tenth_of_a_foot_is_cut_short_by_the_straight_line():
     long = [Turn(90.0), Forward(0.5), Turn(-90.0), Forward(2.0)]
     assert shortcut_first_leg(long, est) == long
     assert shortcut_first_leg([Turn(5.0), Forward(0.1)], est) == [Turn(5.0), Forward(0.1)]
-
-
-def test_a_kept_paths_waypoint_the_vehicle_has_passed_is_dropped():
-    prev = [(0.0, 0.0), (0.0, 2.0), (3.0, 2.0)]
-    # a third of the way along the second leg, 0.1 ft off it: past (0, 2)
-    assert drop_passed(prev, State(1.0, 2.1, 90.0)) == [(0.0, 0.0), (3.0, 2.0)]
-    assert drop_passed(prev, State(0.0, 1.0, 0.0)) == prev        # before the waypoint
-    assert drop_passed(prev, State(1.0, 3.0, 90.0)) == prev       # 1 ft off the leg
-    assert drop_passed(prev[:2], State(1.0, 2.1, 90.0)) == prev[:2]
 
 
 # --- the loop -------------------------------------------------------------------------
