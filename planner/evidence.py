@@ -20,6 +20,7 @@ in safety (``bench/drive.py --losses``).
 
 from __future__ import annotations
 
+import math
 from contextlib import contextmanager
 
 import numpy as np
@@ -30,7 +31,7 @@ from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_be
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
-from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
+from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
@@ -292,6 +293,8 @@ class Perception:
         self.hi = None
         self.pending = []
         self.provenance = None            # a FreeProvenance: which carving freed each cell
+        self.assume_within = None         # (x0, x1, z0, z1): the assumed floor stops there
+                                          # (the loop: the plan's walls less wall_growth)
         self.look_no = 0                  # looks taken into the model
 
     @contextmanager
@@ -438,6 +441,8 @@ class Perception:
                 ok = _near_free(known, left, ends, self.near_ft)
                 ends = ends[ok]
                 ends_start = None if ends_start is None else ends_start[ok]
+            if self.assume_within is not None and len(ends):
+                ends = within_walls(left, ends, self.assume_within, res)
             with self._carving(BLANK_ASSUMPTION):
                 if ends_start is not None:
                     mark_keys_free(self.tree, self._assumed_low_keys(left, ends, ends_start))
@@ -453,6 +458,8 @@ class Perception:
                     ok = _near_free(known, left, far_ends, self.near_ft)
                     far_ends = far_ends[ok]
                     far_start = None if far_start is None else far_start[ok]
+                if self.assume_within is not None:
+                    far_ends = within_walls(left, far_ends, self.assume_within, res)
                 keys = self._assumed_low_keys(left, far_ends, far_start) \
                     if far_start is not None else \
                     assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
@@ -899,6 +906,45 @@ def mark_walls(fm: FloorMap, bounds) -> None:
     out_x = (xs[:-1] < bx0) | (xs[1:] > bx1)
     out_z = (zs[:-1] < bz0) | (zs[1:] > bz1)
     fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
+
+
+WALL_SIGMAS = 2.0       # the assumed floor kept off the plan's walls by 2 sigma (as features grow)
+
+
+def wall_growth(pose_cov, sigmas: float = WALL_SIGMAS) -> tuple[float, float]:
+    """How far inside the floor plan's walls the blank-column assumption stops
+    on a map placed by a pose estimate with (x, z, heading) covariance
+    ``pose_cov``: ``sigmas`` standard deviations of the estimate's x (the side
+    walls) and z (the near and far walls), each at most
+    :data:`planner.octree.MAX_GROWTH_FT` as a feature's growth is.  Why: the
+    looks are placed by the estimate, the plan by the room's truth; with the
+    estimate off by d a blank column's assumed floor (``blank_ft``), stopped
+    only by the plan's wall, runs d past the wall the vehicle will meet (room 7
+    under ``--head assist``: 1.05 ft of drift, a pivot into the side wall)."""
+    cov = np.asarray(pose_cov, float)
+    return tuple(float(min(sigmas * math.sqrt(max(cov[k, k], 0.0)), MAX_GROWTH_FT))
+                 for k in (0, 1))
+
+
+def within_walls(origin, ends, bounds, res: float) -> np.ndarray:
+    """The sight lines ``origin -> end`` (room x, y, z) cut where they leave
+    the floor ``bounds`` (x0, x1, z0, z1), a cell past it (the carving stops a
+    cell short of its end, so the last cell inside is still reached); a line
+    from outside them keeps nothing (its end at the origin)."""
+    o = np.asarray(origin, float)
+    ends = np.asarray(ends, float).reshape(-1, 3)
+    d = ends - o
+    length = np.linalg.norm(d, axis=1)
+    t = np.ones(len(ends))
+    for k, (lo, hi) in ((0, bounds[:2]), (2, bounds[2:])):
+        if not lo <= o[k] <= hi:
+            return np.repeat(o[None], len(ends), 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tk = np.where(d[:, k] > 0, (hi - o[k]) / d[:, k],
+                          np.where(d[:, k] < 0, (lo - o[k]) / d[:, k], np.inf))
+        t = np.minimum(t, tk)
+    t = np.minimum(1.0, t + res / np.maximum(length, 1e-12))
+    return o + t[:, None] * d
 
 
 def floor_stats(model: "Perception") -> dict:

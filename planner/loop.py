@@ -81,7 +81,14 @@ The room's walls are given as a floor plan (``known_walls``, on by
 default; the furniture is not): the edge-based eyes find no points on a
 blank wall, and a false far match would otherwise let a sight line through
 it (measured on the bundled lab: without the plan the vehicle drove into the
-left wall).
+left wall).  The plan is in the room's frame and the looks are placed by the
+estimate, so what a look only assumes (its blank columns' floor, the sides
+two looks saw blank) stops short of the plan's walls by two standard
+deviations of the estimate's position (:func:`planner.evidence.wall_growth`,
+the odometry's covariance, at most 1.5 ft as a feature's growth): stopped by
+the plan itself it ran past the wall by the drift (docs/planner.md, "The head
+that only adds looks", room 7).  What a look proves (a sight line to a point
+it located) is not cut.
 
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
@@ -105,11 +112,11 @@ import numpy as np
 from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
-from .evidence import Perception, floor_stats, mark_walls
+from .evidence import Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
-    drop_passed, shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
+    shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
@@ -659,6 +666,12 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
                 elif assist:              # the fixed rig's own look, as without a head
                     model.near_ft, model.blank_ft = fixed_near, fixed_blank
+                if cfg.known_walls:
+                    # the plan is the room's truth, the look is placed by the estimate:
+                    # what the look only assumes stops short of the plan by the pose's 2 sigma
+                    gx, gz = wall_growth(dead_cov)
+                    bx0, bx1, bz0, bz1 = room.bounds
+                    model.assume_within = (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz)
                 model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
                              look.left_bi if cfg.floor_eyes != "off" else None,
                              look.range_left if cfg.eyes == "depth" else None)
@@ -677,8 +690,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                     seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
                 fetching = False
                 try:
-                    pts, cmds, note = plan(fm, est, goal, cfg, drop_passed(prev_path, est)
-                                           if head else prev_path)
+                    pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
                     if head:
                         cmds = shortcut_first_leg(cmds, est)
                     seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,

@@ -672,33 +672,6 @@ def shortcut_first_leg(cmds, est: State, min_ft: float = 0.3) -> list:
     return out + cmds[fwd[1] + 1:]
 
 
-def drop_passed(prev, est: State, near_ft: float = 0.5):
-    """The kept path ``prev`` without the waypoints the vehicle has passed: while
-    the estimate stands within ``near_ft`` of the leg after the first waypoint
-    and beyond that waypoint along it, the waypoint is dropped.  The planner
-    keeps a previous path from the vehicle's new position through all its
-    waypoints but those nearer a later one; a move that ended 1.5 ft past the
-    first (the first leg's end, the second leg ahead) leads back to it, and
-    the next cycle forward again (to and fro until the looks are used up:
-    rooms 5 and 46 on depth eyes without noise).  Used with the head."""
-    if not prev or len(prev) < 3:
-        return prev
-    pts = [tuple(q) for q in prev]
-    while len(pts) >= 3:
-        a, b = np.asarray(pts[1], float), np.asarray(pts[2], float)
-        ab = b - a
-        L2 = float(ab @ ab)
-        if L2 < 1e-12:
-            pts.pop(1)
-            continue
-        p = np.array([est.x, est.z])
-        t = float((p - a) @ ab) / L2
-        if t <= 0.0 or t >= 1.0 or np.hypot(*(a + t * ab - p)) > near_ft:
-            break
-        pts.pop(1)
-    return pts
-
-
 def path_heading(est: State, pts, min_ft: float = 0.3) -> float | None:
     """The heading from the estimate to the first point of the path ``pts`` at
     least ``min_ft`` away (a path's first point may lie a hundredth of a foot

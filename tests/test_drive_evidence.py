@@ -237,3 +237,32 @@ def test_bench_sorts_the_stop_reasons_by_kind():
     assert k("stopped: the vehicle hit something (true footprint against the room)") == \
         "collision"
     assert k("stopped by Ctrl-C after 2 looks") == "other"
+
+
+# --- the floor plan's walls grown by the pose's uncertainty (planner.evidence) -------------
+
+def test_the_walls_grow_by_two_standard_deviations_of_the_estimate_at_most_a_features_growth():
+    from planner.evidence import wall_growth
+    assert wall_growth(np.zeros((3, 3))) == (0.0, 0.0)
+    # sigma_x 0.3 ft, sigma_z 0.2 ft: 0.6 and 0.4 ft (the heading's variance plays no part)
+    gx, gz = wall_growth(np.diag([0.09, 0.04, 0.5]))
+    assert (gx, gz) == pytest.approx((0.6, 0.4))
+    # sigma 1 ft: 2 ft, capped at the 1.5 ft a feature is grown at most (planner.octree)
+    assert wall_growth(np.diag([1.0, 0.01, 0.0])) == pytest.approx((1.5, 0.2))
+
+
+def test_assumed_lines_are_cut_a_cell_past_where_they_leave_the_walls_less_the_growth():
+    from planner.evidence import within_walls
+    o = np.array([1.0, 2.0, 1.0])                      # the camera 2 ft up at (1, 1)
+    ends = np.array([[9.0, 0.0, 1.0],                  # along +x: leaves x = 3 at t = 0.25
+                     [1.0, 0.0, 9.0],                  # along +z: leaves z = 5 at t = 0.5
+                     [1.5, 0.0, 1.5],                  # inside: kept whole
+                     [-3.0, 0.0, -3.0]])               # toward (0, 0) corner: x = 0 at t = 0.25
+    out = within_walls(o, ends, (0.0, 3.0, 0.0, 5.0), 0.25)
+    L = np.linalg.norm(ends - o, axis=1)
+    t = np.minimum(1.0, np.array([0.25, 0.5, 1.0, 0.25]) + 0.25 / L)   # by hand, a cell on
+    assert out == pytest.approx(o + t[:, None] * (ends - o))
+    assert out[2] == pytest.approx(ends[2])
+    # from outside the walls less the growth (the estimate within 2 sigma of a wall): nothing
+    assert within_walls(np.array([3.5, 2.0, 1.0]), ends, (0.0, 3.0, 0.0, 5.0), 0.25) == \
+        pytest.approx(np.repeat([[3.5, 2.0, 1.0]], 4, 0))
