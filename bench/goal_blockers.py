@@ -8,7 +8,12 @@ range at the same pixel (``Look.range_left``), the range's error bound, the
 covariance's 2-sigma extent along and across the sight line, whether the cell
 is the hit's own cell, its covariance growth or a surface span, and the
 located point's true distance to the nearest surface (placed by the TRUE
-pose: ``Room.clearance``, negative inside an obstacle).  A diagnostic: the
+pose: ``Room.clearance``, negative inside an obstacle).  Distances are the exact
+gap between the goal cell's square and the blocked one; the planner's default
+(``clearance_map(at="anywhere")``) refuses by a lower bound, up to 0.41 cell
+less off the diagonals, so it can refuse a goal with no cell listed here (its
+message gives both).  The map's border, blocked to the planner, is reported
+when it lies within the radius.  A diagnostic: the
 drive is not changed (the floor scan and the renderer are only wrapped).
 
     python bench/goal_blockers.py                 # the bundled lab (rig drive)
@@ -75,12 +80,17 @@ def trace(room, start, goal, cfg, noise):
     finally:
         ev.floor_scan, wr.render_look = orig_fs, orig_render
     res.floor_scans = records            # for a caller that looks further
+    res.border_ft = None
     fm = res.cycles[-1].fmap
     r = DEFAULT.planning_radius_ft
     cell = fm.cell
     blockers = []
-    # the planner gives the goal its cell's clearance (the cross section anywhere in it)
-    gx, gz = fm.centre(*fm.index(*goal))
+    # the planner gives the goal its cell's clearance (the cross section anywhere
+    # in it): the exact gap between its square and a blocked one, as here
+    gi, gj = fm.index(*goal)
+    gx, gz = fm.centre(gi, gj)
+    # clearance_map counts the map's border as blocked: a ring of squares just outside it
+    res_border = min(gi, fm.shape[0] - 1 - gi, gj, fm.shape[1] - 1 - gj) * cell
     for i, j in zip(*np.nonzero(np.isin(fm.cells, (OCCUPIED, UNCERTAIN)))):
         cx, cz = fm.centre(i, j)
         dx = max(abs(gx - cx) - cell, 0.0)
@@ -88,6 +98,8 @@ def trace(room, start, goal, cfg, noise):
         if math.hypot(dx, dz) < r:
             blockers.append((float(cx), float(cz), "occupied" if fm.cells[i, j] == OCCUPIED
                              else "uncertain", math.hypot(dx, dz)))
+    if res_border < r:
+        res.border_ft = round(float(res_border), 2)
     res_ft = cfg.voi.resolution
     out = []
     for cx, cz, state, dist in sorted(blockers, key=lambda b: b[3]):
@@ -171,6 +183,9 @@ def main(argv=None) -> int:
     cfg = loop_config(args, goal, ap.error)
     res, out = trace(room, start, goal, cfg, OdometryNoise(seed=seed))
     print(f"reached {res.reached}, {res.looks} looks: {res.reason}")
+    if res.border_ft is not None:
+        print(f"the map's border (blocked to the planner) is {res.border_ft:.2f} ft from the "
+              f"goal's cell")
     for b in out:
         print(f"cell ({b['cell'][0]:.3f}, {b['cell'][1]:.3f}) {b['state']}, "
               f"{b['from_goal_cell_ft']:.2f} ft from the goal's cell, true clearance "
@@ -180,7 +195,8 @@ def main(argv=None) -> int:
     if args.json:
         from rig.scan import write_atomic
         write_atomic(args.json, json.dumps({"reached": res.reached, "reason": res.reason,
-                                            "blockers": out}, indent=1))
+                                            "border_ft": res.border_ft, "blockers": out},
+                                           indent=1))
     return 0
 
 

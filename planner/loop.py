@@ -220,7 +220,9 @@ class DriveConfig:
     clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
                                           # passes anywhere in a passable cell; "centre":
                                           # a cell's centre has the radius and every
-                                          # position is tested exactly (search.clearance_map)
+                                          # position is tested exactly; "anywhere-exact":
+                                          # anywhere, by the exact gap between the cell
+                                          # squares (search.clearance_map)
     growth: str = "covariance"            # "covariance": a hit grown by its whole covariance
                                           # (the dissertation's); "across": by its error
                                           # across the sight line only (across_sight_cov)

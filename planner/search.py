@@ -54,7 +54,7 @@ class Passable:
     at: str = "anywhere"      # where in a passable cell the vehicle's centre may be (CLEARANCE_AT)
 
 
-CLEARANCE_AT = ("anywhere", "centre")
+CLEARANCE_AT = ("anywhere", "centre", "anywhere-exact")
 
 
 def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
@@ -68,7 +68,12 @@ def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
     it to the nearest blocked cell's square is at least ``radius`` (a lower
     bound: centre distance less a cell diagonal).  On 0.25 ft cells that costs
     up to a cell on each side of a passage: a vehicle of 2r = 1.58 ft needs 9
-    free cells (2.25 ft) between two walls of cells.
+    free cells (2.25 ft) between two walls of cells.  The bound is loose by up
+    to 0.41 cell off the diagonals: bench seed 4's goal cell, 0.7906 ft from
+    the nearest blocked square, has 0.76 ft by it, under the radius 0.7903 ft.
+
+    ``at="anywhere-exact"`` (a named option, not the default): the same test
+    with the exact distance between the two squares (:func:`square_gap_cells`).
 
     ``at="centre"`` (a named option beside it): a cell is passable when its
     centre is at least ``radius`` from every blocked square (a lower bound:
@@ -87,14 +92,39 @@ def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
         blocked = blocked | (fm.cells == UNKNOWN)
     if uncertain == "blocked":
         blocked = blocked | (fm.cells == UNCERTAIN)
-    padded = np.pad(~blocked, 1, constant_values=False).astype(np.uint8)
-    dt = cv2.distanceTransform(padded, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[1:-1, 1:-1]
-    # dt is centre-to-centre in cells; the nearest point of a blocked square is
-    # at most half a diagonal nearer, and any point of this cell another half
-    # diagonal: so the vehicle may stand ANYWHERE in a passable cell.
-    shrink = SQRT2 if at == "anywhere" else SQRT2 / 2
-    clearance = np.maximum(dt - shrink, 0.0) * fm.cell
+    if at == "anywhere-exact":
+        clearance = square_gap_cells(blocked) * fm.cell
+    else:
+        # centre-to-centre in cells; the nearest point of a blocked square is at
+        # most half a diagonal nearer, and any point of this cell another half
+        # diagonal: so the vehicle may stand ANYWHERE in a passable cell
+        clearance = np.maximum(_centre_distance_cells(blocked) - _SHRINK[at], 0.0) * fm.cell
     return Passable(clearance >= radius - 1e-9, clearance, blocked, fm, radius, unknown, at)
+
+
+_SHRINK = {"anywhere": SQRT2, "centre": SQRT2 / 2}
+
+
+def _centre_distance_cells(blocked: np.ndarray) -> np.ndarray:
+    """Centre-to-centre distance (cells) to the nearest blocked cell, the border blocked."""
+    padded = np.pad(~blocked, 1, constant_values=False).astype(np.uint8)
+    return cv2.distanceTransform(padded, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[1:-1, 1:-1]
+
+
+def square_gap_cells(blocked: np.ndarray) -> np.ndarray:
+    """The exact distance (in cells) from every point of each cell's square to
+    the nearest blocked cell's square, the map's border counting as blocked.
+
+    Two unit squares whose centres are (a, b) cells apart are
+    hypot(max(|a| - 1, 0), max(|b| - 1, 0)) apart; per axis, max(|a| - 1, 0)
+    is the offset to the nearest of the blocked cell's 3 x 3 neighbourhood, so
+    the gap is the centre-to-centre distance to the blocked cells dilated by
+    one cell (0 for a cell touching a blocked one)."""
+    padded = np.pad(blocked, 1, constant_values=True).astype(np.uint8)
+    grown = cv2.dilate(padded, np.ones((3, 3), np.uint8), borderType=cv2.BORDER_CONSTANT,
+                       borderValue=1)
+    free = (grown == 0).astype(np.uint8)
+    return cv2.distanceTransform(free, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[1:-1, 1:-1]
 
 
 def point_clearance(p: Passable, pts) -> np.ndarray:
@@ -149,8 +179,15 @@ def _explain(p: Passable, x: float, z: float, what: str) -> str | None:
     if s in (UNKNOWN, UNCERTAIN) and p.unknown == "blocked":
         return f"the {what} ({x:.2f}, {z:.2f}) ft is in unknown space (unknown treated as blocked)"
     if not p.ok[i, j]:
-        return (f"the {what} ({x:.2f}, {z:.2f}) ft is {p.clearance[i, j]:.2f} ft from an "
-                f"obstacle; the vehicle needs {p.radius:.2f} ft")
+        # the exact gap from the cell's square (bench/goal_blockers.py's), beside the bound
+        gap = square_gap_cells(p.blocked)[i, j] * fm.cell
+        if p.at == "anywhere-exact":
+            where = "its cell's nearest point"
+        else:
+            part = "cell" if p.at == "anywhere" else "cell's centre"
+            where = f"the map's bound for its {part}; its cell's nearest point {gap:.2f} ft"
+        return (f"the {what} ({x:.2f}, {z:.2f}) ft is {p.clearance[i, j]:.2f} ft ({where}) "
+                f"from an obstacle; the vehicle needs {p.radius:.2f} ft")
     return None
 
 

@@ -187,10 +187,13 @@ def add_loop_options(p) -> None:
                         "swept: the cells the footprint, grown by the margin, sweeps through "
                         "the angle; small-swept: a turn up to 5 deg by its sweep, a larger one "
                         "by the disc")
-    p.add_argument("--clearance-at", choices=("anywhere", "centre"), default=C.clearance_at,
+    p.add_argument("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
+                   default=C.clearance_at,
                    help="where in a passable cell the vehicle's centre may be: anywhere (the "
-                        "dissertation's cross-section test, default) or its centre, every "
-                        "position then tested by its exact distance to the blocked cells")
+                        "dissertation's cross-section test, default; a cell's clearance by a "
+                        "lower bound, centre distance less a cell diagonal), its centre, every "
+                        "position then tested by its exact distance to the blocked cells, or "
+                        "anywhere-exact: anywhere, by the exact distance between the squares")
     p.add_argument("--growth", choices=("covariance", "across"), default=C.growth,
                    help="a located hit grown by its whole covariance (the dissertation's, "
                         "default) or by its error across the sight line only")

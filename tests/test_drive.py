@@ -217,6 +217,8 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     assert c.clearance_at == "centre" and c.growth == "across"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("evidence", "evidence", "look", "swept", True)
+    assert drive_config(monkeypatch, tmp_path, "--clearance-at",
+                        "anywhere-exact").clearance_at == "anywhere-exact"
     c = drive_config(monkeypatch, tmp_path)
     assert c.clearance_at == "anywhere" and c.growth == "covariance"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \

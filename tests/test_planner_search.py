@@ -136,6 +136,77 @@ def test_point_clearance_is_the_distance_to_the_blocked_squares():
         clearance_map(room(), 0.5, at="middle")
 
 
+def _rect_gap(a, b):
+    """Exact distance between two axis-aligned rectangles (x0, x1, z0, z1)."""
+    return math.hypot(max(b[0] - a[1], a[0] - b[1], 0.0), max(b[2] - a[3], a[2] - b[3], 0.0))
+
+
+def test_anywhere_exact_clearance_is_the_exact_gap_between_squares():
+    # random maps against the rectangles themselves: a cell's clearance is the
+    # distance from its square to the nearest blocked square, the map's border
+    # (a ring of squares just outside it) blocked
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        cells = np.where(rng.random((14, 19)) < 0.04, OCCUPIED, FREE).astype(np.uint8)
+        fm = FloorMap(cells, -1.0, 2.0, CELL)
+        p = clearance_map(fm, 0.79, at="anywhere-exact")
+        bound = clearance_map(fm, 0.79)
+        nz, nx = cells.shape
+        blocked = [(i, j) for i in range(-1, nz + 1) for j in range(-1, nx + 1)
+                   if not (0 <= i < nz and 0 <= j < nx) or cells[i, j] == OCCUPIED]
+
+        def square(i, j):
+            return (fm.x0 + j * CELL, fm.x0 + (j + 1) * CELL, fm.z0 + i * CELL, fm.z0 + (i + 1) * CELL)
+        for i in range(nz):
+            for j in range(nx):
+                want = min(_rect_gap(square(i, j), square(*b)) for b in blocked)
+                assert p.clearance[i, j] == pytest.approx(want, abs=1e-5)
+                assert p.ok[i, j] == (want >= 0.79 - 1e-6)
+                # the default's bound never exceeds it: it refuses more, never less
+                assert bound.clearance[i, j] <= want + 1e-6
+
+
+def test_a_goal_whose_whole_cell_has_the_radius_refused_by_the_bound_not_exactly():
+    # seed 4's final map: the nearest blocked cell 4 cells off in z and 2 in x
+    # from the goal's cell, its square 0.25 x hypot(3, 1) = 0.7906 ft from every
+    # point of the goal's cell, the drive's radius 0.7903 ft.  The default's
+    # bound, centre distance less a cell diagonal, 0.25 x (hypot(4, 2) - sqrt 2)
+    # = 0.76 ft, refuses it, and the message says both; the exact gap accepts it.
+    from vehicle.profile import DEFAULT
+    r = DEFAULT.planning_radius_ft
+    fm = FloorMap(np.full((32, 32), FREE, np.uint8), 0.0, 0.0, CELL)
+    gi, gj = 20, 12
+    goal = (float(fm.centre(gi, gj)[0]), float(fm.centre(gi, gj)[1]))
+    fm.cells[gi - 4, gj + 2] = OCCUPIED
+    box = (fm.x0 + (gj + 2) * CELL, fm.x0 + (gj + 3) * CELL, fm.z0 + (gi - 4) * CELL,
+           fm.z0 + (gi - 3) * CELL)
+    # every point of the goal's cell (sampled densely, corners included) has the radius
+    u = np.linspace(-CELL / 2, CELL / 2, 21)
+    nearest = min(_distance_to_boxes(goal[0] + a, goal[1] + b, [box]) for a in u for b in u)
+    assert nearest == pytest.approx(CELL * math.sqrt(10)) and nearest > r
+    bound = clearance_map(fm, r)
+    assert bound.clearance[gi, gj] == pytest.approx(CELL * (math.hypot(4, 2) - math.sqrt(2)),
+                                                    abs=1e-6)
+    for search in (astar, hierarchical_search):
+        with pytest.raises(NoPath, match=r"is 0.76 ft \(the map's bound for its cell; its cell's "
+                                         r"nearest point 0.79 ft\) from an obstacle; the vehicle "
+                                         r"needs 0.79 ft"):
+            search(bound, (4.0, 1.5), goal)
+    p = clearance_map(fm, r, at="anywhere-exact")
+    assert p.ok[gi, gj] and p.clearance[gi, gj] == pytest.approx(CELL * math.sqrt(10), abs=1e-6)
+    for search in (astar, hierarchical_search):
+        pts = search(p, (4.0, 1.5), goal)
+        assert tuple(pts[-1]) == pytest.approx(goal)
+    # a cell nearer in z: 0.25 x hypot(2, 1) = 0.56 ft, refused exactly with that distance
+    fm.cells[gi - 4, gj + 2] = FREE
+    fm.cells[gi - 3, gj + 2] = OCCUPIED
+    p = clearance_map(fm, r, at="anywhere-exact")
+    for search in (astar, hierarchical_search):
+        with pytest.raises(NoPath, match=r"is 0.56 ft \(its cell's nearest point\) from an "
+                                         r"obstacle; the vehicle needs 0.79 ft"):
+            search(p, (4.0, 1.5), goal)
+
+
 def polyline_points(pts, step=0.01):
     out = []
     for a, b in zip(pts[:-1], pts[1:]):
@@ -150,7 +221,8 @@ def test_goal_inside_an_obstacle_refused():
     for search in (astar, hierarchical_search):
         with pytest.raises(NoPath, match=r"goal \(5.00, 5.00\) ft is inside an obstacle"):
             search(p, (1.5, 1.5), (5.0, 5.0))
-        with pytest.raises(NoPath, match=r"goal \(5.00, 6.50\) ft is 0.\d\d ft from an obstacle"):
+        with pytest.raises(NoPath, match=r"goal \(5.00, 6.50\) ft is 0.40 ft \(the map's bound for its cell; its cell's "
+                                         r"nearest point 0.50 ft\) from an obstacle"):
             search(p, (1.5, 1.5), (5.0, 6.5))
 
 
