@@ -778,7 +778,8 @@ APPROACH_STEP_DEG = 2.0      # approach="disc": the headings tried, this far apa
 def disc_approach(est: State, goal, radius: float, safe: Passable, seen: np.ndarray,
                   prof: VehicleProfile, pivot_ft: float, pivot_sweep=None):
     """(commands, note) of the final move under ``DriveConfig.approach="disc"``
-    (a named option, not 1985), or None: of the straight moves (no longer than
+    (the default since 2026-12-02; "path" drives only the planned path), or
+    None: of the straight moves (no longer than
     the profile's step, nor past the point of their line nearest the goal) cut
     where :func:`safe_prefix` cuts them (the swept width and nose seen, nothing
     known within the radius), the one that ends nearest the goal, when that
