@@ -96,7 +96,10 @@ nearest the goal; when it cannot move at all it turns to look
 (toward the goal first, then sweeping), and gives up with the planner's reason
 after ``max_stuck`` looks without progress.
 
-This module holds the loop's configuration and the cycle itself (:func:`run`);
+This module holds the loop's configuration (:class:`DriveConfig`, checked by
+:func:`_check_config`), the cycle's steps by name (:class:`Drive`: :meth:`~Drive.look`,
+:meth:`~Drive.estimate`, :meth:`~Drive.update_map`, :meth:`~Drive.plan`,
+:meth:`~Drive.act`, one cycle :meth:`~Drive.cycle`) and the loop over them (:func:`run`);
 the map it keeps is :mod:`planner.evidence`, what the vehicle may drive on it
 :mod:`planner.motion`, the path and its commands :mod:`planner.planning`.
 """
@@ -121,7 +124,7 @@ from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
-from .planning import GOAL_SLACK_FT, GOALS, UNCERTAIN_PLANS, plan, true_optimum
+from .planning import GOAL_SLACK_FT, GOALS, UNCERTAIN_PLANS, plan as plan_path, true_optimum
 from .search import NoPath, clearance_map, path_length
 from .trajectory import heading_to, wrap
 
@@ -135,8 +138,6 @@ MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop (Perception.update)
-
-
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
@@ -455,30 +456,6 @@ def scan_look(left, right, lines, match: str = "1985"):
     return scan_pair(left, right, lines, matcher=make_matcher("improved"))
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 def true_range_points(points, look):
     """The rig's located edges with their range replaced by the TRUE range at
     the same pixel (the nearer surface over the edge's +-1 columns): the
@@ -492,104 +469,46 @@ def true_range_points(points, look):
     return out
 
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,
-        perception_factory=Perception) -> DriveResult:
-    """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room).
-
-    ``perception_factory`` builds the run's :class:`Perception` from its
-    positional arguments: a seam for diagnostics that must see inside the
-    model without changing the drive (``bench/drive.py --losses`` passes one
-    that keeps a FreeProvenance, which carving freed each cell)."""
-    from world.pose import Pose
-    from world.render import render_look
-
-    prof = cfg.profile
+def _check_config(cfg: DriveConfig) -> None:
+    """One clear ValueError for the first value of ``cfg`` the loop does not know."""
     if cfg.match not in MATCHES:
         raise ValueError(f"unknown stereo matcher {cfg.match!r}; one of {', '.join(MATCHES)}")
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
-    for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS), ("progress", PROGRESSES),
-                          ("uncertain", UNCERTAIN_PLANS), ("track_free", TRACK_FREES),
-                          ("goal_region", GOALS), ("floor_eyes", FLOOR_EYES),
-                          ("blank_carve", ("unknown", "always")), ("blank_limit", BLANK_LIMITS),
-                          ("blank_sides", BLANK_SIDES), ("sight_lines", SIGHT_LINES),
-                          ("occupied", OCCUPIEDS), ("hit_at", PLACES),
-                          ("feature_pose", FEATURE_POSES), ("approach", APPROACHES)):
+    for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS),
+                          ("progress", PROGRESSES), ("uncertain", UNCERTAIN_PLANS),
+                          ("track_free", TRACK_FREES), ("goal_region", GOALS),
+                          ("floor_eyes", FLOOR_EYES), ("blank_carve", ("unknown", "always")),
+                          ("blank_limit", BLANK_LIMITS), ("blank_sides", BLANK_SIDES),
+                          ("sight_lines", SIGHT_LINES), ("occupied", OCCUPIEDS),
+                          ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
+                          ("approach", APPROACHES), ("head", HEADS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
-    if cfg.head not in HEADS:
-        raise ValueError(f"unknown head {cfg.head!r}; one of {', '.join(HEADS)}")
-    head = cfg.head == "pan-tilt"
-    assist = cfg.head == "assist"
-    if assist and cfg.pose == "fused":
-        raise ValueError("head 'assist' with pose 'fused': the walk's camera estimate "
+    if cfg.head != "fixed" and cfg.pose == "fused":
+        raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
                          "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
-    if head:
-        if cfg.pose == "fused":
-            raise ValueError("head 'pan-tilt' with pose 'fused': the walk's camera estimate "
-                             "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
-        if not prof.head:
-            import dataclasses
-            prof = dataclasses.replace(prof, head=True)
-    veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
-    walker = None
-    if cfg.pose == "fused":
-        from model.mapping import WalkConfig, Walker, compose_step
-        walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
-                                         lines=tuple(cfg.lines), match=cfg.match,
-                                         camera_pitch_deg=prof.camera_pitch_deg))
-    est_track = [veh.dead]
-    look_est = look_dead = None           # the estimate and the dead-reckoned pose at the last look
+    if cfg.blank_px is not None and cfg.blank_px < 0:
+        raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
+    if cfg.refute_hits not in REFUTE_HITS:
+        raise ValueError(f"unknown refute_hits {cfg.refute_hits!r}; one of {', '.join(REFUTE_HITS)}")
+    if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
+            cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
+        raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
+                         f"not {cfg.expire_uncertain!r}")
 
-    def current() -> State:
-        """The camera estimate now: the last look's moved by the odometry since."""
-        if walker is None or look_est is None:
-            return veh.dead
-        return State(*compose_step((look_est.x, look_est.z, look_est.heading_deg), look_dead,
-                                   veh.dead)[0])
-    model = perception_factory(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
-                               near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
-    fixed_near, fixed_blank = model.near_ft, model.blank_ft
+
+def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
+    """The run's map (:class:`planner.evidence.Perception`, built by ``factory``)
+    set up as ``cfg`` says."""
+    model = factory(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
+                    near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     model.growth = cfg.growth
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve
-    if cfg.blank_px is not None and cfg.blank_px < 0:
-        raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
     model.sight_lines = cfg.sight_lines
-    if cfg.refute_hits not in REFUTE_HITS:
-        raise ValueError(f"unknown refute_hits {cfg.refute_hits!r}; one of {', '.join(REFUTE_HITS)}")
     model.refute_hits = cfg.refute_hits
     if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
         model.two_look_sides = TwoLookSides(*cfg.sides_apart)
@@ -597,258 +516,390 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     model.place = cfg.hit_at
     model.feature_pose = cfg.feature_pose
     model.floor_eyes = cfg.floor_eyes
-    if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
-            cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
-        raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
-                         f"not {cfg.expire_uncertain!r}")
     model.expire_uncertain = int(cfg.expire_uncertain)
     model.lowest_ft = cfg.lowest_obstacle_ft
-    # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
-    dead_cov = np.zeros((3, 3))
-    odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
-        if noise is not None else (0.0, 0.0)
-    near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
-    pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else \
-        (prof.footprint, prof.margin_ft, SMALL_TURN_DEG) if cfg.pivot == "small-swept" else None
-    pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
-    tried: dict = {}                      # blocker cell -> places it was looked at from
-    ahead_cells: set = set()              # cells the look-ahead has turned to (each once)
-    aimed: dict = {}                      # head: cell -> places the head looked at it from
-    goal = (float(cfg.goal[0]), float(cfg.goal[1]))
-    opt, opt_grid = true_optimum(room, (start.x, start.z), goal, prof, cfg.voi.resolution)
-    cycles: list[Cycle] = []
+    return model
+
+
+def _moves(seg) -> bool:
+    """Whether the commands ``seg`` drive anywhere (a Forward among them)."""
+    return any(isinstance(c, Forward) for c in seg)
+
+
+class Drive:
+    """One drive's state from look to look: the vehicle, the camera estimate
+    (the walk under ``pose="fused"``), the map (:class:`Perception`), the path
+    kept, what was already looked at, and the counters toward giving up.  Its
+    methods are the steps of the cycle in the module's docstring, in order:
+    :meth:`look` (and the scan), :meth:`estimate`, :meth:`update_map` (model
+    update, octree, floor map), :meth:`plan` (path, commands, the move or the
+    look instead), :meth:`act`; :meth:`cycle` runs them once."""
+
+    def __init__(self, room, start: State, cfg: DriveConfig, noise, keep_maps: bool,
+                 perception_factory):
+        self.room, self.start, self.cfg, self.keep_maps = room, start, cfg, keep_maps
+        self.head = cfg.head == "pan-tilt"
+        self.assist = cfg.head == "assist"
+        prof = cfg.profile
+        if self.head and not prof.head:
+            import dataclasses
+            prof = dataclasses.replace(prof, head=True)
+        self.prof = prof
+        self.veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
+        self.walker = None
+        if cfg.pose == "fused":
+            from model.mapping import WalkConfig, Walker
+            self.walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
+                                                  lines=tuple(cfg.lines), match=cfg.match,
+                                                  camera_pitch_deg=prof.camera_pitch_deg))
+        self.est_track = [self.veh.dead]
+        self.look_est = self.look_dead = None   # the estimate, the dead-reckoned pose at the last look
+        self.model = _perception(cfg, prof, perception_factory)
+        self.fixed_near, self.fixed_blank = self.model.near_ft, self.model.blank_ft
+        # the dead-reckoned pose's (x, z, heading rad) covariance, by the odometry's noise model
+        self.dead_cov = np.zeros((3, 3))
+        self.odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
+            if noise is not None else (0.0, 0.0)
+        self.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
+        self.pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else \
+            (prof.footprint, prof.margin_ft, SMALL_TURN_DEG) if cfg.pivot == "small-swept" else None
+        self.pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
+        self.tried: dict = {}                 # blocker cell -> places it was looked at from
+        self.ahead_cells: set = set()         # cells the look-ahead has turned to (each once)
+        self.aimed: dict = {}                 # head: cell -> places the head looked at it from
+        self.goal = (float(cfg.goal[0]), float(cfg.goal[1]))
+        self.opt, self.opt_grid = true_optimum(room, (start.x, start.z), self.goal, prof,
+                                               cfg.voi.resolution)
+        self.cycles: list[Cycle] = []
+        self.stuck = 0
+        self.best_left, self.most_free = math.inf, 0   # the shortest way left so far, the most free cells
+        self.last_reason = ""                 # the planner's NoPath of the last decision ("" if none)
+        self.sweep = 0                        # looks turned in place since the vehicle last moved
+        self.prev_path = None                 # the path kept (planning.plan's keep_ft)
+        self.known = None                     # the last floor map, its track free
+
+    def current(self) -> State:
+        """The camera estimate now: the last look's moved by the odometry since."""
+        if self.walker is None or self.look_est is None:
+            return self.veh.dead
+        from model.mapping import compose_step
+        return State(*compose_step((self.look_est.x, self.look_est.z, self.look_est.heading_deg),
+                                   self.look_dead, self.veh.dead)[0])
+
+    def at_goal(self) -> bool:
+        """The loop's success test: the estimate within the goal's tolerance."""
+        est = self.current()
+        return math.hypot(est.x - self.goal[0], est.z - self.goal[1]) <= self.cfg.tolerance_ft
+
+    # -- the cycle's steps ------------------------------------------------------------
+
+    def look(self, look_no: int, extra_looks: int, pan: float, tilt: float):
+        """Look and scan: both cameras rendered at the TRUE pose (the head at ``pan``,
+        ``tilt``), the rig's scan of the pair, its located points (their ranges the
+        true ones under ``eyes="truth"``).  Returns (look, scan, points, the time the
+        rendering ended, the scan's seconds)."""
+        from world.render import render_look
+        cfg = self.cfg
+        look = render_look(self.room, camera_pose(self.veh.true, pan, tilt, self.prof),
+                           seed=cfg.look_seed + look_no + 100000 * extra_looks,
+                           supersample=cfg.supersample)
+        t1 = time.perf_counter()
+        scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
+        scan_s = time.perf_counter() - t1
+        points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
+        return look, scan, points, t1, scan_s
+
+    def estimate(self, look, scan) -> State:
+        """The camera estimate at the look: the dead-reckoned pose, or under
+        ``pose="fused"`` the walk's step (model update and fix fused with it)."""
+        if self.walker is None:
+            est = self.veh.dead
+        else:
+            rec = self.walker.step(look, look.pose, self.veh.dead, self.look_dead, scan=scan)
+            est = State(*rec.estimates["fused"])
+        self.look_est, self.look_dead = est, self.veh.dead
+        return est
+
+    def update_map(self, look, points, est: State, pan: float, tilt: float,
+                   headed: bool) -> FloorMap:
+        """The look into the octree, placed by ``est`` (with the head's angles where
+        ``headed``), and the floor map drawn from it with the track and the plan's
+        walls.  Returns the floor map (kept as the next look's known map)."""
+        from world.pose import Pose
+        cfg, prof, model = self.cfg, self.prof, self.model
+        if self.known is None:            # before the first look: the clear spot set down in
+            self.known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
+                                   cfg.start_clear_ft + 1.0)
+            mark_track_free(self.known, self.est_track, prof.footprint, cfg.start_clear_ft)
+        est_cam = est
+        if headed:
+            # the head's look placed by the estimate with the head's exact angles;
+            # what it can prove depends on its tilt (nearer, farther floor), and a
+            # look the head turned assumes nothing of its blank columns
+            est_cam = State(est.x, est.z, wrap(est.heading_deg + pan))
+            model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, tilt)
+            model.blank_ft = head_blank_ft(cfg.blank_ft, prof, pan, tilt)
+        elif self.assist:                 # the fixed rig's own look, as without a head
+            model.near_ft, model.blank_ft = self.fixed_near, self.fixed_blank
+        if cfg.known_walls:
+            # the plan is the room's truth, the look is placed by the estimate:
+            # what the look only assumes stops short of the plan by the pose's 2 sigma
+            gx, gz = wall_growth(self.dead_cov)
+            bx0, bx1, bz0, bz1 = self.room.bounds
+            model.assume_within = (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz)
+        model.update(points, est_cam, Pose, prof.camera_pitch_deg + tilt, self.known,
+                     self.dead_cov, look.left_bi if cfg.floor_eyes != "off" else None,
+                     look.range_left if cfg.eyes == "depth" else None)
+        fm = model.floor_map([(est.x, est.z), self.goal])
+        mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
+                        prof.margin_ft if cfg.track_free == "swept" else None)
+        if cfg.known_walls:
+            mark_walls(fm, self.room.bounds)
+        self.known = fm
+        return fm
+
+    def plan(self, fm: FloorMap, est: State, pan: float):
+        """Plan on the floor map: the path and its motion commands cut to what may be
+        driven (:func:`planner.motion.safe_prefix`), else the look-ahead's pivot, the
+        approach into the goal's disc, the head's look, the evidence's look, a turn to
+        face the path; with no motion at all, :meth:`look_round`.  Returns (path,
+        commands, note, way left ft or None, whether the commands fetch a look, the
+        clearance map)."""
+        cfg, prof, head, goal = self.cfg, self.prof, self.head, self.goal
+        pivot_r, pivot_sweep = self.pivot_r, self.pivot_sweep
+        safe = clearance_map(fm, prof.planning_radius_ft,
+                             "blocked" if cfg.safety == "strict" else "free",
+                             uncertain="blocked", at=cfg.clearance_at)
+        seen = fm.cells != UNKNOWN
+        seen_eyes = None
+        if cfg.trust_view:
+            seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
+        fetching = False
+        try:
+            pts, cmds, note = plan_path(fm, est, goal, cfg, self.prev_path)
+            if head:
+                cmds = shortcut_first_leg(cmds, est)
+            seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
+                              prof.width_ft / 2 + prof.margin_ft,
+                              prof.length_ft / 2 + prof.margin_ft,
+                              pivot_r, pivot_sweep, pan if head else None)
+            left = path_length(pts)
+            if cfg.look_ahead and not head and _moves(seg):
+                got = looked_ahead(seg, est, fm, pts, self.near_ft, safe, seen, seen_eyes, prof,
+                                   pivot_sweep, self.ahead_cells, pivot_r)
+                if got is not None:
+                    seg, how = got
+                    note += how
+                    fetching = True       # its pivot is the look: no sweep instead
+            if cfg.approach == "disc" and not _moves(seg) \
+                    and math.hypot(est.x - goal[0], est.z - goal[1]) <= \
+                    cfg.tolerance_ft + prof.step_ft:
+                # the path's last foot refused: the shortest safe move into the disc
+                got = disc_approach(est, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0),
+                                    safe, seen, prof, pivot_r, pivot_sweep)
+                if got is not None:
+                    seg, how = got
+                    note += how
+                    fetching = True
+            if head and not fetching and not _moves(seg):
+                got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, pan, pivot_r, self.aimed)
+                if got is not None:
+                    seg, how = got
+                    note += how
+                    fetching = True
+            if not fetching and not _moves(seg) and cfg.look_around == "evidence":
+                got = fetch_evidence(fm, safe, seen, est, pts, self.near_ft, prof, cfg, self.tried)
+                if got is not None:
+                    seg, how = got
+                    note += how
+                    fetching = True
+            if not fetching and not _moves(seg):
+                # nothing known free ahead: face the path and look again
+                first = pts[1] if len(pts) > 1 else goal
+                t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
+                if head and path_heading(est, pts) is not None:
+                    # (with the head: the first path point 0.3 ft away or more; the
+                    # fixed rig's loop keeps its own)
+                    t = wrap(path_heading(est, pts) - est.heading_deg)
+                seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
+                    pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
+            self.last_reason = ""
+            self.prev_path = pts
+        except NoPath as exc:
+            pts, left, note, seg = [], None, str(exc), []
+            self.last_reason = str(exc)
+        if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
+                                            for c in seg)):
+            seg, note = self.look_round(fm, est, safe, seen, note)
+        return pts, seg, note, left, fetching, safe
+
+    def look_round(self, fm: FloorMap, est: State, safe, seen, note: str):
+        """No motion: turn to look, toward the goal first, then sweep (+35, -70 deg);
+        with the head, the head looks round first; else back to where it can turn.
+        Returns (commands, note)."""
+        prof = self.prof
+        self.sweep += 1
+        sweep = self.sweep
+        t = wrap(heading_to((est.x, est.z), self.goal) - est.heading_deg)
+        if abs(t) < 10 or sweep > 1:
+            t = 35.0 if sweep % 2 else -70.0
+        back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
+        if self.head and sweep <= len(HEAD_SWEEP_DEG) + 1:
+            # the head looks round first: toward the goal, then to either side
+            p = t if sweep == 1 else HEAD_SWEEP_DEG[sweep - 2]
+            lo, hi = prof.pan_limits_deg
+            return [Pan(round(min(max(p, lo), hi), 2)), Tilt(0.0)], \
+                note + " (looking round with the head)"
+        if pivot_allowed(fm, est, t, prof, self.pivot_sweep, self.pivot_r):
+            return [Turn(round(t, 2))], note + " (turning to look)"
+        if back:
+            return back, note + " (cannot turn here: backing to where it can)"
+        return [], note + " (cannot turn: space within its radius not seen free)"
+
+    def _decision_state(self):
+        """What a decision changes besides the map and the head's aims (assist
+        restores it when the head's look is added and the cycle decided again)."""
+        return ({k: list(v) for k, v in self.tried.items()}, set(self.ahead_cells), self.sweep,
+                self.prev_path, self.last_reason)
+
+    def _restore_decision(self, saved) -> None:
+        self.tried.clear()
+        self.tried.update(saved[0])
+        self.ahead_cells.clear()
+        self.ahead_cells.update(saved[1])
+        self.sweep, self.prev_path, self.last_reason = saved[2:]
+
+    def act(self, seg, est: State) -> tuple[bool, float]:
+        """Execute the commands ``seg``: the odometry's covariance and the estimate's
+        track follow the dead-reckoned poses.  Returns (no collision, true ft moved)."""
+        veh = self.veh
+        before = (veh.true.x, veh.true.z)
+        n_before = len(veh.dead_track)
+        ok = veh.execute(seg)
+        for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
+            self.dead_cov = odometry_covariance(self.dead_cov, a, b, *self.odo)
+        if self.walker is not None:
+            from model.mapping import compose_step
+        for d in veh.dead_track[n_before:]:
+            self.est_track.append(d if self.walker is None else State(*compose_step(
+                (est.x, est.z, est.heading_deg), self.look_dead, d)[0]))
+        moved = math.hypot(veh.true.x - before[0], veh.true.z - before[1])
+        if moved > 0.05:
+            self.sweep = 0
+        return ok, moved
+
+    def count_progress(self, moved: float, left, fm: FloorMap) -> None:
+        """The count toward ``max_stuck``: reset by progress (``cfg.progress``)."""
+        if self.cfg.progress == "moved":
+            progressed = moved > 0.05
+        else:
+            # progress is a shorter way left than ever before, or new free
+            # space seen (half a square foot): moving to and fro is not
+            progressed = False
+            if left is not None and left < self.best_left - 0.25:
+                self.best_left, progressed = left, True
+            n_free = int((fm.cells == FREE).sum())
+            if n_free >= self.most_free + 8:
+                self.most_free, progressed = n_free, True
+        self.stuck = 0 if progressed else self.stuck + 1
+
+    def cycle(self, look_no: int) -> tuple[Cycle, bool]:
+        """One cycle: look, estimate, update the map, plan, act (under
+        ``head="assist"``, where the plan would stop or pivot only to look, the
+        head's look is added first and the cycle decided again).  Returns (the
+        cycle's record, no collision)."""
+        assist, veh = self.assist, self.veh
+        extra_looks = 0                   # assist: the head's looks added this cycle
+        if assist:
+            saved = self._decision_state()
+            pan = tilt = 0.0
+        while True:
+            t0 = time.perf_counter()
+            tp = veh.true
+            if not assist:
+                pan, tilt = veh.pan_deg, veh.tilt_deg
+            look, scan, points, t1, scan_s = self.look(look_no, extra_looks, pan, tilt)
+            est = self.estimate(look, scan)
+            fm = self.update_map(look, points, est, pan, tilt,
+                                 self.head or bool(assist and extra_looks))
+            pts, seg, note, left, fetching, safe = self.plan(fm, est, pan)
+            if assist and extra_looks == 0 and (not _moves(seg) or fetching):
+                # the fixed loop is about to stop or pivot only to look: the head
+                # looks first, the cycle is decided again with that look added
+                got = head_look(fm, safe, est, pts, self.goal, seg, self.prof, self.cfg, 0.0,
+                                self.pivot_r, self.aimed) if pts else None
+                if got is not None:
+                    aim = [c for c in got[0] if isinstance(c, (Pan, Tilt))]
+                    pan = next((c.angle_deg for c in aim if isinstance(c, Pan)), 0.0)
+                    tilt = next((c.angle_deg for c in aim if isinstance(c, Tilt)), 0.0)
+                    self._restore_decision(saved)
+                    extra_looks, assist_note = 1, got[1].replace(" (head at", " (assist: head at")
+                    continue
+            break
+        if extra_looks:
+            note += assist_note
+        if self.head:
+            seg = head_commands(seg, est, fm, pts, self.prof, self.cfg, veh.pan_deg, veh.tilt_deg,
+                                self.aimed)
+        t2 = time.perf_counter()
+        ok, moved = self.act(seg, est)
+        self.count_progress(moved, left, fm)
+        cyc = Cycle(look_no, tp, est, len(self.model.points),
+                    int(self.model.tree.getNumLeafNodes()), left, format_commands(seg), note,
+                    t1 - t0, t2 - t1, list(pts), fm if self.keep_maps else None, scan_s,
+                    len(veh.true_track), extra_looks)
+        return cyc, ok
+
+    def result(self, reached: bool, reason: str, seconds: float) -> DriveResult:
+        cfg, veh, model, cycles = self.cfg, self.veh, self.model, self.cycles
+        final_err = math.hypot(veh.true.x - self.goal[0], veh.true.z - self.goal[1])
+        return DriveResult(reached, reason, len(cycles) + sum(c.head_looks for c in cycles),
+                           veh.travelled_ft, self.opt, self.opt_grid,
+                           veh.collisions, seconds, cycles, list(veh.true_track),
+                           list(veh.dead_track), memory_bytes(model.tree), final_err, self.goal,
+                           self.start,
+                           cfg.unknown, cfg.search, self.est_track, cfg.pose, cfg.match,
+                           model.features if cfg.occupied == "model" else None,
+                           floor_stats(model) if cfg.floor_eyes != "off" else {},
+                           model.expired_total if cfg.expire_uncertain else None)
+
+
+def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,
+        perception_factory=Perception) -> DriveResult:
+    """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room): cycle
+    (:meth:`Drive.cycle`) until the estimate is within the goal's tolerance, the
+    vehicle hits something, ``max_stuck`` looks pass without progress or
+    ``max_looks`` are used up.
+
+    ``perception_factory`` builds the run's :class:`Perception` from its
+    positional arguments: a seam for diagnostics that must see inside the
+    model without changing the drive (``bench/drive.py --losses`` passes one
+    that keeps a FreeProvenance, which carving freed each cell)."""
+    _check_config(cfg)
+    drive = Drive(room, start, cfg, noise, keep_maps, perception_factory)
     t_start = time.perf_counter()
     reached, reason = False, ""
-    stuck = 0
-    best_left, most_free = math.inf, 0    # the shortest way left so far, the most free cells
-    last_reason = ""
-    sweep = 0
-    prev_path = None
-    known = None                          # the last floor map, its track free
     try:
         for look_no in range(1, cfg.max_looks + 1):
-            est = current()
-            if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
+            if drive.at_goal():
                 reached, reason = True, "goal reached"
                 break
-            extra_looks = 0                   # assist: the head's looks added this cycle
-            if assist:
-                saved = ({k: list(v) for k, v in tried.items()}, set(ahead_cells), sweep,
-                         prev_path, last_reason)
-                look_pan = look_tilt = 0.0
-            while True:
-                t0 = time.perf_counter()
-                tp = veh.true
-                if not assist:
-                    look_pan, look_tilt = veh.pan_deg, veh.tilt_deg
-                look = render_look(room, camera_pose(tp, look_pan, look_tilt, prof),
-                                   seed=cfg.look_seed + look_no + 100000 * extra_looks,
-                                   supersample=cfg.supersample)
-                t1 = time.perf_counter()
-                scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
-                scan_s = time.perf_counter() - t1
-                points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
-                if walker is None:
-                    est = veh.dead
-                else:
-                    rec = walker.step(look, look.pose, veh.dead, look_dead, scan=scan)
-                    est = State(*rec.estimates["fused"])
-                look_est, look_dead = est, veh.dead
-                if known is None:             # before the first look: the clear spot set down in
-                    known = empty_map((est.x, est.x, est.z, est.z), cfg.voi.resolution,
-                                      cfg.start_clear_ft + 1.0)
-                    mark_track_free(known, est_track, prof.footprint, cfg.start_clear_ft)
-                est_cam = est
-                if head or (assist and extra_looks):
-                    # the head's look placed by the estimate with the head's exact angles;
-                    # what it can prove depends on its tilt (nearer, farther floor), and a
-                    # look the head turned assumes nothing of its blank columns
-                    est_cam = State(est.x, est.z, wrap(est.heading_deg + look_pan))
-                    model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, look_tilt)
-                    model.blank_ft = head_blank_ft(cfg.blank_ft, prof, look_pan, look_tilt)
-                elif assist:              # the fixed rig's own look, as without a head
-                    model.near_ft, model.blank_ft = fixed_near, fixed_blank
-                if cfg.known_walls:
-                    # the plan is the room's truth, the look is placed by the estimate:
-                    # what the look only assumes stops short of the plan by the pose's 2 sigma
-                    gx, gz = wall_growth(dead_cov)
-                    bx0, bx1, bz0, bz1 = room.bounds
-                    model.assume_within = (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz)
-                model.update(points, est_cam, Pose, prof.camera_pitch_deg + look_tilt, known, dead_cov,
-                             look.left_bi if cfg.floor_eyes != "off" else None,
-                             look.range_left if cfg.eyes == "depth" else None)
-                fm = model.floor_map([(est.x, est.z), goal])
-                mark_track_free(fm, est_track, prof.footprint, cfg.start_clear_ft,
-                                 prof.margin_ft if cfg.track_free == "swept" else None)
-                if cfg.known_walls:
-                    mark_walls(fm, room.bounds)
-                known = fm
-                safe = clearance_map(fm, prof.planning_radius_ft,
-                                     "blocked" if cfg.safety == "strict" else "free",
-                                     uncertain="blocked", at=cfg.clearance_at)
-                seen = fm.cells != UNKNOWN
-                seen_eyes = None
-                if cfg.trust_view:
-                    seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
-                fetching = False
-                try:
-                    pts, cmds, note = plan(fm, est, goal, cfg, prev_path)
-                    if head:
-                        cmds = shortcut_first_leg(cmds, est)
-                    seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
-                                       prof.width_ft / 2 + prof.margin_ft,
-                                       prof.length_ft / 2 + prof.margin_ft,
-                                       pivot_r, pivot_sweep, look_pan if head else None)
-                    left = path_length(pts)
-                    if cfg.look_ahead and not head and any(isinstance(c, Forward) for c in seg):
-                        got = looked_ahead(seg, est, fm, pts, near_ft, safe, seen, seen_eyes, prof,
-                                            pivot_sweep, ahead_cells, pivot_r)
-                        if got is not None:
-                            seg, how = got
-                            note += how
-                            fetching = True   # its pivot is the look: no sweep instead
-                    if cfg.approach == "disc" and not any(isinstance(c, Forward) for c in seg) \
-                            and math.hypot(est.x - goal[0], est.z - goal[1]) <= \
-                            cfg.tolerance_ft + prof.step_ft:
-                        # the path's last foot refused: the shortest safe move into the disc
-                        got = disc_approach(est, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0),
-                                            safe, seen, prof, pivot_r, pivot_sweep)
-                        if got is not None:
-                            seg, how = got
-                            note += how
-                            fetching = True
-                    if head and not fetching and not any(isinstance(c, Forward) for c in seg):
-                        got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, look_pan,
-                                        pivot_r, aimed)
-                        if got is not None:
-                            seg, how = got
-                            note += how
-                            fetching = True
-                    if not fetching and not any(isinstance(c, Forward) for c in seg) and \
-                            cfg.look_around == "evidence":
-                        got = fetch_evidence(fm, safe, seen, est, pts, near_ft, prof, cfg, tried)
-                        if got is not None:
-                            seg, how = got
-                            note += how
-                            fetching = True
-                    if not fetching and not any(isinstance(c, Forward) for c in seg):
-                        # nothing known free ahead: face the path and look again
-                        first = pts[1] if len(pts) > 1 else goal
-                        t = wrap(heading_to((est.x, est.z), first) - est.heading_deg)
-                        if head and path_heading(est, pts) is not None:
-                            # (with the head: the first path point 0.3 ft away or more; the
-                            # fixed rig's loop keeps its own)
-                            t = wrap(path_heading(est, pts) - est.heading_deg)
-                        seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
-                            pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
-                    last_reason = ""
-                    prev_path = pts
-                except NoPath as exc:
-                    pts, left, note, seg = [], None, str(exc), []
-                    last_reason = str(exc)
-                if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
-                                                    for c in seg)):
-                    # no motion: turn to look, toward the goal first, then sweep
-                    sweep += 1
-                    t = wrap(heading_to((est.x, est.z), goal) - est.heading_deg)
-                    if abs(t) < 10 or sweep > 1:
-                        t = 35.0 if sweep % 2 else -70.0
-                    back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
-                    if head and sweep <= len(HEAD_SWEEP_DEG) + 1:
-                        # the head looks round first: toward the goal, then to either side
-                        p = t if sweep == 1 else HEAD_SWEEP_DEG[sweep - 2]
-                        lo, hi = prof.pan_limits_deg
-                        seg = [Pan(round(min(max(p, lo), hi), 2)), Tilt(0.0)]
-                        note += " (looking round with the head)"
-                    elif pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r):
-                        seg = [Turn(round(t, 2))]
-                        note += " (turning to look)"
-                    elif back:
-                        seg = back
-                        note += " (cannot turn here: backing to where it can)"
-                    else:
-                        seg = []
-                        note += " (cannot turn: space within its radius not seen free)"
-                if assist and extra_looks == 0 and (
-                        not any(isinstance(c, Forward) for c in seg) or fetching):
-                    # the fixed loop is about to stop or pivot only to look: the head
-                    # looks first, the cycle is decided again with that look added
-                    got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, 0.0,
-                                    pivot_r, aimed) if pts else None
-                    if got is not None:
-                        aim = [c for c in got[0] if isinstance(c, (Pan, Tilt))]
-                        look_pan = next((c.angle_deg for c in aim if isinstance(c, Pan)), 0.0)
-                        look_tilt = next((c.angle_deg for c in aim if isinstance(c, Tilt)), 0.0)
-                        tried.clear()
-                        tried.update(saved[0])
-                        ahead_cells.clear()
-                        ahead_cells.update(saved[1])
-                        sweep, prev_path, last_reason = saved[2:]
-                        extra_looks, assist_note = 1, got[1].replace(" (head at", " (assist: head at")
-                        continue
-                break
-            if extra_looks:
-                note += assist_note
-            if head:
-                seg = head_commands(seg, est, fm, pts, prof, cfg, veh.pan_deg, veh.tilt_deg,
-                                    aimed)
-            t2 = time.perf_counter()
-            before = (veh.true.x, veh.true.z)
-            n_before = len(veh.dead_track)
-            ok = veh.execute(seg)
-            for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
-                dead_cov = odometry_covariance(dead_cov, a, b, *odo)
-            for d in veh.dead_track[n_before:]:
-                est_track.append(d if walker is None else State(*compose_step(
-                    (est.x, est.z, est.heading_deg), look_dead, d)[0]))
-            moved = math.hypot(veh.true.x - before[0], veh.true.z - before[1])
-            if moved > 0.05:
-                sweep = 0
-            if cfg.progress == "moved":
-                progressed = moved > 0.05
-            else:
-                # progress is a shorter way left than ever before, or new free
-                # space seen (half a square foot): moving to and fro is not
-                progressed = False
-                if left is not None and left < best_left - 0.25:
-                    best_left, progressed = left, True
-                n_free = int((fm.cells == FREE).sum())
-                if n_free >= most_free + 8:
-                    most_free, progressed = n_free, True
-            stuck = 0 if progressed else stuck + 1
-            cyc = Cycle(look_no, tp, est, len(model.points), int(model.tree.getNumLeafNodes()),
-                        left, format_commands(seg), note, t1 - t0, t2 - t1,
-                        list(pts), fm if keep_maps else None, scan_s, len(veh.true_track),
-                        extra_looks)
-            cycles.append(cyc)
+            cyc, ok = drive.cycle(look_no)
+            drive.cycles.append(cyc)
             if on_cycle:
                 on_cycle(cyc)
             if not ok:
                 reason = "stopped: the vehicle hit something (true footprint against the room)"
                 break
-            if stuck >= cfg.max_stuck:
+            if drive.stuck >= cfg.max_stuck:
                 reason = f"stopped after {cfg.max_stuck} looks without progress: " + \
-                         (last_reason or note)
+                         (drive.last_reason or cyc.note)
                 break
         else:
-            est = current()
-            if math.hypot(est.x - goal[0], est.z - goal[1]) <= cfg.tolerance_ft:
+            if drive.at_goal():
                 reached, reason = True, "goal reached"
             else:
                 reason = f"stopped: {cfg.max_looks} looks used up"
     except KeyboardInterrupt:
-        reason = f"stopped by Ctrl-C after {len(cycles)} looks"
-    seconds = time.perf_counter() - t_start
-    final_err = math.hypot(veh.true.x - goal[0], veh.true.z - goal[1])
-    return DriveResult(reached, reason, len(cycles) + sum(c.head_looks for c in cycles),
-                       veh.travelled_ft, opt, opt_grid,
-                       veh.collisions, seconds, cycles, list(veh.true_track),
-                       list(veh.dead_track), memory_bytes(model.tree), final_err, goal, start,
-                       cfg.unknown, cfg.search, est_track, cfg.pose, cfg.match,
-                       model.features if cfg.occupied == "model" else None,
-                       floor_stats(model) if cfg.floor_eyes != "off" else {},
-                       model.expired_total if cfg.expire_uncertain else None)
-
-
-
-
+        reason = f"stopped by Ctrl-C after {len(drive.cycles)} looks"
+    return drive.result(reached, reason, time.perf_counter() - t_start)

@@ -1,0 +1,80 @@
+"""The loop's steps by name (planner.loop: ``_check_config``, ``Drive``): every
+configuration value the loop does not know refused before the room is read, and
+the execute step's bookkeeping against the exact geometry of a straight move."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.loop import Drive, DriveConfig, _check_config
+from planner.evidence import Perception
+from planner.tiny import GOAL, tiny_room
+from vehicle.commands import Forward, Turn
+from vehicle.sim import State
+
+
+@pytest.mark.parametrize("field", [
+    "match", "pose", "eyes", "pivot", "look_around", "progress", "uncertain", "track_free",
+    "goal_region", "floor_eyes", "blank_carve", "blank_limit", "blank_sides", "sight_lines",
+    "occupied", "hit_at", "feature_pose", "approach", "head", "refute_hits"])
+def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
+    from planner.loop import run
+    cfg = DriveConfig(goal=GOAL, **{field: "nonsense"})
+    with pytest.raises(ValueError, match=r"'nonsense'; one of "):
+        _check_config(cfg)
+    # no room at all: the check comes before anything reads it
+    with pytest.raises(ValueError, match="nonsense"):
+        run(None, State(0.0, 0.0, 0.0), cfg)
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(blank_px=-1), "blank_px must be 0 or more"),
+    (dict(expire_uncertain=-2), "expire_uncertain must be a whole number"),
+    (dict(expire_uncertain=1.5), "expire_uncertain must be a whole number"),
+    (dict(expire_uncertain=True), "expire_uncertain must be a whole number"),
+    (dict(head="assist", pose="fused"), "head 'assist' with pose 'fused'"),
+    (dict(head="pan-tilt", pose="fused"), "head 'pan-tilt' with pose 'fused'"),
+])
+def test_values_out_of_range_and_the_head_with_the_walk_are_refused(kw, words):
+    with pytest.raises(ValueError, match=words):
+        _check_config(DriveConfig(goal=GOAL, **kw))
+
+
+def test_the_defaults_and_the_named_options_pass_the_check():
+    for kw in ({}, dict(head="pan-tilt"), dict(head="assist"), dict(pose="fused"),
+               dict(blank_px=None, expire_uncertain=3, refute_hits="through")):
+        assert _check_config(DriveConfig(goal=GOAL, **kw)) is None
+
+
+def test_act_moves_the_vehicle_and_keeps_the_estimate_on_the_odometry():
+    # no odometry noise: the dead-reckoned pose is the true one, exactly
+    room = tiny_room()
+    start = State(0.0, 0.0, 30.0)
+    drive = Drive(room, start, DriveConfig(goal=GOAL), None, False, Perception)
+    drive.sweep = 3                       # looks turned in place before this move
+    ok, moved = drive.act([Forward(1.5)], drive.current())
+    assert ok and moved == pytest.approx(1.5)
+    end = drive.veh.true
+    assert (end.x, end.z) == pytest.approx((1.5 * math.sin(math.radians(30.0)),
+                                            1.5 * math.cos(math.radians(30.0))))
+    # the estimate's track is the dead reckoning's, the same poses (to rounding: the
+    # dead reckoning moves along the mean heading)
+    assert drive.est_track[0] == start and drive.est_track[-1] == drive.veh.dead
+    assert (drive.veh.dead.x, drive.veh.dead.z) == pytest.approx((end.x, end.z), abs=1e-12)
+    assert drive.sweep == 0               # it moved: the sweep starts again
+    assert not np.any(drive.dead_cov)     # no noise model: no covariance grows
+    drive.sweep = 2
+    ok, moved = drive.act([Turn(40.0)], drive.current())
+    assert ok and moved == 0.0 and drive.sweep == 2   # a pivot in place is no move
+    assert drive.veh.true.heading_deg == pytest.approx(70.0)
+
+
+def test_progress_under_moved_counts_looks_without_motion():
+    drive = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL), None, False,
+                  Perception)
+    for n in (1, 2):
+        drive.count_progress(0.0, None, None)
+        assert drive.stuck == n
+    drive.count_progress(0.06, None, None)      # more than 0.05 ft: progress
+    assert drive.stuck == 0
