@@ -112,7 +112,7 @@ import numpy as np
 from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
-from .evidence import Perception, floor_stats, mark_walls, wall_growth
+from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
@@ -327,6 +327,10 @@ class DriveConfig:
                                           # where it would stop or pivot only to look, the
                                           # head's look (head_look) added first, the cycle
                                           # decided again with it (looks counts both)
+    assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
+                                          # FREE only by an assumption made from farther
+                                          # than this (2 x the 2.32 ft nearest proof;
+                                          # evidence.assumed_columns; room 45); None: off
 
 
 @dataclass
@@ -578,6 +582,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     model = perception_factory(cfg.voi, cfg.band, cfg.max_range_ft, cfg.confirm_looks, cfg.free_looks,
                                near_visible_ft(prof, cfg.lowest_obstacle_ft), cfg.blank_ft)
     fixed_near, fixed_blank = model.near_ft, model.blank_ft
+    if assist and cfg.assist_pivot_ft is not None:   # a pivot's cells proven, not assumed
+        model.pivot_proof = cfg.assist_pivot_ft
+        model.provenance = model.provenance or FreeProvenance()
     model.growth = cfg.growth
     model.blank_carve = cfg.blank_carve
     model.carve = cfg.carve
