@@ -82,6 +82,36 @@ class FreeProvenance:
         return out
 
 
+ASSUMED = (BLANK_ASSUMPTION, TWO_LOOK_SIDES)   # the carvings that only assume the floor
+
+
+def assumed_columns(fm: FloorMap, provenance: FreeProvenance, res: float, band,
+                    blank_near=None, beyond_ft: float = 0.0) -> np.ndarray:
+    """The FREE cells of ``fm`` whose octree column (cells of the height
+    ``band``) only an assumption carved (:data:`ASSUMED`: blank columns, the
+    two-look sides), no look's sight line nor the columns between edges, and
+    no look nearer than ``beyond_ft`` had it blank (``provenance``,
+    :meth:`FreeProvenance.columns`; ``blank_near``, :attr:`Perception.blank_near`,
+    none given: every such column): (nz, nx) bool.  A blank box
+    face far off is such a column (room 45, ``--head assist --eyes truth``: a
+    box corner carved by one blank look 6.3 ft away, never located, let a
+    pivot turn the vehicle's corner into it)."""
+    out = np.zeros(fm.shape, bool)
+    i0, j0 = int(round(fm.z0 / res)), int(round(fm.x0 / res))
+    near: dict[tuple[int, int], float] = {}
+    if blank_near:
+        keys = np.fromiter(blank_near.keys(), np.int64, len(blank_near))
+        k = unpack(keys)
+        for (kx, _, kz), d in zip(k.tolist(), blank_near.values()):
+            near[(kx, kz)] = min(near.get((kx, kz), math.inf), d)
+    for (kx, kz), m in provenance.columns(res, band).items():
+        if all(name in ASSUMED for name in m) and near.get((kx, kz), math.inf) > beyond_ft:
+            i, j = kz - i0, kx - j0
+            if 0 <= i < fm.shape[0] and 0 <= j < fm.shape[1]:
+                out[i, j] = True
+    return out & (fm.cells == FREE)
+
+
 def cell_coverage(fm: FloorMap, obstacles, bounds, ij, sub: int = 16) -> np.ndarray:
     """The share of each cell ``ij`` ((N, 2) rows i, columns j of ``fm``)
     that the obstacle footprints (x0, x1, z0, z1) or the outside of the
@@ -296,6 +326,11 @@ class Perception:
         self.assume_within = None         # (x0, x1, z0, z1): the assumed floor stops there
                                           # (the loop: the plan's walls less wall_growth)
         self.look_no = 0                  # looks taken into the model
+        self.pivot_proof = None           # head="assist": floor_map marks the cells FREE only
+                                          # by an assumption from farther than this, ft
+                                          # (FloorMap.assumed; assumed_columns)
+        self.blank_near: dict[int, float] = {}   # under pivot_proof: packed key -> the nearest
+                                          # look (ft) that had it on a blank column's line
 
     @contextmanager
     def _carving(self, tag):
@@ -443,6 +478,8 @@ class Perception:
                 ends_start = None if ends_start is None else ends_start[ok]
             if self.assume_within is not None and len(ends):
                 ends = within_walls(left, ends, self.assume_within, res)
+            if self.pivot_proof is not None and len(ends):
+                self._blank_seen(left, ends, ends_start, res)
             with self._carving(BLANK_ASSUMPTION):
                 if ends_start is not None:
                     mark_keys_free(self.tree, self._assumed_low_keys(left, ends, ends_start))
@@ -652,7 +689,23 @@ class Perception:
         self.refuted += n
         return len(through)
 
-    def _assumed_low_keys(self, left, ends, starts) -> np.ndarray:
+    def _blank_seen(self, left, ends, starts, res: float) -> None:
+        """Under ``pivot_proof``: every cell on the look's assumed lines
+        ``ends`` (seen before or not, as :meth:`_assumed_low_keys` /
+        :func:`~planner.octree.assumed_free_keys` without ``only_unknown``)
+        remembers the nearest look that had it blank (:attr:`blank_near`):
+        the assumption carves a cell once, from the first and farthest look."""
+        keys = self._assumed_low_keys(left, ends, starts, only_unknown=False) \
+            if starts is not None else \
+            assumed_free_keys(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft,
+                              only_unknown=False)
+        if not len(keys):
+            return
+        c = key_centres(keys, res)
+        for k, d in zip(keys.tolist(), np.hypot(c[:, 0] - left[0], c[:, 2] - left[2]).tolist()):
+            self.blank_near[k] = min(self.blank_near.get(k, math.inf), d)
+
+    def _assumed_low_keys(self, left, ends, starts, only_unknown: bool = True) -> np.ndarray:
         """:func:`~planner.octree.assumed_free_keys` of the assumed lines
         ``ends``, each from its own start (``FloorScan.free_start`` /
         ``far_start``, at least ``near_ft``) on: the blank columns beside a
@@ -663,7 +716,8 @@ class Perception:
         for s in np.unique(starts[np.isfinite(starts)]):
             sel = starts == s
             out.append(assumed_free_keys(self.tree, left, ends[sel], self.hit_keys,
-                                         start_ft=max(self.near_ft, float(s))))
+                                         start_ft=max(self.near_ft, float(s)),
+                                         only_unknown=only_unknown))
         return np.unique(np.concatenate(out)).astype(np.int64)
 
     def _split_seen(self, left, hits, proven, res: float):
@@ -865,6 +919,9 @@ class Perception:
             self._draw_features(fm)
         elif self.expire_uncertain or self.refute_hits != "off":
             self._apply_expired(fm)
+        if self.pivot_proof is not None and self.provenance is not None:
+            fm.assumed = assumed_columns(fm, self.provenance, self.tree.getResolution(),
+                                         self.band, self.blank_near, self.pivot_proof)
         return fm
 
     def _draw_features(self, fm: FloorMap) -> None:

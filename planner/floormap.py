@@ -34,6 +34,9 @@ class FloorMap:
     x0: float                  # room X of the left edge of column 0
     z0: float                  # room Z of the near edge of row 0
     cell: float                # cell side, ft
+    assumed: np.ndarray | None = None   # (nz, nx) bool: FREE only by assumption, no look's
+                                        # proof nor the track (Perception.pivot_proof); a
+                                        # pivot's cells must not be (motion._pivot_ok)
 
     @property
     def shape(self):

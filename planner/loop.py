@@ -115,7 +115,7 @@ import numpy as np
 from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
-from .evidence import Perception, floor_stats, mark_walls, wall_growth
+from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
@@ -330,6 +330,10 @@ class DriveConfig:
                                           # where it would stop or pivot only to look, the
                                           # head's look (head_look) added first, the cycle
                                           # decided again with it (looks counts both)
+    assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
+                                          # FREE only by an assumption made from farther
+                                          # than this (2 x the 2.32 ft nearest proof;
+                                          # evidence.assumed_columns; room 45); None: off
 
 
 @dataclass
@@ -518,6 +522,9 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.floor_eyes = cfg.floor_eyes
     model.expire_uncertain = int(cfg.expire_uncertain)
     model.lowest_ft = cfg.lowest_obstacle_ft
+    if cfg.head == "assist" and cfg.assist_pivot_ft is not None:   # a pivot's cells proven,
+        model.pivot_proof = cfg.assist_pivot_ft                      # not assumed (room 45)
+        model.provenance = model.provenance or FreeProvenance()
     return model
 
 

@@ -72,6 +72,8 @@ def mark_track_free(fm: FloorMap, track, footprint, disc_ft: float = 0.0,
         i, j = fm.index(track[0].x, track[0].z)
         cv2.circle(mask, (j, i), int(math.floor(disc_ft / fm.cell)), 1, -1)
     fm.cells[mask > 0] = FREE
+    if fm.assumed is not None:
+        fm.assumed[mask > 0] = False      # stood on: proven
 
 
 def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
@@ -87,7 +89,14 @@ def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
     inside = (ii >= 0) & (jj >= 0) & (ii < fm.shape[0]) & (jj < fm.shape[1])
     if (near & ~inside).any():
         return False
-    return bool((fm.cells[ii[near], jj[near]] == FREE).all())
+    return bool(_proven_free(fm, ii[near], jj[near]).all())
+
+
+def _proven_free(fm: FloorMap, i, j) -> np.ndarray:
+    """FREE, and (on a map that says, :attr:`FloorMap.assumed`) not by
+    assumption only: what a pivot's cells must be."""
+    ok = fm.cells[i, j] == FREE
+    return ok if fm.assumed is None else ok & ~fm.assumed[i, j]
 
 
 def pivot_radius_ft(prof: VehicleProfile, margin: bool = False) -> float:
@@ -128,7 +137,7 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
     if ((i < 0) | (j < 0) | (i >= fm.shape[0]) | (j >= fm.shape[1])).any():
         return False
-    return bool((fm.cells[i, j] == FREE).all())
+    return bool(_proven_free(fm, i, j).all())
 
 
 def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,

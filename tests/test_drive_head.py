@@ -337,14 +337,36 @@ def test_assist_in_room_7_does_not_drive_into_the_wall_its_drift_moved():
     right-hand wall; a blank column's assumed floor, stopped only by the floor plan's wall
     (placed by the truth), ran that far past the wall the vehicle met, and a pivot at look
     29 hit it.  With the assumption stopped 2 sigma of the estimate short of the plan it
-    does not (without that: 1 collision after 17.6 ft)."""
+    does not (without that: 1 collision after 17.6 ft).  (``assist_pivot_ft`` off: with
+    it the drive stops after 4.5 ft, before the wall, for a pivot its rule refuses.)"""
     from planner.planning import random_goal
     from world.room import generate_room
     room = generate_room(7)
     s = room.start
     start = State(s.x, s.z, s.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(7))
-    res = run(room, start, DriveConfig(goal=goal, head="assist"), noise=OdometryNoise(seed=7),
-              keep_maps=False)
+    res = run(room, start, DriveConfig(goal=goal, head="assist", assist_pivot_ft=None),
+              noise=OdometryNoise(seed=7), keep_maps=False)
     assert res.collisions == 0 and "hit something" not in res.reason
     assert res.travelled_ft > 15.0          # it went as far as where it used to collide
+
+
+def test_assist_in_room_45_pivots_only_on_cells_a_look_proved_near_enough():
+    """The traced collision (docs/planner.md, "The head that only adds looks"): room 45,
+    oracle edges, the odometry noise of seed 45.  The fixed rig's own look from the start
+    (heading 49 deg) carved the corner of a blank box 6.3 ft away by the blank-column
+    assumption; no look ever located that box, and the head's tilted looks at it 1.1-1.4 ft
+    away, assuming nothing, neither confirmed nor refuted it; a pivot "turning to look"
+    beside the corner, its circle free on the map, swung the vehicle's corner into it.
+    With ``assist_pivot_ft`` (the default under assist) no pivot counts such cells free."""
+    from planner.planning import random_goal
+    from world.room import generate_room
+    room = generate_room(45)
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(45))
+    runs = {ft: run(room, start, DriveConfig(goal=goal, head="assist", eyes="truth",
+                                             assist_pivot_ft=ft),
+                    noise=OdometryNoise(seed=45), keep_maps=False) for ft in (None, 4.64)}
+    assert runs[None].collisions == 1 and "hit something" in runs[None].reason
+    assert runs[4.64].collisions == 0 and "hit something" not in runs[4.64].reason
