@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -307,6 +308,11 @@ def add_loop_options(p) -> None:
                         "tilted down to show it, into its pivot circle, round; 'assist': "
                         "the fixed rig's cycle unchanged, the head's look added only where it "
                         "would stop or pivot only to look (not 1985; neither with --pose fused)")
+    p.add_argument("--assist-pivot-ft", type=float, default=C.assist_pivot_ft, metavar="FT",
+                   help="under --head assist: a pivot may not sweep a cell free only by a "
+                        "blank-column assumption no look nearer than FT made (default "
+                        f"{C.assist_pivot_ft:g} ft, twice the nearest distance a look shows; "
+                        "0: off, as before 2026-12-02, when room 45 pivoted into a box)")
     p.add_argument("--rejoin", choices=REJOINS, default=C.rejoin,
                    help="where a kept path resumes: 'leg' (the default since 2026-12-01: at "
                         "the end of the leg nearest the vehicle) or 'waypoint' (at the waypoint "
@@ -340,6 +346,8 @@ def loop_config(args, goal, fail):
     if args.head == "pan-tilt" and args.pose == "fused":
         fail("--head pan-tilt with --pose fused: the walk's camera estimate assumes the fixed "
              "rig; use --pose dead_reckoning")
+    if not (math.isfinite(args.assist_pivot_ft) and 0 <= args.assist_pivot_ft <= 50):
+        fail(f"--assist-pivot-ft {args.assist_pivot_ft!r}: a distance in feet, 0 (off) to 50")
     if args.margin is not None and not 0 <= args.margin < 10:
         fail(f"--margin {args.margin!r}: a planning margin in feet, at least 0 and under 10")
     profile = replace(DEFAULT, reverse=args.reverse == "on", head=args.head == "pan-tilt",
@@ -360,6 +368,7 @@ def loop_config(args, goal, fail):
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
                        sight_lines=args.sight_lines, refute_hits=args.refute_hits,
                        sides_apart=tuple(args.sides_apart), head=args.head,
+                       assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 

@@ -370,3 +370,18 @@ def test_assist_in_room_45_pivots_only_on_cells_a_look_proved_near_enough():
                     noise=OdometryNoise(seed=45), keep_maps=False) for ft in (None, 4.64)}
     assert runs[None].collisions == 1 and "hit something" in runs[None].reason
     assert runs[4.64].collisions == 0 and "hit something" not in runs[4.64].reason
+
+
+def test_assist_pivot_ft_reaches_the_loop_by_its_flag_and_is_checked(tmp_path, monkeypatch):
+    """``rig drive --assist-pivot-ft FT`` (0: off) sets ``DriveConfig.assist_pivot_ft``;
+    a negative or absurd distance is one clear error."""
+    from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path).assist_pivot_ft == 4.64
+    assert drive_config(monkeypatch, tmp_path, "--assist-pivot-ft", "3").assist_pivot_ft == 3.0
+    assert drive_config(monkeypatch, tmp_path, "--assist-pivot-ft", "0").assist_pivot_ft is None
+    from rig.main import main
+    for bad in ("-1", "nan", "99"):
+        with pytest.raises(SystemExit) as e:
+            main(["drive", "--out", str(tmp_path), "--assist-pivot-ft", bad])
+        # SystemExit(message): the interpreter prints it to stderr and exits 1
+        assert e.value.code not in (0, None) and "--assist-pivot-ft" in str(e.value.code)
