@@ -486,7 +486,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("blank_limit", BLANK_LIMITS), ("blank_sides", BLANK_SIDES),
                           ("sight_lines", SIGHT_LINES), ("occupied", OCCUPIEDS),
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
-                          ("approach", APPROACHES), ("head", HEADS)):
+                          ("approach", APPROACHES), ("head", HEADS),
+                          ("refute_hits", REFUTE_HITS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -494,8 +495,6 @@ def _check_config(cfg: DriveConfig) -> None:
                          "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
-    if cfg.refute_hits not in REFUTE_HITS:
-        raise ValueError(f"unknown refute_hits {cfg.refute_hits!r}; one of {', '.join(REFUTE_HITS)}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
             cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
         raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
@@ -701,7 +700,7 @@ class Drive:
             if cfg.approach == "disc" and not _moves(seg) \
                     and math.hypot(est.x - goal[0], est.z - goal[1]) <= \
                     cfg.tolerance_ft + prof.step_ft:
-                # the path's last foot refused: the shortest safe move into the disc
+                # the path's last foot refused: the safe move ending nearest the goal in its disc
                 got = disc_approach(est, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0),
                                     safe, seen, prof, pivot_r, pivot_sweep)
                 if got is not None:
