@@ -532,6 +532,28 @@ def _moves(seg) -> bool:
     return any(isinstance(c, Forward) for c in seg)
 
 
+def _take(got, seg, note: str, fetching: bool):
+    """An alternative's (commands, how) in place of ``seg`` where it gave one, its
+    note added; the commands then fetch a look.  Returns (seg, note, fetching)."""
+    if got is None:
+        return seg, note, fetching
+    return got[0], note + got[1], True
+
+
+@dataclass
+class Decision:
+    """What :meth:`Drive.plan` decided: the path planned (empty: none), the
+    commands to execute, the note printed, the way left along the path (ft; None
+    without a path), whether the commands fetch a look (a pivot or the head's aim
+    that is itself the look: no sweep instead), and the clearance map it used."""
+    path: list
+    commands: list
+    note: str
+    left_ft: float | None
+    fetching: bool
+    safe: np.ndarray
+
+
 class Drive:
     """One drive's state from look to look: the vehicle, the camera estimate
     (the walk under ``pose="fused"``), the map (:class:`Perception`), the path
@@ -664,13 +686,11 @@ class Drive:
         self.known = fm
         return fm
 
-    def plan(self, fm: FloorMap, est: State, pan: float):
+    def plan(self, fm: FloorMap, est: State, pan: float) -> Decision:
         """Plan on the floor map: the path and its motion commands cut to what may be
         driven (:func:`planner.motion.safe_prefix`), else the look-ahead's pivot, the
         approach into the goal's disc, the head's look, the evidence's look, a turn to
-        face the path; with no motion at all, :meth:`look_round`.  Returns (path,
-        commands, note, way left ft or None, whether the commands fetch a look, the
-        clearance map)."""
+        face the path; with no motion at all, :meth:`look_round`."""
         cfg, prof, head, goal = self.cfg, self.prof, self.head, self.goal
         pivot_r, pivot_sweep = self.pivot_r, self.pivot_sweep
         safe = clearance_map(fm, prof.planning_radius_ft,
@@ -691,34 +711,25 @@ class Drive:
                               pivot_r, pivot_sweep, pan if head else None)
             left = path_length(pts)
             if cfg.look_ahead and not head and _moves(seg):
-                got = looked_ahead(seg, est, fm, pts, self.near_ft, safe, seen, seen_eyes, prof,
-                                   pivot_sweep, self.ahead_cells, pivot_r)
-                if got is not None:
-                    seg, how = got
-                    note += how
-                    fetching = True       # its pivot is the look: no sweep instead
+                # its pivot is the look: no sweep instead
+                seg, note, fetching = _take(
+                    looked_ahead(seg, est, fm, pts, self.near_ft, safe, seen, seen_eyes, prof,
+                                 pivot_sweep, self.ahead_cells, pivot_r), seg, note, fetching)
             if cfg.approach == "disc" and not _moves(seg) \
                     and math.hypot(est.x - goal[0], est.z - goal[1]) <= \
                     cfg.tolerance_ft + prof.step_ft:
                 # the path's last foot refused: the safe move ending nearest the goal in its disc
-                got = disc_approach(est, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0),
-                                    safe, seen, prof, pivot_r, pivot_sweep)
-                if got is not None:
-                    seg, how = got
-                    note += how
-                    fetching = True
+                seg, note, fetching = _take(
+                    disc_approach(est, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0),
+                                  safe, seen, prof, pivot_r, pivot_sweep), seg, note, fetching)
             if head and not fetching and not _moves(seg):
-                got = head_look(fm, safe, est, pts, goal, seg, prof, cfg, pan, pivot_r, self.aimed)
-                if got is not None:
-                    seg, how = got
-                    note += how
-                    fetching = True
+                seg, note, fetching = _take(
+                    head_look(fm, safe, est, pts, goal, seg, prof, cfg, pan, pivot_r, self.aimed),
+                    seg, note, fetching)
             if not fetching and not _moves(seg) and cfg.look_around == "evidence":
-                got = fetch_evidence(fm, safe, seen, est, pts, self.near_ft, prof, cfg, self.tried)
-                if got is not None:
-                    seg, how = got
-                    note += how
-                    fetching = True
+                seg, note, fetching = _take(
+                    fetch_evidence(fm, safe, seen, est, pts, self.near_ft, prof, cfg, self.tried),
+                    seg, note, fetching)
             if not fetching and not _moves(seg):
                 # nothing known free ahead: face the path and look again
                 first = pts[1] if len(pts) > 1 else goal
@@ -737,7 +748,7 @@ class Drive:
         if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
                                             for c in seg)):
             seg, note = self.look_round(fm, est, safe, seen, note)
-        return pts, seg, note, left, fetching, safe
+        return Decision(pts, seg, note, left, fetching, safe)
 
     def look_round(self, fm: FloorMap, est: State, safe, seen, note: str):
         """No motion: turn to look, toward the goal first, then sweep (+35, -70 deg);
@@ -828,12 +839,12 @@ class Drive:
             est = self.estimate(look, scan)
             fm = self.update_map(look, points, est, pan, tilt,
                                  self.head or bool(assist and extra_looks))
-            pts, seg, note, left, fetching, safe = self.plan(fm, est, pan)
-            if assist and extra_looks == 0 and (not _moves(seg) or fetching):
+            d = self.plan(fm, est, pan)
+            if assist and extra_looks == 0 and (not _moves(d.commands) or d.fetching):
                 # the fixed loop is about to stop or pivot only to look: the head
                 # looks first, the cycle is decided again with that look added
-                got = head_look(fm, safe, est, pts, self.goal, seg, self.prof, self.cfg, 0.0,
-                                self.pivot_r, self.aimed) if pts else None
+                got = head_look(fm, d.safe, est, d.path, self.goal, d.commands, self.prof,
+                                self.cfg, 0.0, self.pivot_r, self.aimed) if d.path else None
                 if got is not None:
                     aim = [c for c in got[0] if isinstance(c, (Pan, Tilt))]
                     pan = next((c.angle_deg for c in aim if isinstance(c, Pan)), 0.0)
@@ -842,17 +853,18 @@ class Drive:
                     extra_looks, assist_note = 1, got[1].replace(" (head at", " (assist: head at")
                     continue
             break
+        seg, note = d.commands, d.note
         if extra_looks:
             note += assist_note
         if self.head:
-            seg = head_commands(seg, est, fm, pts, self.prof, self.cfg, veh.pan_deg, veh.tilt_deg,
-                                self.aimed)
+            seg = head_commands(seg, est, fm, d.path, self.prof, self.cfg, veh.pan_deg,
+                                veh.tilt_deg, self.aimed)
         t2 = time.perf_counter()
         ok, moved = self.act(seg, est)
-        self.count_progress(moved, left, fm)
+        self.count_progress(moved, d.left_ft, fm)
         cyc = Cycle(look_no, tp, est, len(self.model.points),
-                    int(self.model.tree.getNumLeafNodes()), left, format_commands(seg), note,
-                    t1 - t0, t2 - t1, list(pts), fm if self.keep_maps else None, scan_s,
+                    int(self.model.tree.getNumLeafNodes()), d.left_ft, format_commands(seg), note,
+                    t1 - t0, t2 - t1, list(d.path), fm if self.keep_maps else None, scan_s,
                     len(veh.true_track), extra_looks)
         return cyc, ok
 
