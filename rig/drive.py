@@ -176,7 +176,9 @@ def add_loop_options(p) -> None:
     p.add_argument("--pose", choices=POSES, default=C.pose,
                    help="the camera estimate that places each look: fused: the symbolic model's "
                         "(the walk's step: the robust fix on matched vertices fused with the "
-                        "odometry's prior); dead_reckoning: the odometry alone (default)")
+                        "odometry's prior); dead_reckoning: the odometry alone (default); "
+                        "walls (not 1985): each look's points on the floor plan's walls fused "
+                        "with the odometry's prior (planner.localize), also with --head")
     p.add_argument("--pose-method", default=C.pose_method, choices=ESTIMATORS,
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
     p.add_argument("--margin", type=float, default=None, metavar="FT",
