@@ -504,7 +504,7 @@ def _check_config(cfg: DriveConfig) -> None:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
-                         "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
+                         "assumes the fixed rig's pitch; use pose 'dead_reckoning' or 'walls'")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(

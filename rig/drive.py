@@ -347,7 +347,7 @@ def loop_config(args, goal, fail):
         fail(f"--seen-cost {args.seen_cost!r}: an extra cost per ft, 0 (off) or more")
     if args.head == "pan-tilt" and args.pose == "fused":
         fail("--head pan-tilt with --pose fused: the walk's camera estimate assumes the fixed "
-             "rig; use --pose dead_reckoning")
+             "rig; use --pose dead_reckoning or --pose walls")
     if not (math.isfinite(args.assist_pivot_ft) and 0 <= args.assist_pivot_ft <= 50):
         fail(f"--assist-pivot-ft {args.assist_pivot_ft!r}: a distance in feet, 0 (off) to 50")
     if args.margin is not None and not 0 <= args.margin < 10:

@@ -193,3 +193,16 @@ def test_the_loop_fixed_against_the_walls_ends_nearer_the_truth_than_dead_reckon
     assert max(err) < 0.2
     assert walls.final_true_error_ft <= 0.75
     assert dead.track_errors()[-1] > 3 * walls.track_errors()[-1]
+
+
+def test_rig_drive_pose_walls_reaches_the_loop_with_the_head(tmp_path, monkeypatch):
+    """``rig drive --pose walls`` sets ``DriveConfig.pose``, with ``--head pan-tilt`` too;
+    an unknown estimate is one clear error naming it."""
+    from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path).pose == "dead_reckoning"
+    cfg = drive_config(monkeypatch, tmp_path, "--pose", "walls", "--head", "pan-tilt")
+    assert (cfg.pose, cfg.head) == ("walls", "pan-tilt")
+    from rig.main import main
+    with pytest.raises(SystemExit) as e:
+        main(["drive", "--out", str(tmp_path), "--pose", "floorplan"])
+    assert e.value.code not in (0, None)
