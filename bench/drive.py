@@ -25,6 +25,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --eyes depth --seen-cost 8   # paths that keep to what was in view
     python bench/drive.py --rooms 20 --eyes depth --no-noise --no-look-ahead   # no look before the blind zone (the default before 2026-12-01)
     python bench/drive.py --rooms 20 --eyes depth --head pan-tilt   # the rig on a pan-tilt head (not 1985)
+    python bench/drive.py --rooms 20 --pose walls --eyes depth --head pan-tilt   # the estimate fixed against the plan's walls
     python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
@@ -273,6 +274,8 @@ def main(argv=None) -> int:
             row.update(res.floor)
         if res.expired_uncertain is not None:
             row["expired_uncertain"] = res.expired_uncertain
+        if res.wall_fixes is not None:
+            row["wall_fixes"] = res.wall_fixes
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
             row["free_obstacle_cells"] = free_obstacle_report(room, res, model, cfg)
@@ -354,6 +357,10 @@ def main(argv=None) -> int:
         summary["floor_cells"] = sum(r.get("floor_cells", 0) for r in rows)
     if any("expired_uncertain" in r for r in rows):
         summary["expired_uncertain"] = sum(r.get("expired_uncertain", 0) for r in rows)
+    if any("wall_fixes" in r for r in rows):
+        # --pose walls: the looks fixed against the plan's walls, of all looks
+        summary["wall_fixes"] = sum(r.get("wall_fixes", 0) for r in rows)
+        summary["wall_fix_share"] = summary["wall_fixes"] / max(1, looks)
     kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])

@@ -16,7 +16,14 @@ the path as needed during the traversal".
   same scan: vertical edges and vertices into the symbolic model, matched to it
   from the odometry's prior, the driving method's fix fused with that prior by
   their covariances; that pose places the look.  ``pose="dead_reckoning"``
-  places it at the dead-reckoned pose, unchanged.  Either way the octree is
+  places it at the dead-reckoned pose, unchanged.  ``pose="walls"`` (``rig drive
+  --pose walls``, not 1985, a named option, also with the head): the estimate
+  moved by the odometry since the last look, fixed against the floor plan's walls
+  by the look's own points (:func:`planner.localize.fix_against_walls`: each
+  point gated against its nearest wall, an iterated EKF with the odometry's prior;
+  the depth eyes' true ranges off the floor, or the rig's located points); after a
+  fix the dead-reckoned covariance (hits, the plan's wall growth) is the fix's and
+  grows with the odometry again.  Every way the octree is
   built from the located points of every look (:class:`planner.evidence.Perception`);
 * **octree**: each look enters as a floor range scan
   (:func:`planner.perception.floor_scan`): per picture column the nearest
@@ -128,7 +135,7 @@ from .planning import GOAL_SLACK_FT, GOALS, UNCERTAIN_PLANS, plan as plan_path, 
 from .search import NoPath, clearance_map, path_length
 from .trajectory import heading_to, wrap
 
-POSES = ("fused", "dead_reckoning")
+POSES = ("fused", "dead_reckoning", "walls")
 LOOK_AROUNDS = ("sweep", "evidence")
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
@@ -228,8 +235,11 @@ class DriveConfig:
                                           # (the dissertation's); "across": by its error
                                           # across the sight line only (across_sight_cov)
     pose: str = "dead_reckoning"          # the camera estimate: "fused" (the symbolic
-                                          # model's, model.mapping.Walker) or
-                                          # "dead_reckoning" (the odometry alone)
+                                          # model's, model.mapping.Walker),
+                                          # "dead_reckoning" (the odometry alone) or
+                                          # "walls" (not 1985, a named option: each look's
+                                          # points on the floor plan's walls fused with the
+                                          # odometry's prior, planner.localize)
     pose_method: str = "robust"           # the walk's driving method under "fused"
     look_around: str = "sweep"            # the vehicle cannot move: "sweep": face the
                                           # path, then turn +35 / -70 deg in place;
@@ -381,6 +391,7 @@ class DriveResult:
     features: FloorFeatures | None = None     # the floor features under occupied="model"
     floor: dict = field(default_factory=dict)  # under floor_eyes: what the floor in view did
     expired_uncertain: int | None = None       # under expire_uncertain: the cells expired
+    wall_fixes: int | None = None              # under pose="walls": the looks that gave a fix
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -422,6 +433,7 @@ class DriveResult:
             "pose": self.pose, **({"floor": self.floor} if self.floor else {}),
             **({"expired_uncertain": self.expired_uncertain}
                if self.expired_uncertain is not None else {}),
+            **({"wall_fixes": self.wall_fixes} if self.wall_fixes is not None else {}),
             "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
             "dead_reckoning_error_ft_final":
                 round(float(self.track_errors(self.dead_track)[-1]), 3),
@@ -492,7 +504,7 @@ def _check_config(cfg: DriveConfig) -> None:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
-                         "assumes the fixed rig's pitch; use pose 'dead_reckoning'")
+                         "assumes the fixed rig's pitch; use pose 'dead_reckoning' or 'walls'")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
@@ -575,6 +587,8 @@ class Drive:
         self.prof = prof
         self.veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
         self.walker = None
+        self.walls = cfg.pose == "walls"      # the estimate fixed against the plan's walls
+        self.wall_fixes = 0
         if cfg.pose == "fused":
             from model.mapping import WalkConfig, Walker
             self.walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
@@ -607,8 +621,9 @@ class Drive:
         self.known = None                     # the last floor map, its track free
 
     def current(self) -> State:
-        """The camera estimate now: the last look's moved by the odometry since."""
-        if self.walker is None or self.look_est is None:
+        """The camera estimate now: the last look's moved by the odometry since
+        (under ``pose="dead_reckoning"`` the dead-reckoned pose itself)."""
+        if (self.walker is None and not self.walls) or self.look_est is None:
             return self.veh.dead
         from model.mapping import compose_step
         return State(*compose_step((self.look_est.x, self.look_est.z, self.look_est.heading_deg),
@@ -637,16 +652,40 @@ class Drive:
         points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
         return look, scan, points, t1, scan_s
 
-    def estimate(self, look, scan) -> State:
+    def estimate(self, look, scan, points=(), pan: float = 0.0, tilt: float = 0.0) -> State:
         """The camera estimate at the look: the dead-reckoned pose, or under
-        ``pose="fused"`` the walk's step (model update and fix fused with it)."""
-        if self.walker is None:
+        ``pose="fused"`` the walk's step (model update and fix fused with it), or
+        under ``pose="walls"`` the estimate moved by the odometry since the last
+        look, fixed against the floor plan's walls by this look's ``points`` (the
+        depth eyes: the look's true ranges) with the head's exact ``pan``, ``tilt``
+        (:func:`planner.localize.fix_against_walls`); the dead-reckoned covariance
+        becomes the fix's, to grow with the odometry again."""
+        if self.walls:
+            est = self._wall_fix(look, points, pan, tilt)
+        elif self.walker is None:
             est = self.veh.dead
         else:
             rec = self.walker.step(look, look.pose, self.veh.dead, self.look_dead, scan=scan)
             est = State(*rec.estimates["fused"])
         self.look_est, self.look_dead = est, self.veh.dead
         return est
+
+    def _wall_fix(self, look, points, pan: float, tilt: float) -> State:
+        """:meth:`estimate` under ``pose="walls"``."""
+        from .localize import depth_wall_points, fix_against_walls, rig_wall_points
+        pitch = self.prof.camera_pitch_deg + tilt
+        prior = self.current()
+        if self.cfg.eyes == "depth":
+            q, cq = depth_wall_points(look.range_left, pitch, FLOOR_Y)
+        else:
+            q, cq = rig_wall_points(points)
+        fix = fix_against_walls(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
+                                self.room.bounds, pitch, pan)
+        if not fix.fixed:
+            return prior
+        self.wall_fixes += 1
+        self.dead_cov = fix.cov
+        return State(fix.x, fix.z, fix.heading_deg)
 
     def update_map(self, look, points, est: State, pan: float, tilt: float,
                    headed: bool) -> FloorMap:
@@ -795,10 +834,11 @@ class Drive:
         ok = veh.execute(seg)
         for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
             self.dead_cov = odometry_covariance(self.dead_cov, a, b, *self.odo)
-        if self.walker is not None:
+        corrected = self.walker is not None or (self.walls and self.look_est is not None)
+        if corrected:
             from model.mapping import compose_step
         for d in veh.dead_track[n_before:]:
-            self.est_track.append(d if self.walker is None else State(*compose_step(
+            self.est_track.append(d if not corrected else State(*compose_step(
                 (est.x, est.z, est.heading_deg), self.look_dead, d)[0]))
         moved = math.hypot(veh.true.x - before[0], veh.true.z - before[1])
         if moved > 0.05:
@@ -836,7 +876,7 @@ class Drive:
             if not assist:
                 pan, tilt = veh.pan_deg, veh.tilt_deg
             look, scan, points, t1, scan_s = self.look(look_no, extra_looks, pan, tilt)
-            est = self.estimate(look, scan)
+            est = self.estimate(look, scan, points, pan, tilt)
             fm = self.update_map(look, points, est, pan, tilt,
                                  self.head or bool(assist and extra_looks))
             d = self.plan(fm, est, pan)
@@ -879,7 +919,8 @@ class Drive:
                            cfg.unknown, cfg.search, self.est_track, cfg.pose, cfg.match,
                            model.features if cfg.occupied == "model" else None,
                            floor_stats(model) if cfg.floor_eyes != "off" else {},
-                           model.expired_total if cfg.expire_uncertain else None)
+                           model.expired_total if cfg.expire_uncertain else None,
+                           self.wall_fixes if self.walls else None)
 
 
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,

@@ -176,7 +176,9 @@ def add_loop_options(p) -> None:
     p.add_argument("--pose", choices=POSES, default=C.pose,
                    help="the camera estimate that places each look: fused: the symbolic model's "
                         "(the walk's step: the robust fix on matched vertices fused with the "
-                        "odometry's prior); dead_reckoning: the odometry alone (default)")
+                        "odometry's prior); dead_reckoning: the odometry alone (default); "
+                        "walls (not 1985): each look's points on the floor plan's walls fused "
+                        "with the odometry's prior (planner.localize), also with --head")
     p.add_argument("--pose-method", default=C.pose_method, choices=ESTIMATORS,
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
     p.add_argument("--margin", type=float, default=None, metavar="FT",
@@ -345,7 +347,7 @@ def loop_config(args, goal, fail):
         fail(f"--seen-cost {args.seen_cost!r}: an extra cost per ft, 0 (off) or more")
     if args.head == "pan-tilt" and args.pose == "fused":
         fail("--head pan-tilt with --pose fused: the walk's camera estimate assumes the fixed "
-             "rig; use --pose dead_reckoning")
+             "rig; use --pose dead_reckoning or --pose walls")
     if not (math.isfinite(args.assist_pivot_ft) and 0 <= args.assist_pivot_ft <= 50):
         fail(f"--assist-pivot-ft {args.assist_pivot_ft!r}: a distance in feet, 0 (off) to 50")
     if args.margin is not None and not 0 <= args.margin < 10:
