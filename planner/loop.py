@@ -341,8 +341,10 @@ class DriveConfig:
                                           # detours with eyes that see everything");
                                           # "fallback" (not 1985; named, needs known_walls):
                                           # "seen", and where no path to the goal lies on
-                                          # it, the map out to the walls for that cycle
-                                          # (Drive.map_to_plan_on)
+                                          # it but one lies on the map out to the walls,
+                                          # that map for the cycle (Drive.map_to_plan_on);
+                                          # measured 2026-12-02: fixes rooms 26 and 99, loses
+                                          # room 44 (depth eyes, fixed rig): not adopted
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -731,14 +733,22 @@ class Drive:
     def map_to_plan_on(self, fm: FloorMap, est: State) -> FloorMap:
         """The map the cycle plans on: ``fm``; under ``map_extent="fallback"``, where no
         path to the goal lies on ``fm`` (the planner would head for the reachable cell
-        nearest the goal), the map drawn out to the room's walls."""
-        if self.cfg.map_extent != "fallback":
+        nearest the goal) and one lies on the map drawn out to the room's walls, that
+        map.  (Where the goal itself is refused on both, a goal too near an obstacle on
+        the map, ``fm`` stays: with the wider map the nearest reachable cell moved and
+        rooms 44 and 93 on depth eyes stopped short.)"""
+        if self.cfg.map_extent != "fallback" or self._reaches_goal(fm, est):
             return fm
+        wide = self.drawn_map(est, "walls")
+        return wide if self._reaches_goal(wide, est) else fm
+
+    def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
+        """Whether the planner finds a path to the goal itself on ``fm``."""
         try:
             note = plan_path(fm, est, self.goal, self.cfg, self.prev_path)[2]
         except NoPath:
-            note = "goal not reachable"
-        return self.drawn_map(est, "walls") if note.startswith("goal not reachable") else fm
+            return False
+        return not note.startswith("goal not reachable")
 
     def plan(self, fm: FloorMap, est: State, pan: float) -> Decision:
         """Plan on the floor map: the path and its motion commands cut to what may be

@@ -122,18 +122,23 @@ def test_walls_needs_the_floor_plan_and_an_unknown_extent_is_one_clear_error():
     assert DriveConfig(goal=GOAL).map_extent == "seen"     # off by default
 
 
-def _drive(extent, barrier=True):
-    """A Drive in the plan ROOM whose model holds the barrier's cells, hit twice
-    (confirmed) at a height inside the vehicle's band, as a look's hits enter it."""
+def _drive(extent, barrier=True, by_goal=False):
+    """A Drive in the plan ROOM whose model holds the barrier's cells (and with
+    ``by_goal`` the cell x 0..0.25, z 9.5..9.75 beside the goal), hit twice (confirmed)
+    at a height inside the vehicle's band, as a look's hits enter it."""
     room = Room("barrier", (), np.zeros((0, 3)), np.zeros((0, 2, 3)),
                 np.array([BARRIER] if barrier else np.zeros((0, 4))), ROOM)
     d = Drive(room, START, DriveConfig(goal=GOAL, map_extent=extent), None, False, Perception)
+    xz = np.zeros((0, 2))
     if barrier:
         xs = np.arange(BARRIER[0] + 0.125, BARRIER[1], 0.25)       # the cells' centres
-        centres = np.c_[xs, np.full_like(xs, 2.0), np.full_like(xs, 5.125)]
-        for _ in range(d.cfg.confirm_looks):
-            mark_occupied(d.model.tree, centres)
-        d.model._extend(centres[:, [0, 2]])
+        xz = np.c_[xs, np.full_like(xs, 5.125)]
+    if by_goal:
+        xz = np.vstack([xz, [(0.125, 9.625)]])
+    centres = np.c_[xz[:, 0], np.full(len(xz), 2.0), xz[:, 1]]
+    for _ in range(d.cfg.confirm_looks):
+        mark_occupied(d.model.tree, centres)
+    d.model._extend(xz)
     return d
 
 
@@ -163,4 +168,16 @@ def test_fallback_plans_on_the_walls_map_only_where_the_seen_map_has_no_way():
     # where the seen map has a way to the goal, fallback keeps it
     d = _drive("fallback", barrier=False)
     fm = d.drawn_map(START, "seen")
+    assert d.map_to_plan_on(fm, START) is fm
+
+
+def test_fallback_keeps_the_seen_map_where_the_walls_map_refuses_the_goal_too():
+    # an obstacle cell beside the goal: its centre 2 cells from the goal cell's, (2 -
+    # sqrt 2) x 0.25 = 0.146 ft by the bound, under R: the goal refused on either map,
+    # so the wider map would only move the nearest reachable cell; the seen one stays
+    d = _drive("fallback", by_goal=True)
+    fm = d.drawn_map(START, "seen")
+    wide = d.drawn_map(START, "walls")
+    for m in (fm, wide):
+        assert plan(m, START, GOAL, d.cfg)[2].startswith("goal not reachable (the goal")
     assert d.map_to_plan_on(fm, START) is fm
