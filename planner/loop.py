@@ -90,6 +90,13 @@ the plan itself it ran past the wall by the drift (docs/planner.md, "The head
 that only adds looks", room 7).  What a look proves (a sight line to a point
 it located) is not cut.
 
+The floor map each cycle plans on covers every hit so far, the estimate and the goal, 2 ft
+round, and its border blocks the search.  ``map_extent="fallback"`` (``rig drive
+--map-extent fallback``, not 1985, off by default) plans a cycle whose map has no path to the
+goal on the map drawn out to the plan's walls instead, where that one has a path (the way
+round the far side of a box no hit has reached yet); ``"walls"`` does so every cycle
+(:func:`map_around`; measured: docs/planner.md, "The detours with eyes that see everything").
+
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
 nearest the goal; when it cannot move at all it turns to look
