@@ -26,6 +26,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --eyes depth --no-noise --no-look-ahead   # no look before the blind zone (the default before 2026-12-01)
     python bench/drive.py --rooms 20 --eyes depth --head pan-tilt   # the rig on a pan-tilt head (not 1985)
     python bench/drive.py --rooms 20 --pose walls --eyes depth --head pan-tilt   # the estimate fixed against the plan's walls
+    python bench/drive.py --rooms 20 --eyes depth --map-extent walls   # plan to the walls, not only the seen extent
     python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
@@ -304,7 +305,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,

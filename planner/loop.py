@@ -97,6 +97,13 @@ the plan itself it ran past the wall by the drift (docs/planner.md, "The head
 that only adds looks", room 7).  What a look proves (a sight line to a point
 it located) is not cut.
 
+The floor map each cycle plans on covers every hit so far, the estimate and the goal, 2 ft
+round, and its border blocks the search.  ``map_extent="fallback"`` (``rig drive
+--map-extent fallback``, not 1985, off by default) plans a cycle whose map has no path to the
+goal on the map drawn out to the plan's walls instead, where that one has a path (the way
+round the far side of a box no hit has reached yet); ``"walls"`` does so every cycle
+(:func:`map_around`; measured: docs/planner.md, "The detours with eyes that see everything").
+
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
 nearest the goal; when it cannot move at all it turns to look
@@ -149,6 +156,7 @@ REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
+MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 
 
 @dataclass
@@ -340,6 +348,20 @@ class DriveConfig:
                                           # where it would stop or pivot only to look, the
                                           # head's look (head_look) added first, the cycle
                                           # decided again with it (looks counts both)
+    map_extent: str = "seen"              # what the floor map (the search's space) covers:
+                                          # "seen": every hit so far, the estimate and the
+                                          # goal, 2 ft round (its border blocks the search);
+                                          # "walls" (not 1985; a named option, needs
+                                          # known_walls): the room's floor plan as well, so a
+                                          # way through never-seen space by the walls is
+                                          # planned (map_around; docs/planner.md, "The
+                                          # detours with eyes that see everything");
+                                          # "fallback" (not 1985; named, needs known_walls):
+                                          # "seen", and where no path to the goal lies on
+                                          # it but one lies on the map out to the walls,
+                                          # that map for the cycle (Drive.map_to_plan_on);
+                                          # measured 2026-12-02: fixes rooms 26 and 99, loses
+                                          # room 44 (depth eyes, fixed rig): not adopted
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -499,18 +521,39 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("sight_lines", SIGHT_LINES), ("occupied", OCCUPIEDS),
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
                           ("approach", APPROACHES), ("head", HEADS),
-                          ("refute_hits", REFUTE_HITS)):
+                          ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
                          "assumes the fixed rig's pitch; use pose 'dead_reckoning' or 'walls'")
+    if cfg.map_extent != "seen" and not cfg.known_walls:
+        raise ValueError(f"map_extent {cfg.map_extent!r} needs known_walls: without the floor "
+                         "plan the room's walls are not known")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
             cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
         raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
                          f"not {cfg.expire_uncertain!r}")
+
+
+def map_around(est: State, goal, bounds, extent: str = "seen") -> list:
+    """The points the cycle's floor map must cover (:meth:`Perception.floor_map` adds
+    every hit so far and 2 ft round, and its border blocks the search): the estimate
+    and the goal; under ``extent="walls"`` also two opposite corners of the room's
+    floor plan ``bounds`` (x0, x1, z0, z1), so the search may plan through never-seen
+    space all the way to the walls.  With only what was seen, a way round the far side
+    of an obstacle that no hit has reached yet lies off the map: the search finds none,
+    and the loop drives toward the reachable cell nearest the goal instead (rooms 26
+    and 99 on depth eyes: 3.8 and 5.4 ft into a dead end)."""
+    around = [(float(est.x), float(est.z)), (float(goal[0]), float(goal[1]))]
+    if extent == "walls":
+        x0, x1, z0, z1 = bounds
+        around += [(float(x0), float(z0)), (float(x1), float(z1))]
+    elif extent != "seen":
+        raise ValueError(f"unknown map_extent {extent!r}; one of seen, walls")
+    return around
 
 
 def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
@@ -564,6 +607,7 @@ class Decision:
     left_ft: float | None
     fetching: bool
     safe: np.ndarray
+    fmap: FloorMap            # the map it planned on (map_extent="fallback": maybe wider)
 
 
 class Drive:
@@ -717,13 +761,40 @@ class Drive:
         model.update(points, est_cam, Pose, prof.camera_pitch_deg + tilt, self.known,
                      self.dead_cov, look.left_bi if cfg.floor_eyes != "off" else None,
                      look.range_left if cfg.eyes == "depth" else None)
-        fm = model.floor_map([(est.x, est.z), self.goal])
+        fm = self.drawn_map(est, "walls" if cfg.map_extent == "walls" else "seen")
+        self.known = fm
+        return fm
+
+    def drawn_map(self, est: State, extent: str) -> FloorMap:
+        """The model's floor map over :func:`map_around`'s ``extent``, with the vehicle's
+        track free and the plan's walls."""
+        cfg, prof = self.cfg, self.prof
+        fm = self.model.floor_map(map_around(est, self.goal, self.room.bounds, extent))
         mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
                         prof.margin_ft if cfg.track_free == "swept" else None)
         if cfg.known_walls:
             mark_walls(fm, self.room.bounds)
-        self.known = fm
         return fm
+
+    def map_to_plan_on(self, fm: FloorMap, est: State) -> FloorMap:
+        """The map the cycle plans on: ``fm``; under ``map_extent="fallback"``, where no
+        path to the goal lies on ``fm`` (the planner would head for the reachable cell
+        nearest the goal) and one lies on the map drawn out to the room's walls, that
+        map.  (Where the goal itself is refused on both, a goal too near an obstacle on
+        the map, ``fm`` stays: with the wider map the nearest reachable cell moved and
+        rooms 44 and 93 on depth eyes stopped short.)"""
+        if self.cfg.map_extent != "fallback" or self._reaches_goal(fm, est):
+            return fm
+        wide = self.drawn_map(est, "walls")
+        return wide if self._reaches_goal(wide, est) else fm
+
+    def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
+        """Whether the planner finds a path to the goal itself on ``fm``."""
+        try:
+            note = plan_path(fm, est, self.goal, self.cfg, self.prev_path)[2]
+        except NoPath:
+            return False
+        return not note.startswith("goal not reachable")
 
     def plan(self, fm: FloorMap, est: State, pan: float) -> Decision:
         """Plan on the floor map: the path and its motion commands cut to what may be
@@ -731,6 +802,7 @@ class Drive:
         approach into the goal's disc, the head's look, the evidence's look, a turn to
         face the path; with no motion at all, :meth:`look_round`."""
         cfg, prof, head, goal = self.cfg, self.prof, self.head, self.goal
+        fm = self.map_to_plan_on(fm, est)
         pivot_r, pivot_sweep = self.pivot_r, self.pivot_sweep
         safe = clearance_map(fm, prof.planning_radius_ft,
                              "blocked" if cfg.safety == "strict" else "free",
@@ -787,7 +859,7 @@ class Drive:
         if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
                                             for c in seg)):
             seg, note = self.look_round(fm, est, safe, seen, note)
-        return Decision(pts, seg, note, left, fetching, safe)
+        return Decision(pts, seg, note, left, fetching, safe, fm)
 
     def look_round(self, fm: FloorMap, est: State, safe, seen, note: str):
         """No motion: turn to look, toward the goal first, then sweep (+35, -70 deg);
@@ -880,6 +952,7 @@ class Drive:
             fm = self.update_map(look, points, est, pan, tilt,
                                  self.head or bool(assist and extra_looks))
             d = self.plan(fm, est, pan)
+            fm = d.fmap
             if assist and extra_looks == 0 and (not _moves(d.commands) or d.fetching):
                 # the fixed loop is about to stop or pivot only to look: the head
                 # looks first, the cycle is decided again with that look added

@@ -155,7 +155,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -323,6 +323,14 @@ def add_loop_options(p) -> None:
                    help="plan round never-seen cells nearer than a look can show, when some "
                         "path avoids them: 'short' (the default since 2026-12-01: only when at "
                         "most the kept-path allowance longer), 'any', or 'off' (as before)")
+    p.add_argument("--map-extent", choices=MAP_EXTENTS, default=C.map_extent,
+                   help="what the floor map the path is searched on covers: 'seen' (default): "
+                        "every hit so far, the estimate and the goal, 2 ft round, its border "
+                        "blocking the search; 'walls' (not 1985): the room's floor plan as "
+                        "well, so a way through never-seen space by the walls is planned "
+                        "instead of a drive toward the reachable cell nearest the goal; "
+                        "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
+                        "whose seen map has no path to the goal")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -372,6 +380,7 @@ def loop_config(args, goal, fail):
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
+                       map_extent=args.map_extent,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 
