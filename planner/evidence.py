@@ -281,6 +281,7 @@ class Perception:
         self.blank_px = None              # DriveConfig.blank_px
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
         self.sight_lines = "band"         # or "low", "low-all" (DriveConfig.sight_lines)
+        self.stereo_margin = False        # DriveConfig.stereo_margin
         self.seen_over = 0                # under "low": cells on sight lines not proven
         self.refute_hits = "off"          # or "under", "through" (DriveConfig.refute_hits)
         # refute_hits="through": every hit so far (its located 3-D point, covariance, range
@@ -432,6 +433,7 @@ class Perception:
             fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                             blank_ft=self.blank_ft, carve=self.carve, place=self.place,
                             blank_px=self.blank_px, blank_limit=self.blank_limit,
+                            stereo_margin=self.stereo_margin,
                             low_y=FLOOR_Y - self.lowest_ft if self.sight_lines != "band"
                             else None, blind_low=self.sight_lines == "low-all")
         if len(fs.hits) or len(fs.free_ends):

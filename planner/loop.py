@@ -337,6 +337,10 @@ class DriveConfig:
                                           # (two points located farther at its pixel) refuted,
                                           # a cell all of whose hits are refuted unknown
                                           # (Perception._refute_through)
+    stereo_margin: bool = False           # (not 1985; a named option) each free column
+                                          # frees its line only from the depth the right
+                                          # camera sees it at (perception.stereo_depth:
+                                          # f B / (c - 1); room 177's box at the left edge)
     head: str = "fixed"                   # (not 1985; a named option) "fixed": the rig as
                                           # mounted; "pan-tilt": on a head (PAN, TILT;
                                           # VehicleProfile.head) that looks where the loop
@@ -568,6 +572,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.blank_limit = cfg.blank_limit
     model.sight_lines = cfg.sight_lines
     model.refute_hits = cfg.refute_hits
+    model.stereo_margin = cfg.stereo_margin
     if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
         model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied

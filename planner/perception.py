@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from world.pose import BASELINE_FT
+
 FOCAL_128 = 180.0
 CX_128, CY_128 = 64.0, 60.0
 MAX_RANGE_FT = 12.0
@@ -182,11 +184,22 @@ def low_start(points_room, origin, low_y: float) -> np.ndarray:
     return np.where(need <= 0, 0.0, out)
 
 
+def stereo_depth(cols) -> np.ndarray:
+    """The nearest depth (ft, along the camera axis) at which a point in left
+    picture column ``cols`` (1-based, 128 px wide) is also in the right
+    camera's picture: its right column ``c - f B / z`` must be a picture
+    column (at least 1), so ``z >= f B / (c - 1)``; inf for column 1."""
+    c = np.asarray(cols, float) - 1.0
+    with np.errstate(divide="ignore"):
+        return np.where(c > 0, FOCAL_128 * BASELINE_FT / np.maximum(c, 1e-12), np.inf)
+
+
 def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                max_gap_px: int = 32, min_votes: int = 2, blank_ft: float | None = None,
                carve: str = "range", blank_alone: bool = True, place: str = "axis",
                blank_px: int | None = None, blank_limit: str = "all",
-               low_y: float | None = None, blind_low: bool = False) -> FloorScan:
+               low_y: float | None = None, blind_low: bool = False,
+               stereo_margin: bool = False) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -266,7 +279,21 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     taken as a surface at ``blank_ft`` seen down to the band's bottom, and
     frees only where that surface's lowest ray would, from
     ``blank_ft * (low_y - camera Y) / (band bottom - camera Y)`` on (6.4 of
-    8 ft for the drive's camera)."""
+    8 ft for the drive's camera).
+
+    ``stereo_margin`` (a named option, ``DriveConfig.stereo_margin``; with
+    ``low_y``): a surface only the left camera sees cannot be located.  A
+    point at depth z in left column c shows in the right picture d = f B / z
+    columns further left (f = 180 px, B = 0.75 ft), so in the leftmost
+    columns everything nearer than ``f B / (c - 1)`` (:func:`stereo_depth`)
+    is out of the right camera's view and a box there shows no edge however
+    plain its outline: column 20 proves nothing nearer than 7.1 ft, column
+    54 nothing nearer than 2.5 ft.  Each free column (between edges or blank)
+    then frees its line only from that depth on (its ``free_start`` raised to
+    it; a column whose start passes its end frees nothing).  Room 177: box 1
+    at the left edge of looks 3 and 5, 3.4-5 ft away, its faces blank, its
+    corner edges out of the right camera's view, carved free by the
+    blank-column assumption; the vehicle drove into it."""
     if carve not in CARVE:
         raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     if place not in PLACES:
@@ -388,6 +415,12 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
         assumed = np.concatenate(assumed)
         far = np.concatenate(far)
         fstart = np.concatenate(free_st)
+        if stereo_margin and low_y is not None:
+            # nearer than the right camera's view of the column: not seen by both
+            zmin = stereo_depth(fcols)
+            seen_from = to_room(fcols.astype(float), np.minimum(zmin, 1e6))
+            fstart = np.maximum(fstart, np.where(np.isfinite(zmin), np.hypot(
+                seen_from[:, 0] - origin[0], seen_from[:, 2] - origin[2]), np.inf))
         far_start = None
         if blank_px is not None and len(cols):
             far_ends, far_cols, far_start = free_ends[far], fcols[far], fstart[far]

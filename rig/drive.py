@@ -285,6 +285,11 @@ def add_loop_options(p) -> None:
                         "never free; 'through' (not 1985): a hit a later, nearer look sees "
                         "through (two located points farther at its pixel) is refuted, a cell "
                         "all of whose hits are refuted shows unknown; 'off' (default)")
+    p.add_argument("--stereo-margin", action="store_true", default=C.stereo_margin,
+                   help="(not 1985) a picture column frees the floor only from the depth at "
+                        "which the right camera sees it too (f B / (column - 1): column 20 "
+                        "from 7.1 ft): in the left picture's leftmost columns a near box is "
+                        "out of the right camera's view, shows no edge, and would count blank")
     p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
                    help="what a sight line to a located point frees: 'low' (default; not "
                         "1985): only where its ray runs below the lowest obstacle's top (a box "
@@ -377,6 +382,7 @@ def loop_config(args, goal, fail):
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
                        sight_lines=args.sight_lines, refute_hits=args.refute_hits,
+                       stereo_margin=args.stereo_margin,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

@@ -138,3 +138,51 @@ def test_place_point_puts_a_pitched_looks_range_where_the_edge_stands():
     assert by_point.hits[0][1] == left[1]                 # at the camera's height
     with pytest.raises(ValueError, match="place"):
         floor_scan(pts, R, left, band, place="floor")
+
+
+def test_stereo_depth_is_where_the_right_camera_starts_to_see_the_column():
+    # an independent check by projection: a point in left column c at depth z,
+    # seen from both cameras of a pose (world.pose, 0.75 ft apart), lands in the
+    # right picture's column c - 135 / z, a picture column (>= 1) exactly from
+    # stereo_depth(c) on
+    from planner.perception import stereo_depth
+    from world.pose import Pose
+    pose = Pose(0.0, 0.0, 0.0)
+    for c in (2, 10, 20, 54, 100):
+        z_min = float(stereo_depth([c])[0])
+        assert z_min == pytest.approx(180 * 0.75 / (c - 1))
+        for z, inside in ((z_min * 0.98, False), (z_min * 1.02, True)):
+            x_cam = (c - 0.5 - 64) * z / 180           # the left camera's ray of column c
+            p = pose.to_room(np.array([[x_cam, 0.0, z]]), "left")
+            q = pose.to_camera(p, "right")[0]
+            right_col = q[0] * 180 / q[2] + 64 + 0.5
+            assert right_col == pytest.approx(c - 135 / z)
+            assert (right_col >= 1) == inside               # the first picture column
+    assert stereo_depth([1])[0] == math.inf
+
+
+def test_the_stereo_margin_frees_a_column_only_where_both_cameras_see_it():
+    # a look that located nothing, level camera, the blank-column assumption to
+    # 8 ft: by default every column frees its line from 0; with stereo_margin
+    # column c frees it only from depth 135 / (c - 1) on: column 20 from 7.1 ft,
+    # column 1 (never in the right picture) nowhere, column 100 from 1.36 ft
+    from planner.perception import stereo_depth
+    R, origin = np.eye(3), np.zeros(3)
+    plain = floor_scan([], R, origin, band=(-1.0, 2.75), blank_ft=8.0, low_y=2.2)
+    both = floor_scan([], R, origin, band=(-1.0, 2.75), blank_ft=8.0, low_y=2.2,
+                      stereo_margin=True)
+    assert np.array_equal(plain.free_ends, both.free_ends)
+    assert np.array_equal(plain.free_start, np.zeros(128))
+    cols = both.free_cols
+    for c in (20, 54, 100):
+        k = int(np.flatnonzero(cols == c)[0])
+        z = 135 / (c - 1)
+        assert both.free_start[k] == pytest.approx(z * math.hypot(1, (c - 0.5 - 64) / 180))
+        assert stereo_depth([c])[0] == pytest.approx(z)
+    assert both.free_start[cols == 1][0] == math.inf
+    # the hits' own lines are proven by the hit itself: the margin leaves them alone
+    pts = [_pt(50, 10, 5.0), _pt(52, 10, 5.02)]
+    a = floor_scan(pts, R, origin, band=(-1.0, 2.75), blank_ft=8.0, low_y=2.2)
+    b = floor_scan(pts, R, origin, band=(-1.0, 2.75), blank_ft=8.0, low_y=2.2,
+                   stereo_margin=True)
+    assert np.array_equal(a.hits, b.hits) and np.array_equal(a.hit_start, b.hit_start)
