@@ -60,7 +60,6 @@ def trace(room, start, goal, cfg, noise):
     from planner.octree import (OCCUPIED, UNCERTAIN, cell_centres, features_cells,
                                 spans_cells)
     from vehicle.profile import DEFAULT
-    from world.pose import Pose
 
     records, cur = [], {}
     orig_fs, orig_render = ev.floor_scan, wr.render_look

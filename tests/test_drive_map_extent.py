@@ -16,7 +16,7 @@ from planner.loop import Drive, DriveConfig, MAP_EXTENTS, _check_config, map_aro
 from planner.motion import mark_track_free
 from planner.octree import OCCUPIED, UNKNOWN, VolumeOfInterest, mark_occupied
 from planner.planning import plan
-from planner.search import NoPath, clearance_map
+from planner.search import clearance_map
 from vehicle.profile import DEFAULT
 from vehicle.sim import State
 from world.room import Room

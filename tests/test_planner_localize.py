@@ -140,9 +140,8 @@ def test_depth_points_leave_out_the_floor_and_keep_the_wall():
     facing a wall 6 ft ahead (level).  Every pixel looks down, so a pixel shows the
     floor or, nearer, the wall; only the wall's pixels higher than 0.1 ft above the
     floor are kept, each exactly on the wall."""
-    from planner.perception import CX_128, CY_128, FOCAL_128
+    from planner.perception import CY_128, FOCAL_128
     c, s = math.cos(math.radians(PITCH)), math.sin(math.radians(PITCH))
-    u = (np.arange(128) + 0.5 - CX_128) / FOCAL_128
     v = (np.arange(120) + 0.5 - CY_128) / FOCAL_128
     V = np.broadcast_to(v[:, None], (120, 128))
     down = c * V - s                        # level y per unit Z
