@@ -35,7 +35,8 @@ from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfI
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
-from .perception import CX_128, CY_128, FOCAL_128, MIN_RANGE_FT, camera_points, floor_scan
+from .perception import CX_128, CY_128, FOCAL_128, MIN_RANGE_FT, camera_points, filter_points, \
+    floor_scan
 
 
 # The mechanisms that make a floor-map cell FREE (free_obstacle_cells names them)
@@ -656,7 +657,7 @@ class Perception:
             col = c[:, 0] / z * FOCAL_128 + CX_128 + 0.5
             row = c[:, 1] / z * FOCAL_128 + CY_128 - 0.5
         xyz_c, _, line, loc1, ep = camera_points(scan_points)
-        ok = (xyz_c[:, 2] >= MIN_RANGE_FT) & (ep <= 0.25 * xyz_c[:, 2])
+        ok = filter_points(xyz_c, ep, max_range=np.inf)   # ranged, bounded, any distance
         xyz_c, line, loc1, ep = xyz_c[ok], line[ok], loc1[ok], ep[ok]
         if not len(xyz_c):
             return 0
