@@ -79,14 +79,19 @@ def level_points(q_cam, cov_cam, pitch_deg: float):
     return q, C
 
 
+def _place(state, a, b):
+    """Room (x, z) of level-frame horizontal offsets (a right, b forward) placed at
+    ``state`` (x, z, heading rad)."""
+    x, z, h = state
+    ch, sh = math.cos(h), math.sin(h)
+    return x + ch * a + sh * b, z - sh * a + ch * b      # world.pose._rot_heading
+
+
 def _residuals(state, a, b, bounds):
     """For level-frame horizontal offsets (a right, b forward) placed at ``state`` (x, z,
     heading rad): room (x, z), each point's nearest wall (0..3: x0, x1, z0, z1), its
     signed residual (room coordinate less the wall's) and the wall's normal axis."""
-    x, z, h = state
-    ch, sh = math.cos(h), math.sin(h)
-    px = x + ch * a + sh * b                       # world.pose._rot_heading
-    pz = z - sh * a + ch * b
+    px, pz = _place(state, a, b)
     x0, x1, z0, z1 = bounds
     r = np.stack([px - x0, px - x1, pz - z0, pz - z1], 1)
     wall = np.argmin(np.abs(r), 1)
@@ -130,6 +135,16 @@ def _gate(state, P, a, b, C, bounds, gate: float, max_residual: float):
     return ok, wall
 
 
+def _window(P, max_residual: float):
+    """How far from the prior (x, z ft, heading rad) the consensus looks, and so how far a
+    fix may lie: 3 sigma of the prior, x and z at most ``max_residual`` (never farther
+    than a point may be from its wall: a box face stands twice that from the wall it
+    faces), the heading at most :data:`VOTE_SPAN_DEG`."""
+    sd = np.sqrt(np.maximum(np.diag(P), 0.0))
+    return (min(3 * sd[0], max_residual), min(3 * sd[1], max_residual),
+            min(3 * sd[2], math.radians(VOTE_SPAN_DEG)))
+
+
 def _mode(values, tol: float):
     """The value with the most others within ``tol`` of it, and that count (0, None
     when there are none)."""
@@ -156,17 +171,13 @@ def consensus(prior, P, a, b, bounds, max_residual: float = MAX_RESIDUAL_FT,
     (measured: the tiny room under five times the default noise).  Returns (state,
     votes)."""
     x0, x1, z0, z1 = bounds
-    sd = np.sqrt(np.maximum(np.diag(P), 0.0))
-    span = min(3 * sd[2], math.radians(VOTE_SPAN_DEG))
+    wx, wz, span = _window(P, max_residual)
     n = int(span // math.radians(VOTE_STEP_DEG))
-    # never farther from the prior than a point may be from its wall: a box face
-    # stands twice that from the wall it faces
-    wx, wz = min(3 * sd[0], max_residual) + tol, min(3 * sd[1], max_residual) + tol
+    wx, wz = wx + tol, wz + tol
     best = (np.asarray(prior, float), -1)
     for k in sorted(range(-n, n + 1), key=abs):
         h = prior[2] + k * math.radians(VOTE_STEP_DEG)
-        ch, sh = math.cos(h), math.sin(h)
-        dx, dz = ch * a + sh * b, -sh * a + ch * b
+        dx, dz = _place((0.0, 0.0, h), a, b)
         vx = np.concatenate([x0 - dx, x1 - dx])
         vz = np.concatenate([z0 - dz, z1 - dz])
         x, nx = _mode(vx[np.abs(vx - prior[0]) <= wx], tol)
@@ -197,13 +208,9 @@ def _solve(prior, P, a, b, C, bounds, wall, start=None):
     s0 = np.asarray(prior, float)
     s = s0.copy() if start is None else np.asarray(start, float).copy()
     w = np.ones(len(a))
+    wc = np.asarray(bounds, float)[wall]
     for _ in range(ITERATIONS):
-        x0, x1, z0, z1 = bounds
-        h = s[2]
-        ch, sh = math.cos(h), math.sin(h)
-        px = s[0] + ch * a + sh * b
-        pz = s[1] - sh * a + ch * b
-        wc = np.array([x0, x1, z0, z1])[wall]
+        px, pz = _place(s, a, b)
         res = np.where(wall < 2, px, pz) - wc
         H = _jacobian(s, a, b, wall)
         Rv = np.maximum(_point_var(s, C, wall), 1e-8) / w
@@ -230,13 +237,11 @@ def _within_prior(s, s0, P, max_residual: float) -> bool:
     points' word against the prior's by more than the prior allows: a few false matches
     the gate took for a wall (measured: room 12, the 1985 eyes, a 14.6 deg jump against a
     prior of 1.8 deg), so no fix."""
-    sd = np.sqrt(np.maximum(np.diag(P), 0.0))
+    wx, wz, wh = _window(P, max_residual)
     d = np.abs(np.asarray(s, float) - np.asarray(s0, float))
     d[2] = abs((d[2] + math.pi) % (2 * math.pi) - math.pi)
-    return bool(d[0] <= min(3 * sd[0], max_residual) + VOTE_FT
-                and d[1] <= min(3 * sd[1], max_residual) + VOTE_FT
-                and d[2] <= min(3 * sd[2], math.radians(VOTE_SPAN_DEG))
-                + math.radians(VOTE_STEP_DEG))
+    return bool(d[0] <= wx + VOTE_FT and d[1] <= wz + VOTE_FT
+                and d[2] <= wh + math.radians(VOTE_STEP_DEG))
 
 
 def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float,
@@ -261,12 +266,8 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
     q = np.asarray(q_cam, float).reshape(-1, 3)
     if len(q) < min_points or not np.all(np.isfinite(P)) or np.trace(P) <= 0:
         return none
-    lev, C = level_points(q, cov_cam, pitch_deg)
+    lev, C = level_points(q, cov_cam, pitch_deg)       # (_point_var reads its x, z part)
     a, b = lev[:, 0], lev[:, 2]
-    Ch = C[:, [0, 2]][:, :, [0, 2]]
-    Cl = np.zeros_like(C)
-    Cl[:, 0, 0], Cl[:, 0, 2], Cl[:, 2, 0], Cl[:, 2, 2] = \
-        Ch[:, 0, 0], Ch[:, 0, 1], Ch[:, 1, 0], Ch[:, 1, 1]
     s0 = np.array([x, z, math.radians(hdeg + pan_deg)])
     try:
         sc, votes = consensus(s0, P, a, b, bounds, max_residual, min_votes=min_points)
@@ -274,16 +275,16 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
             return none
         # gated at the consensus by its own resolution, the fix solved from the prior
         Pc = np.diag([VOTE_FT ** 2, VOTE_FT ** 2, math.radians(VOTE_STEP_DEG) ** 2])
-        ok, wall = _gate(sc, Pc, a, b, Cl, bounds, gate, max_residual)
+        ok, wall = _gate(sc, Pc, a, b, C, bounds, gate, max_residual)
         if ok.sum() < min_points:
             return none
-        s1, P1 = _solve(s0, P, a[ok], b[ok], Cl[ok], bounds, wall[ok], sc)
+        s1, P1 = _solve(s0, P, a[ok], b[ok], C[ok], bounds, wall[ok], sc)
         # gated again at the first solution, by its own covariance: what only the
         # consensus's spread let through (a box face near a wall) drops out now
-        ok, wall = _gate(s1, P1, a, b, Cl, bounds, gate, max_residual)
+        ok, wall = _gate(s1, P1, a, b, C, bounds, gate, max_residual)
         if ok.sum() < min_points:
             return none
-        s2, P2 = _solve(s0, P, a[ok], b[ok], Cl[ok], bounds, wall[ok], s1)
+        s2, P2 = _solve(s0, P, a[ok], b[ok], C[ok], bounds, wall[ok], s1)
     except np.linalg.LinAlgError:
         return none
     if not np.all(np.isfinite(s2)) or not np.all(np.isfinite(P2)):
