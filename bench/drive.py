@@ -19,6 +19,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
     python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
+    python bench/drive.py --first 101 --rooms 200 --floor-eyes off   # the blank-column assumption unbounded (the default before 2026-12-02)
     python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire
     python bench/drive.py --rooms 20 --eyes depth [--no-noise]    # the planner's own share
     python bench/drive.py --rooms 20 --eyes depth --pivot small-swept   # a small turn by its sweep
@@ -33,7 +34,7 @@ taut, and time).
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
 whose 2-sigma ellipse reaches the true outline.
 
-``--floor-eyes carve|veto`` (planner.appearance) adds per room the floor's learned greys,
+``--floor-eyes`` (planner.appearance; ``bound`` by default) adds per room the floor's learned greys,
 the cells the floor in view proved free and the located points it vetoed; the summary sums
 the last two (``floor_cells``, ``vetoed_points``).
 
@@ -305,7 +306,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,

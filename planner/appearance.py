@@ -22,6 +22,16 @@ carving (docs/planner.md, "Carving by assumption"): never past a cell any look
 has hit, and no farther than the floor scan's own bound of that column (its
 hit, the near end of its neighbours' error bound, or the blank-column reach).
 
+``bound`` (:func:`bound_by_floor`): the picture only bounds the blank-column
+assumption, it proves nothing.  A blank column's assumed sight line ends
+where that column's floor run ends: whatever stands on the floor there (a
+box face, a wall's skirting) is not the floor's grey, and its foot is the
+run's top.  Where the floor's grey is not learned yet the assumption is
+unbounded, as without floor eyes; a face of the floor's grey runs on up
+the picture and bounds nothing: the same hazard, never more carving.  But
+with the floor plan's walls known (:func:`past_walls`), a run that goes on
+past the wall's foot is not the floor's, and its column assumes nothing.
+
 ``veto`` (:func:`vetoed`): a located point whose floor point just behind it
 shows inside the floor runs of its column and both neighbours is contradicted
 by the picture (an obstacle standing there would hide that floor) and is left
@@ -87,17 +97,32 @@ def _cells_free(fm: FloorMap, x, z) -> np.ndarray:
 
 
 def training_mask(rays: FloorRays, known: FloorMap, lowest_ft: float,
-                  max_ft: float = 12.0) -> np.ndarray:
+                  max_ft: float = 12.0, whole_trace: bool = False) -> np.ndarray:
     """The pixels whose ray ends on floor the map shows free AND whose whole
     stretch that an obstacle ``lowest_ft`` tall could stand on and hide it
-    (from d (1 - h / H) to d) is free too: such a pixel shows the floor."""
+    (from d (1 - h / H) to d) is free too: such a pixel shows the floor.
+    A taller obstacle hides a longer stretch (one as tall as the camera, all
+    of it): ``whole_trace`` asks the floor free along the ray's whole floor
+    trace from the camera's foot, sampled every half cell, of every second
+    pixel of every second row (a quarter of the work; the floor's greys are
+    a histogram's shares)."""
     frac = 1.0 - lowest_ft / rays.height
     ok = np.isfinite(rays.dist) & (rays.dist <= max_ft)
-    for s in (frac, (1 + frac) / 2, 1.0):
-        x = rays.origin[0] + s * (rays.x - rays.origin[0])
-        z = rays.origin[2] + s * (rays.z - rays.origin[2])
-        ok &= _cells_free(known, x, z)
-    return ok
+    steps = (frac, (1 + frac) / 2, 1.0)
+    if whole_trace:
+        steps = np.linspace(0.0, 1.0, int(np.ceil(max_ft / (known.cell / 2))) + 1)
+        sub = np.zeros_like(ok)
+        sub[::2, ::2] = True
+        ok &= sub
+    idx = np.flatnonzero(ok)               # the pixels still in, step by step
+    fx, fz = rays.x.ravel(), rays.z.ravel()
+    for s in steps:
+        x = rays.origin[0] + s * (fx[idx] - rays.origin[0])
+        z = rays.origin[2] + s * (fz[idx] - rays.origin[2])
+        idx = idx[_cells_free(known, x, z)]
+    out = np.zeros(ok.size, bool)
+    out[idx] = True
+    return out.reshape(ok.shape)
 
 
 def floor_greys(hist, min_samples: int = MIN_SAMPLES, min_share: float = MIN_SHARE):
@@ -110,14 +135,32 @@ def floor_greys(hist, min_samples: int = MIN_SAMPLES, min_share: float = MIN_SHA
     return hist >= min_share * total
 
 
-def floor_run(picture, greys) -> np.ndarray:
+def nearest_greys(picture, rows: int = 4, min_share: float = MIN_SHARE) -> np.ndarray:
+    """(16,) bool: the greys of the picture's bottom ``rows`` (the nearest
+    floor in view, 3.2-3.5 ft ahead of the rig's camera): what ``bound``
+    takes for the floor's grey until the map has shown enough floor free.
+    A box standing there lends its own grey instead, and then bounds less:
+    never more carving than without the floor eyes."""
+    pic = np.asarray(picture)[-rows:]
+    hist = np.bincount(np.clip(pic, 0, GREYS - 1).ravel().astype(int), minlength=GREYS)
+    return floor_greys(hist, min_samples=0, min_share=min_share)
+
+
+def floor_run(picture, greys, bridge: bool = False) -> np.ndarray:
     """(128,) int: per column the topmost row r such that rows r - 1..119
     all show a floor grey (120: fewer than two rows do).  The run's own top
     pixel is left out: the condensed picture averages 2x2 pixels, so the
     pixel where the floor meets what stands on it may round to the floor's
-    grey while its centre shows the other surface."""
+    grey while its centre shows the other surface.  ``bridge`` counts a
+    lone pixel of another grey between two of the floor's (or on the bottom
+    row under one) as floor: the sensor noise moves single pixels, and what
+    stands on the floor shows as more than one row."""
     pic = np.asarray(picture)
     is_floor = np.asarray(greys, bool)[np.clip(pic, 0, GREYS - 1)]
+    if bridge:
+        above = np.vstack([np.zeros((1, pic.shape[1]), bool), is_floor[:-1]])
+        below = np.vstack([is_floor[1:], np.ones((1, pic.shape[1]), bool)])
+        is_floor = is_floor | (above & below)
     below = np.cumprod(is_floor[::-1], axis=0)[::-1]          # rows r..119 all floor
     return np.minimum(ROWS - below.sum(0) + 1, ROWS)
 
@@ -202,6 +245,63 @@ def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,
         r, cc = row[k], col[k]
         out[k] = (r >= top[cc - 1]) & (r >= top[cc]) & (r >= top[cc + 1])
     return out
+
+
+def past_walls(rays: FloorRays, top: np.ndarray, within, heading_sd: float = 0.0) -> np.ndarray:
+    """(128,) bool: the columns whose floor run ends outside ``within``
+    ((x0, x1, z0, z1): the floor plan's walls grown by the estimate's x, z
+    uncertainty), by more than the run's end is known to: a row's floor
+    footprint either side of it (the far floor is a fraction of a foot per
+    row) and twice the heading's standard deviation ``heading_sd`` (rad)
+    times its distance.  The floor ends at a wall's foot, so such a run went
+    on up a surface of the floor's grey (a box face, or a wall of that grey
+    or a door): it shows no floor's end, and ``bound`` lets it assume
+    nothing."""
+    cols = np.arange(COLS)
+    has = top < ROWS
+    r = np.minimum(top, ROWS - 1)
+    x = np.where(has, rays.x[r, cols], np.nan)
+    z = np.where(has, rays.z[r, cols], np.nan)
+    up, down = rays.dist[np.maximum(r - 1, 0), cols], rays.dist[np.minimum(r + 1, ROWS - 1), cols]
+    with np.errstate(invalid="ignore"):
+        slack = np.where(np.isfinite(up), up - down, np.inf) + 2.0 * heading_sd * rays.dist[r, cols]
+    x0, x1, z0, z1 = within
+    with np.errstate(invalid="ignore"):
+        inside = (x > x0 - slack) & (x < x1 + slack) & (z > z0 - slack) & (z < z1 + slack)
+    return has & ~inside       # (NaN, no floor point: outside)
+
+
+def floor_end(rays: FloorRays, top: np.ndarray, within=None,
+              heading_sd: float = 0.0) -> np.ndarray:
+    """(128,) how far each column's floor in view shows its end
+    (:func:`run_reach`), 0 where it shows none: a run up to the picture's
+    top row (the floor, or a face of its grey, goes on out of the picture)
+    or, with the plan's walls ``within``, one that ends past them
+    (:func:`past_walls`, ``heading_sd`` the estimate's)."""
+    reach = run_reach(rays, top)
+    reach[top <= 1] = 0.0
+    if within is not None:
+        reach[past_walls(rays, top, within, heading_sd)] = 0.0
+    return reach
+
+
+def bound_by_floor(ends, cols, origin, reach: np.ndarray):
+    """The assumed free ends ``ends`` ((N, 3), picture columns ``cols``,
+    1-based) pulled back along their lines from ``origin`` to at most
+    ``reach`` of their column (:func:`run_reach`: the floor in view ends
+    there).  Returns (the ends, mask of the ends kept: a column whose floor
+    run is empty bounds its line to nothing)."""
+    ends = np.asarray(ends, float).reshape(-1, 3)
+    if not len(ends):
+        return ends, np.zeros(0, bool)
+    o = np.asarray(origin, float)
+    c = np.clip(np.asarray(cols, int) - 1, 0, COLS - 1)
+    d = np.hypot(ends[:, 0] - o[0], ends[:, 2] - o[2])
+    r = np.asarray(reach, float)[c]
+    scale = np.where(d > r, r / np.maximum(d, 1e-12), 1.0)
+    out = o + (ends - o) * scale[:, None]
+    out[:, 1] = ends[:, 1]
+    return out, r > 0
 
 
 def keep_before_hit(keys: np.ndarray, ray: np.ndarray, hit_keys) -> np.ndarray:

@@ -26,8 +26,8 @@ from contextlib import contextmanager
 import numpy as np
 
 from vehicle.sim import State
-from .appearance import floor_greys, floor_proof, floor_rays, floor_run, keep_before_hit, \
-    training_mask, vetoed
+from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
+    floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
@@ -300,7 +300,7 @@ class Perception:
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
-        self.floor_eyes = "off"           # or "carve", "add", "veto" (DriveConfig.floor_eyes)
+        self.floor_eyes = "off"           # or "carve", "add", "bound", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
         self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
         self.expired: dict[int, float] = {}   # packed key -> its log-odds when it expired
@@ -326,6 +326,7 @@ class Perception:
         self.pending = []
         self.provenance = None            # a FreeProvenance: which carving freed each cell
         self.assume_within = None         # (x0, x1, z0, z1): the assumed floor stops there
+        self.floor_within = None          # (x0, x1, z0, z1): floor in view ends inside (bound)
                                           # (the loop: the plan's walls less wall_growth)
         self.look_no = 0                  # looks taken into the model
         self.pivot_proof = None           # head="assist": floor_map marks the cells FREE only
@@ -419,11 +420,14 @@ class Perception:
             rays = floor_rays(R, left)
             pic = np.asarray(picture)
             if known is not None:
-                m = training_mask(rays, known, self.lowest_ft, self.max_range_ft)
+                m = training_mask(rays, known, self.lowest_ft, self.max_range_ft,
+                                  whole_trace=self.floor_eyes == "bound")
                 self.floor_hist += np.bincount(pic[m].astype(int), minlength=16)[:16]
             greys = floor_greys(self.floor_hist)
+            if greys is None and self.floor_eyes == "bound":
+                greys = nearest_greys(pic)
             if greys is not None:
-                top = floor_run(pic, greys)
+                top = floor_run(pic, greys, bridge=self.floor_eyes == "bound")
                 if self.floor_eyes == "veto" and len(scan_points):
                     bad = vetoed(scan_points, rays, top, res)
                     self.vetoed += int(bad.sum())
@@ -450,7 +454,7 @@ class Perception:
             self._look_keys = cell_keys(grown, res)
             assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
                 else np.zeros(len(fs.free_ends), bool)
-            if top is not None:
+            if top is not None and self.floor_eyes != "bound":
                 # the floor in view replaces the blank-column assumption
                 with self._carving(FLOOR_IN_VIEW):
                     self._carve_floor(fs, rays, top, left, res)
@@ -475,6 +479,15 @@ class Perception:
             # by assumption only into unknown cells, never past a cell hit (this look too)
             # (ends, when any, are the assumed free ends: floor_eyes="add" or no floor eyes)
             ends_start = (fstart[assumed] if len(ends) else np.zeros(0)) if low else None
+            reach = floor_end(rays, top, self.floor_within,
+                              math.sqrt(max(float(pose_cov[2, 2]), 0.0))
+                              if pose_cov is not None else 0.0) \
+                if top is not None and self.floor_eyes == "bound" else None
+            if reach is not None and len(ends):
+                # the picture bounds the assumption: no line past its column's floor in view
+                ends, ok = bound_by_floor(ends, fs.free_cols[assumed], left, reach)
+                ends = ends[ok]
+                ends_start = None if ends_start is None else ends_start[ok]
             if known is not None and len(ends):
                 ok = _near_free(known, left, ends, self.near_ft)
                 ends = ends[ok]
@@ -494,6 +507,10 @@ class Perception:
             if len(far_ends):
                 # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
                 far_start = fs.far_start
+                if reach is not None:
+                    far_ends, ok = bound_by_floor(far_ends, fs.far_cols, left, reach)
+                    far_ends = far_ends[ok]
+                    far_start = None if far_start is None else far_start[ok]
                 if known is not None:
                     ok = _near_free(known, left, far_ends, self.near_ft)
                     far_ends = far_ends[ok]

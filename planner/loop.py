@@ -151,12 +151,13 @@ EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
-FLOOR_EYES = ("off", "carve", "add", "veto")   # planner.appearance in the loop (Perception.update)
+FLOOR_EYES = ("off", "carve", "add", "bound", "veto")   # planner.appearance in the loop (Perception.update)
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
+PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
 
 
 @dataclass
@@ -292,7 +293,7 @@ class DriveConfig:
                                           # the tolerance disc that is nearest the goal
                                           # (goal_target); the loop's success test is the
                                           # disc either way
-    floor_eyes: str = "off"               # free floor from what the picture shows
+    floor_eyes: str = "bound"             # what the picture shows of the floor (planner.appearance)
                                           # (planner.appearance, not 1985): "off"; "carve":
                                           # once the floor's grey is learned, each column's
                                           # floor in view carved as a proof in place of the
@@ -352,6 +353,12 @@ class DriveConfig:
                                           # where it would stop or pivot only to look, the
                                           # head's look (head_look) added first, the cycle
                                           # decided again with it (looks counts both)
+    plan_walls: str = "plan"              # the floor plan's walls on the map: "plan" (where
+                                          # the plan has them) or "grown" (not 1985; named):
+                                          # 2 sigma of the estimate's x, z nearer
+                                          # (evidence.wall_growth), as the assumption stops
+                                          # short of them: the map is placed by the estimate
+                                          # (room 471: 0.8 ft of drift, driven into the wall)
     map_extent: str = "seen"              # what the floor map (the search's space) covers:
                                           # "seen": every hit so far, the estimate and the
                                           # goal, 2 ft round (its border blocks the search);
@@ -525,7 +532,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("sight_lines", SIGHT_LINES), ("occupied", OCCUPIEDS),
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
                           ("approach", APPROACHES), ("head", HEADS),
-                          ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS)):
+                          ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
+                          ("plan_walls", PLAN_WALLS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -754,7 +762,8 @@ class Drive:
             # look the head turned assumes nothing of its blank columns
             est_cam = State(est.x, est.z, wrap(est.heading_deg + pan))
             model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, tilt)
-            model.blank_ft = head_blank_ft(cfg.blank_ft, prof, pan, tilt)
+            model.blank_ft = head_blank_ft(cfg.blank_ft, prof, pan, tilt,
+                                           bounded=cfg.floor_eyes == "bound")
         elif self.assist:                 # the fixed rig's own look, as without a head
             model.near_ft, model.blank_ft = self.fixed_near, self.fixed_blank
         if cfg.known_walls:
@@ -763,6 +772,9 @@ class Drive:
             gx, gz = wall_growth(self.dead_cov)
             bx0, bx1, bz0, bz1 = self.room.bounds
             model.assume_within = (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz)
+            # the floor in view ends at the walls, the estimate's 2 sigma and a cell beyond
+            c = cfg.voi.resolution
+            model.floor_within = (bx0 - gx - c, bx1 + gx + c, bz0 - gz - c, bz1 + gz + c)
         model.update(points, est_cam, Pose, prof.camera_pitch_deg + tilt, self.known,
                      self.dead_cov, look.left_bi if cfg.floor_eyes != "off" else None,
                      look.range_left if cfg.eyes == "depth" else None)
@@ -778,7 +790,9 @@ class Drive:
         mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
                         prof.margin_ft if cfg.track_free == "swept" else None)
         if cfg.known_walls:
-            mark_walls(fm, self.room.bounds)
+            bx0, bx1, bz0, bz1 = self.room.bounds
+            gx, gz = wall_growth(self.dead_cov) if cfg.plan_walls == "grown" else (0.0, 0.0)
+            mark_walls(fm, (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz))
         return fm
 
     def map_to_plan_on(self, fm: FloorMap, est: State) -> FloorMap:

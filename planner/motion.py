@@ -224,7 +224,7 @@ def far_floor_ft(profile: VehicleProfile, tilt_deg: float = 0.0) -> float:
 
 
 def head_blank_ft(blank_ft: float | None, prof: VehicleProfile, pan_deg: float,
-                  tilt_deg: float) -> float | None:
+                  tilt_deg: float, bounded: bool = False) -> float | None:
     """How far a look of the head at (``pan_deg``, ``tilt_deg``) assumes its
     blank columns free (``DriveConfig.blank_ft``; None: not at all).  A look
     the head turned assumes nothing: tilted at a box near by its whole picture
@@ -232,8 +232,17 @@ def head_blank_ft(blank_ft: float | None, prof: VehicleProfile, pan_deg: float,
     collision), and panned it looks where no straight-ahead look went first
     (room 98, oracle edges: a blank box face carved, a collision).  Straight
     ahead it assumes as the fixed rig, no farther than the floor it shows
-    (:func:`far_floor_ft`, 26 ft on the mount: the same)."""
-    if pan_deg != 0 or tilt_deg != 0 or not blank_ft:
+    (:func:`far_floor_ft`, 26 ft on the mount: the same).  ``bounded``
+    (``floor_eyes="bound"``: each assumed line ends where its column's floor
+    in view ends, :func:`planner.appearance.bound_by_floor`) lets a turned
+    look assume as a straight one: a near box face or a side no straight
+    look saw first ends the floor in the picture unless it is the floor's
+    grey."""
+    if not blank_ft:
+        return None
+    if bounded:
+        return min(blank_ft, far_floor_ft(prof, tilt_deg))
+    if pan_deg != 0 or tilt_deg != 0:
         return None
     return min(blank_ft, far_floor_ft(prof, tilt_deg))
 

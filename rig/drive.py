@@ -155,7 +155,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, POSES, PROGRESSES, TRACK_FREES
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, TRACK_FREES
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -224,11 +224,14 @@ def add_loop_options(p) -> None:
                         "map puts an obstacle within the vehicle's radius of it) or the "
                         "standable cell nearest it inside the goal tolerance (0.75 ft)")
     p.add_argument("--floor-eyes", choices=FLOOR_EYES, default=C.floor_eyes,
-                   help="free floor from what the picture shows (not 1985; planner.appearance): "
-                        "off (default); carve: once the floor's grey is learned, each column's "
-                        "floor in view carved free in place of the blank-column assumption; "
-                        "add: carved beside the assumption; veto: carve, and leave out located "
-                        "points the floor in view contradicts")
+                   help="what the picture shows of the floor (not 1985; planner.appearance): "
+                        "bound (default since 2026-12-02): nothing carved, each line the "
+                        "blank-column assumption carves ends where its column's floor in view "
+                        "ends (none where the floor's grey runs to the picture's top or past the "
+                        "plan's walls); off: the assumption unbounded, as before; carve: once "
+                        "the floor's grey is learned, each column's floor in view carved free in "
+                        "place of the assumption; add: carved beside it; veto: carve, and leave "
+                        "out located points the floor in view contradicts")
     p.add_argument("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
                    help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
                         "free) after N later looks had it in view and located nothing there "
@@ -336,6 +339,11 @@ def add_loop_options(p) -> None:
                         "instead of a drive toward the reachable cell nearest the goal; "
                         "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
                         "whose seen map has no path to the goal")
+    p.add_argument("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
+                   help="where the map draws the floor plan's walls: 'plan' (default): where "
+                        "the plan has them; 'grown' (not 1985): two standard deviations of the "
+                        "estimate's position nearer, since the map is placed by the estimate "
+                        "and the plan by the room's truth")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -386,7 +394,7 @@ def loop_config(args, goal, fail):
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
-                       map_extent=args.map_extent,
+                       map_extent=args.map_extent, plan_walls=args.plan_walls,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
 
 

@@ -131,6 +131,12 @@ def test_a_look_the_head_turned_assumes_nothing_of_its_blank_columns():
     assert head_blank_ft(8.0, PAN_TILT, 20.0, 0.0) is None
     assert head_blank_ft(8.0, PAN_TILT, 0.0, -10.0) is None
     assert head_blank_ft(None, PAN_TILT, 0.0, 0.0) is None
+    # bounded by the floor in view (floor_eyes="bound"): turned as straight, no farther
+    # than the floor the tilted picture shows
+    assert head_blank_ft(8.0, PAN_TILT, 20.0, 0.0, bounded=True) == 8.0
+    assert head_blank_ft(8.0, PAN_TILT, 0.0, -55.0, bounded=True) == \
+        pytest.approx(far_floor_ft(PAN_TILT, -55.0))
+    assert head_blank_ft(None, PAN_TILT, 20.0, 0.0, bounded=True) is None
 
 
 def test_the_heads_aim_at_a_hand_made_cell():
@@ -338,14 +344,17 @@ def test_assist_in_room_7_does_not_drive_into_the_wall_its_drift_moved():
     (placed by the truth), ran that far past the wall the vehicle met, and a pivot at look
     29 hit it.  With the assumption stopped 2 sigma of the estimate short of the plan it
     does not (without that: 1 collision after 17.6 ft).  (``assist_pivot_ft`` off: with
-    it the drive stops after 4.5 ft, before the wall, for a pivot its rule refuses.)"""
+    it the drive stops after 4.5 ft, before the wall, for a pivot its rule refuses; so
+    does it with ``floor_eyes="bound"``, after 8 ft: the assumption is unbounded here,
+    as when it was traced.)"""
     from planner.planning import random_goal
     from world.room import generate_room
     room = generate_room(7)
     s = room.start
     start = State(s.x, s.z, s.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(7))
-    res = run(room, start, DriveConfig(goal=goal, head="assist", assist_pivot_ft=None),
+    res = run(room, start, DriveConfig(goal=goal, head="assist", assist_pivot_ft=None,
+                                       floor_eyes="off"),
               noise=OdometryNoise(seed=7), keep_maps=False)
     assert res.collisions == 0 and "hit something" not in res.reason
     assert res.travelled_ft > 15.0          # it went as far as where it used to collide
@@ -358,18 +367,22 @@ def test_assist_in_room_45_pivots_only_on_cells_a_look_proved_near_enough():
     assumption; no look ever located that box, and the head's tilted looks at it 1.1-1.4 ft
     away, assuming nothing, neither confirmed nor refuted it; a pivot "turning to look"
     beside the corner, its circle free on the map, swung the vehicle's corner into it.
-    With ``assist_pivot_ft`` (the default under assist) no pivot counts such cells free."""
+    With ``assist_pivot_ft`` (the default under assist) no pivot counts such cells free;
+    nor, without it, with the assumption bounded by the floor in view (``floor_eyes``
+    "bound", the default since 2026-12-02; traced with it "off")."""
     from planner.planning import random_goal
     from world.room import generate_room
     room = generate_room(45)
     s = room.start
     start = State(s.x, s.z, s.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(45))
-    runs = {ft: run(room, start, DriveConfig(goal=goal, head="assist", eyes="truth",
-                                             assist_pivot_ft=ft),
-                    noise=OdometryNoise(seed=45), keep_maps=False) for ft in (None, 4.64)}
-    assert runs[None].collisions == 1 and "hit something" in runs[None].reason
-    assert runs[4.64].collisions == 0 and "hit something" not in runs[4.64].reason
+    runs = {(ft, fe): run(room, start, DriveConfig(goal=goal, head="assist", eyes="truth",
+                                                   assist_pivot_ft=ft, floor_eyes=fe),
+                          noise=OdometryNoise(seed=45), keep_maps=False)
+            for ft, fe in ((None, "off"), (4.64, "off"), (None, "bound"))}
+    assert runs[None, "off"].collisions == 1 and "hit something" in runs[None, "off"].reason
+    for ok in (runs[4.64, "off"], runs[None, "bound"]):
+        assert ok.collisions == 0 and "hit something" not in ok.reason
 
 
 def test_assist_pivot_ft_reaches_the_loop_by_its_flag_and_is_checked(tmp_path, monkeypatch):

@@ -181,3 +181,32 @@ def test_fallback_keeps_the_seen_map_where_the_walls_map_refuses_the_goal_too():
     for m in (fm, wide):
         assert plan(m, START, GOAL, d.cfg)[2].startswith("goal not reachable (the goal")
     assert d.map_to_plan_on(fm, START) is fm
+
+
+def test_plan_walls_grown_by_two_sigma_of_the_estimate():
+    """``plan_walls="grown"``: the map is placed by the estimate, the plan by the truth;
+    with the estimate's x uncertain by sigma 0.3 ft and z by 0.1 ft, the side walls come
+    0.6 ft nearer and the near and far walls 0.2 ft; "plan" draws them where they are."""
+    room = Room("plan", (), np.zeros((0, 3)), np.zeros((0, 2, 3)), np.zeros((0, 4)), ROOM)
+    cells = {}
+    for how in ("plan", "grown"):
+        d = Drive(room, START, DriveConfig(goal=GOAL, plan_walls=how, map_extent="walls"),
+                  None, False, Perception)
+        d.dead_cov = np.diag([0.3 ** 2, 0.1 ** 2, 0.0])
+        fm = d.drawn_map(START, "walls")
+        xs = fm.x0 + (np.arange(fm.shape[1]) + 0.5) * fm.cell
+        zs = fm.z0 + (np.arange(fm.shape[0]) + 0.5) * fm.cell
+        row = fm.cells[int((0.0 - fm.z0) / fm.cell)]        # across the room at z = 0.1
+        col = fm.cells[:, int((0.0 - fm.x0) / fm.cell)]     # along it at x = 0.1
+        cells[how] = (xs[row != OCCUPIED], zs[col != OCCUPIED])
+    x0, x1, z0, z1 = ROOM
+    px, pz = cells["plan"]
+    gx, gz = cells["grown"]
+    assert px.min() == pytest.approx(x0 + 0.125) and px.max() == pytest.approx(x1 - 0.125)
+    # a cell is free only wholly inside the grown plan, and the first such is within a cell
+    for lo, hi, g, free in ((x0, x1, 0.6, gx), (z0, z1, 0.2, gz)):
+        assert lo + g <= free.min() - 0.125 < lo + g + 0.25
+        assert hi - g - 0.25 < free.max() + 0.125 <= hi - g
+    assert pz.min() == pytest.approx(z0 + 0.125)
+    with pytest.raises(ValueError, match="plan_walls"):
+        _check_config(DriveConfig(goal=GOAL, plan_walls="inset"))
