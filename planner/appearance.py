@@ -26,8 +26,8 @@ hit, the near end of its neighbours' error bound, or the blank-column reach).
 assumption, it proves nothing.  A blank column's assumed sight line ends
 where that column's floor run ends: whatever stands on the floor there (a
 box face, a wall's skirting) is not the floor's grey, and its foot is the
-run's top.  Where the floor's grey is not learned yet the assumption is
-unbounded, as without floor eyes; a face of the floor's grey runs on up
+run's top.  Until the floor's grey is learned the picture's bottom rows
+stand for it (:func:`nearest_greys`); a face of the floor's grey runs on up
 the picture and bounds nothing: the same hazard, never more carving.  But
 with the floor plan's walls known (:func:`past_walls`), a run that goes on
 past the wall's foot is not the floor's, and its column assumes nothing.
@@ -288,8 +288,8 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
 def bound_by_floor(ends, cols, origin, reach: np.ndarray):
     """The assumed free ends ``ends`` ((N, 3), picture columns ``cols``,
     1-based) pulled back along their lines from ``origin`` to at most
-    ``reach`` of their column (:func:`run_reach`: the floor in view ends
-    there).  Returns (the ends, mask of the ends kept: a column whose floor
+    ``reach`` of their column (:func:`floor_end`: the floor in view ends
+    there, 0 where it shows no end).  Returns (the ends, mask of the ends kept: a column whose floor
     run is empty bounds its line to nothing)."""
     ends = np.asarray(ends, float).reshape(-1, 3)
     if not len(ends):

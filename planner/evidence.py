@@ -416,7 +416,9 @@ class Perception:
         if self.refute_hits == "through" and depth is None and len(scan_points):
             self._refute_through(scan_points, R, left, res)
         rays = top = None
-        if self.floor_eyes != "off" and picture is not None:
+        # (depth eyes assume nothing, so "bound" has nothing to bound: no picture work)
+        if self.floor_eyes != "off" and picture is not None and \
+                not (self.floor_eyes == "bound" and depth is not None):
             rays = floor_rays(R, left)
             pic = np.asarray(picture)
             if known is not None:
