@@ -131,9 +131,10 @@ def cmd_drive(args) -> int:
         print(f"goal not reached: {res.reason} ({res.looks} looks, {res.travelled_ft:.1f} ft "
               f"travelled, {res.seconds:.1f} s)")
     opt = "-" if res.optimal_ft is None else f"{res.optimal_ft:.1f} ft"
+    first = first_look_note(res.cycles)
     print(f"true optimum {opt}; collisions {res.collisions}; {res.work_ms_per_cycle:.0f} ms per "
-          f"cycle without the look's rendering (the scan {res.scan_ms_per_cycle:.0f} ms of it), "
-          f"{1e3 * res.seconds_per_cycle:.0f} ms with it; "
+          f"cycle without the look's rendering (the scan {res.scan_ms_per_cycle:.0f} ms of it"
+          f"{first}), {1e3 * res.seconds_per_cycle:.0f} ms with it; "
           f"octree {res.octree_bytes / 1024:.0f} KiB; true distance to goal "
           f"{res.final_true_error_ft:.2f} ft; estimate off the truth by "
           f"{res.track_errors()[-1]:.2f} ft at the end (dead reckoning "
@@ -345,6 +346,17 @@ def add_loop_options(p) -> None:
                         "estimate's position nearer, since the map is placed by the estimate "
                         "and the plan by the room's truth")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
+
+
+def first_look_note(cycles, slow_s: float = 1.0) -> str:
+    """The per-cycle times are means over the run; on a new machine the first
+    look's scan also compiles the eyes (numba, cached after), which can be
+    most of a short run's mean.  Says so when the first scan took over
+    ``slow_s`` seconds, so the mean is not read as the eyes' pace."""
+    if not cycles or cycles[0].scan_s <= slow_s:
+        return ""
+    return (f" (the first look {cycles[0].scan_s:.1f} s: the eyes compiled, cached for the "
+            f"next run)")
 
 
 def loop_config(args, goal, fail):
