@@ -351,10 +351,12 @@ def add_loop_options(p) -> None:
 def first_look_note(cycles, slow_s: float = 1.0) -> str:
     """The per-cycle times are means over the run; on a new machine the first
     look's scan also compiles the eyes (numba, cached after), which can be
-    most of a short run's mean.  Says so when the first scan took over
-    ``slow_s`` seconds, so the mean is not read as the eyes' pace."""
-    if not cycles or cycles[0].scan_s <= slow_s:
-        return ""
+    most of a short run's mean.  Says so when the eyes are compiled and the
+    first scan took over ``slow_s`` seconds, so the mean is not read as the
+    eyes' pace."""
+    from diskfmt import jit
+    if not jit.ENABLED or not cycles or cycles[0].scan_s <= slow_s:
+        return ""       # (plain Python, RIG_NO_JIT: every look is slow, nothing compiled)
     return (f" (the first look {cycles[0].scan_s:.1f} s: the eyes compiled, cached for the "
             f"next run)")
 

@@ -301,13 +301,18 @@ def test_rig_drive_passes_the_map_source_options_to_the_loop(tmp_path, monkeypat
         main(["drive", "--out", str(tmp_path), "--occupied", "octree"])
 
 
-def test_first_look_note_names_a_slow_first_scan_only():
+def test_first_look_note_names_a_slow_first_scan_only(monkeypatch):
     """The summary's per-cycle means include the first look, whose scan on a
-    new machine compiles the eyes: the note says so only when it was slow."""
+    new machine compiles the eyes: the note says so only when it was slow,
+    and never when nothing is compiled (RIG_NO_JIT)."""
     from types import SimpleNamespace as Cycle
 
+    from diskfmt import jit
     from rig.drive import first_look_note
+    monkeypatch.setattr(jit, "ENABLED", True)
     assert first_look_note([]) == ""
     assert first_look_note([Cycle(scan_s=0.01), Cycle(scan_s=0.02)]) == ""
     note = first_look_note([Cycle(scan_s=24.7), Cycle(scan_s=0.001)])
     assert "24.7 s" in note and "compiled" in note
+    monkeypatch.setattr(jit, "ENABLED", False)
+    assert first_look_note([Cycle(scan_s=24.7), Cycle(scan_s=0.001)]) == ""
