@@ -27,8 +27,9 @@ assumption, it proves nothing.  A blank column's assumed sight line ends
 where that column's floor run ends: whatever stands on the floor there (a
 box face, a wall's skirting) is not the floor's grey, and its foot is the
 run's top.  Until the floor's grey is learned the picture's bottom rows
-stand for it (:func:`nearest_greys`); a face of the floor's grey runs on up
-the picture and bounds nothing: the same hazard, never more carving.  But
+stand for it (:func:`nearest_greys`; ``stand_in="majority"``: only a grey
+holding most of them); a face of the floor's grey runs on up the picture and
+bounds nothing: the same hazard, never more carving.  But
 with the floor plan's walls known (:func:`past_walls`), a run that goes on
 past the wall's foot is not the floor's, and its column assumes nothing.
 
@@ -52,6 +53,11 @@ FOCAL, CX, CY = 180.0, 64.0, 60.0          # the 128x120 picture (planner.percep
 GREYS = 16
 MIN_SAMPLES = 200                          # floor pixels before the floor's grey is believed
 MIN_SHARE = 0.1                            # a grey level is the floor's with this share of them
+# what the bottom rows lend the floor before its grey is learned (DriveConfig.stand_in):
+# "tenth": every grey with MIN_SHARE of them (the default); "majority": only a grey
+# with more than half of them, none when no grey has (room 256: a box face's grey 4
+# held 10-50 % of the bottom rows at look 1 and passed for floor; docs/planner.md)
+STAND_INS = {"tenth": MIN_SHARE, "majority": 0.5 + 1e-9}
 
 
 @dataclass
@@ -140,7 +146,10 @@ def nearest_greys(picture, rows: int = 4, min_share: float = MIN_SHARE) -> np.nd
     floor in view, 3.2-3.5 ft ahead of the rig's camera): what ``bound``
     takes for the floor's grey until the map has shown enough floor free.
     A box standing there lends its own grey instead, and then bounds less:
-    never more carving than without the floor eyes."""
+    never more carving than without the floor eyes.  ``min_share``
+    (:data:`STAND_INS`) sets how much of the bottom rows a grey must hold;
+    where none holds it, no grey stands in and every column's run is empty
+    (the assumption bounded to nothing)."""
     pic = np.asarray(picture)[-rows:]
     hist = np.bincount(np.clip(pic, 0, GREYS - 1).ravel().astype(int), minlength=GREYS)
     return floor_greys(hist, min_samples=0, min_share=min_share)

@@ -27,7 +27,7 @@ import numpy as np
 
 from vehicle.sim import State
 from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
-    floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
+    STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
@@ -283,6 +283,7 @@ class Perception:
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
         self.sight_lines = "band"         # or "low", "low-all" (DriveConfig.sight_lines)
         self.stereo_margin = False        # DriveConfig.stereo_margin
+        self.stand_in = "tenth"           # or "majority" (DriveConfig.stand_in)
         self.seen_over = 0                # under "low": cells on sight lines not proven
         self.refute_hits = "off"          # or "under", "through" (DriveConfig.refute_hits)
         # refute_hits="through": every hit so far (its located 3-D point, covariance, range
@@ -427,7 +428,7 @@ class Perception:
                 self.floor_hist += np.bincount(pic[m].astype(int), minlength=16)[:16]
             greys = floor_greys(self.floor_hist)
             if greys is None and self.floor_eyes == "bound":
-                greys = nearest_greys(pic)
+                greys = nearest_greys(pic, min_share=STAND_INS[self.stand_in])
             if greys is not None:
                 top = floor_run(pic, greys, bridge=self.floor_eyes == "bound")
                 if self.floor_eyes == "veto" and len(scan_points):
@@ -485,17 +486,10 @@ class Perception:
                               math.sqrt(max(float(pose_cov[2, 2]), 0.0))
                               if pose_cov is not None else 0.0) \
                 if top is not None and self.floor_eyes == "bound" else None
-            if reach is not None and len(ends):
-                # the picture bounds the assumption: no line past its column's floor in view
-                ends, ok = bound_by_floor(ends, fs.free_cols[assumed], left, reach)
-                ends = ends[ok]
-                ends_start = None if ends_start is None else ends_start[ok]
-            if known is not None and len(ends):
-                ok = _near_free(known, left, ends, self.near_ft)
-                ends = ends[ok]
-                ends_start = None if ends_start is None else ends_start[ok]
-            if self.assume_within is not None and len(ends):
-                ends = within_walls(left, ends, self.assume_within, res)
+            if len(ends):
+                ends, ends_start = self._limit_assumed(
+                    ends, ends_start, fs.free_cols[assumed] if reach is not None else None,
+                    left, reach, known, res)
             if self.pivot_proof is not None and len(ends):
                 self._blank_seen(left, ends, ends_start, res)
             with self._carving(BLANK_ASSUMPTION):
@@ -508,17 +502,8 @@ class Perception:
                 fs.far_ends is not None else fs.free_ends[:0]
             if len(far_ends):
                 # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
-                far_start = fs.far_start
-                if reach is not None:
-                    far_ends, ok = bound_by_floor(far_ends, fs.far_cols, left, reach)
-                    far_ends = far_ends[ok]
-                    far_start = None if far_start is None else far_start[ok]
-                if known is not None:
-                    ok = _near_free(known, left, far_ends, self.near_ft)
-                    far_ends = far_ends[ok]
-                    far_start = None if far_start is None else far_start[ok]
-                if self.assume_within is not None:
-                    far_ends = within_walls(left, far_ends, self.assume_within, res)
+                far_ends, far_start = self._limit_assumed(far_ends, fs.far_start, fs.far_cols,
+                                                          left, reach, known, res)
                 keys = self._assumed_low_keys(left, far_ends, far_start) \
                     if far_start is not None else \
                     assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
@@ -710,6 +695,25 @@ class Perception:
                 n += 1
         self.refuted += n
         return len(through)
+
+    def _limit_assumed(self, ends, start, cols, left, reach, known, res):
+        """What the assumption may carve of its sight lines ``left -> ends``
+        (picture columns ``cols``; ``start``: where each begins to prove the
+        band under sight_lines="low", else None): each line ended where its
+        column's floor in view ends (``reach``, floor_eyes="bound"; none: not
+        bounded), only the lines whose near part ``known`` shows free, each cut
+        at the plan's walls (``assume_within``).  Returns (ends, start)."""
+        def keep(ok):
+            return ends[ok], None if start is None else start[ok]
+        if reach is not None and len(ends):
+            # the picture bounds the assumption: no line past its column's floor in view
+            ends, ok = bound_by_floor(ends, cols, left, reach)
+            ends, start = keep(ok)
+        if known is not None and len(ends):
+            ends, start = keep(_near_free(known, left, ends, self.near_ft))
+        if self.assume_within is not None and len(ends):
+            ends = within_walls(left, ends, self.assume_within, res)
+        return ends, start
 
     def _blank_seen(self, left, ends, starts, res: float) -> None:
         """Under ``pivot_proof``: every cell on the look's assumed lines

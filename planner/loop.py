@@ -129,6 +129,7 @@ import numpy as np
 from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
+from .appearance import STAND_INS as STAND_IN_SHARES
 from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
@@ -152,6 +153,7 @@ MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 FLOOR_EYES = ("off", "carve", "add", "bound", "veto")   # planner.appearance in the loop (Perception.update)
+STAND_INS = tuple(STAND_IN_SHARES)    # DriveConfig.stand_in: the bottom rows' greys for the floor's
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
@@ -330,6 +332,11 @@ class DriveConfig:
                                           # "low-all": "low", and a look that located nothing
                                           # frees only the far part of its blank view (as if
                                           # a surface at blank_ft showed to the band's bottom)
+    stand_in: str = "tenth"               # (not 1985; under floor_eyes="bound") what stands for
+                                          # the floor's grey until it is learned: "tenth" (every
+                                          # grey with a tenth of the picture's bottom 4 rows) or
+                                          # "majority" (only a grey with more than half; none:
+                                          # nothing assumed; room 256 under band; appearance.nearest_greys)
     refute_hits: str = "off"              # (not 1985; a named option) "under": a hit cell a
                                           # later sight line passes under (below the hit's
                                           # lowest located point, to a surface beyond it)
@@ -529,7 +536,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("track_free", TRACK_FREES), ("goal_region", GOALS),
                           ("floor_eyes", FLOOR_EYES), ("blank_carve", ("unknown", "always")),
                           ("blank_limit", BLANK_LIMITS), ("blank_sides", BLANK_SIDES),
-                          ("sight_lines", SIGHT_LINES), ("occupied", OCCUPIEDS),
+                          ("sight_lines", SIGHT_LINES), ("stand_in", STAND_INS),
+                          ("occupied", OCCUPIEDS),
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
                           ("approach", APPROACHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
@@ -579,6 +587,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.blank_px = cfg.blank_px
     model.blank_limit = cfg.blank_limit
     model.sight_lines = cfg.sight_lines
+    model.stand_in = cfg.stand_in
     model.refute_hits = cfg.refute_hits
     model.stereo_margin = cfg.stereo_margin
     if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)

@@ -156,7 +156,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, TRACK_FREES
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -302,6 +302,12 @@ def add_loop_options(p) -> None:
                         "up to it; 'low-all': 'low', "
                         "and a look that located nothing frees only the far part of its "
                         "blank view (from 0.8 of --blank-ft)")
+    p.add_argument("--stand-in", choices=STAND_INS, default=C.stand_in,
+                   help="under --floor-eyes bound, what stands for the floor's grey until the "
+                        "map has shown enough floor free: the greys of the picture's bottom 4 "
+                        "rows, 'tenth' (default): each grey with a tenth of them; 'majority' "
+                        "(not 1985): only a grey with more than half (none: the look assumes "
+                        "nothing), so a box face near the vehicle does not pass for floor")
     p.add_argument("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
@@ -403,7 +409,8 @@ def loop_config(args, goal, fail):
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
-                       sight_lines=args.sight_lines, refute_hits=args.refute_hits,
+                       sight_lines=args.sight_lines, stand_in=args.stand_in,
+                       refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,

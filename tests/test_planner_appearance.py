@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from planner.appearance import (ROWS, floor_end, floor_greys, floor_proof, floor_rays,
+from planner.appearance import (ROWS, STAND_INS, floor_end, floor_greys, floor_proof, floor_rays,
                                 floor_run, keep_before_hit, nearest_greys, run_reach,
                                 training_mask, vetoed)
 from planner.floormap import FREE, OCCUPIED, empty_map
@@ -240,6 +240,57 @@ def test_nearest_greys_are_the_bottom_rows():
     pic[-4:, :20] = 4                                  # 16 % of the bottom rows
     pic[-1, 0] = 12                                    # one pixel: under the share
     assert np.flatnonzero(nearest_greys(pic)).tolist() == [3, 4]
+    # "majority": only a grey with more than half of them (the box face's 16 % is not)
+    assert np.flatnonzero(nearest_greys(pic, min_share=STAND_INS["majority"])).tolist() == [3]
+    pic[-4:, :64] = 4                                  # an even split: no grey stands in
+    assert not nearest_greys(pic, min_share=STAND_INS["majority"]).any()
+    assert (floor_run(pic, nearest_greys(pic, min_share=STAND_INS["majority"])) == ROWS).all()
+
+
+def test_a_majority_stand_in_keeps_a_near_box_face_from_passing_for_floor():
+    """Room 256 by hand: the first look, the floor's grey not yet learned, a
+    box face (grey 4) stands in the middle third of the view from the bottom
+    row to the middle row, the floor (grey 3) beside it, a wall (9) above.
+    Under ``stand_in="tenth"`` the face's 31 % of the bottom rows passes for
+    floor, its run ends at the face's top (5.9 ft), and the blank-column
+    assumption carves the floor behind the face's foot: inside the box.  Under
+    "majority" the face's columns assume nothing; the floor's beside it are
+    carved alike."""
+    from planner.evidence import Perception
+    from planner.loop import DriveConfig, _perception
+    from planner.octree import FREE as F
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    pic = np.full((ROWS, 128), 9, np.uint8)
+    pic[60:] = 3
+    pic[60:, 40:80] = 4
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+
+    def free_share(stand_in, c0, c1):
+        """Share of the floor points of rows 66-117, columns c0..c1 - 1 the look frees."""
+        m = _perception(DriveConfig(goal=(0.0, 9.0), stand_in=stand_in, sight_lines="band"),
+                        DEFAULT, Perception)
+        m.update([], State(0.0, 0.0, 0.0), Pose, PITCH, None, None, pic)
+        fm = m.floor_map([(0.0, 0.0), (0.0, 9.0)])
+        xs, zs = rays.x[66:118, c0:c1].ravel(), rays.z[66:118, c0:c1].ravel()
+        return np.mean([fm.state_at(x, z) == F for x, z in zip(xs, zs)])
+
+    assert free_share("tenth", 52, 68) == 1.0          # behind the face's foot: carved
+    assert free_share("majority", 52, 68) == 0.0
+    for c0, c1 in ((5, 35), (85, 115)):                # the floor beside the face
+        assert free_share("majority", c0, c1) == free_share("tenth", c0, c1) > 0.8
+
+
+def test_stand_in_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
+    from planner.loop import DriveConfig, run
+    from planner.tiny import GOAL
+    from rigtools import drive_config
+    from vehicle.sim import State
+    with pytest.raises(ValueError, match="stand_in"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, stand_in="half"))
+    assert drive_config(monkeypatch, tmp_path).stand_in == "tenth"
+    assert drive_config(monkeypatch, tmp_path, "--stand-in", "majority").stand_in == "majority"
 
 
 def test_a_tall_box_hides_more_than_the_lowest_obstacles_stretch():
