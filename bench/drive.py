@@ -29,6 +29,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --pose walls --eyes depth --head pan-tilt   # the estimate fixed against the plan's walls
     python bench/drive.py --rooms 20 --eyes depth --map-extent walls   # plan to the walls, not only the seen extent
     python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
+    python bench/drive.py --rooms 100 --losses --sight-lines band --stand-in majority  # before the floor's grey is learned, only a majority grey stands in
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
