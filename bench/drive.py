@@ -311,7 +311,7 @@ def main(argv=None) -> int:
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,
-        "sight_lines": args.sight_lines, "stand_in": args.stand_in,
+        "sight_lines": args.sight_lines, "stand_in": args.stand_in, "learn_floor": args.learn_floor,
         "sides_apart": list(args.sides_apart),
         "occupied": args.occupied, "hit_at": args.hit_at,
         "feature_pose": args.feature_pose, "goal_region": args.goal_region, "approach": args.approach,

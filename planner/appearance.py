@@ -33,6 +33,13 @@ bounds nothing: the same hazard, never more carving.  But
 with the floor plan's walls known (:func:`past_walls`), a run that goes on
 past the wall's foot is not the floor's, and its column assumes nothing.
 
+``bound-add``: ``bound``, and once the floor's grey is learned (never from
+the stand-in) its proof carved too, under the rules above and no farther
+than :func:`floor_end`: a column whose floor shows no end (a run up to the
+top row, or past the walls) proves nothing.  Under the loop's low sight
+lines a point high on a wall proves its line only near the wall; the floor
+in view proves the floor before it.
+
 ``veto`` (:func:`vetoed`): a located point whose floor point just behind it
 shows inside the floor runs of its column and both neighbours is contradicted
 by the picture (an obstacle standing there would hide that floor) and is left

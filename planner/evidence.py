@@ -301,7 +301,7 @@ class Perception:
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
-        self.floor_eyes = "off"           # or "carve", "add", "bound", "veto" (DriveConfig.floor_eyes)
+        self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
         self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
         self.expired: dict[int, float] = {}   # packed key -> its log-odds when it expired
@@ -398,7 +398,12 @@ class Perception:
         scan's bound of that column) in place of the blank-column assumption
         (``"carve"``, ``"veto"``) or beside it (``"add"``: the assumption still
         carves under its own rules); ``"veto"`` also leaves out the located
-        points the floor in view contradicts.
+        points the floor in view contradicts.  ``"bound"`` carves nothing: each
+        assumed line ends where its column's floor in view ends
+        (:func:`~planner.appearance.floor_end`, the bottom rows standing for the
+        floor's grey until it is learned); ``"bound-add"`` does that and
+        carves the learned grey's proof beside it, no farther than that end
+        (nothing in a column whose floor shows no end).
 
         ``expire_uncertain`` (a named option, N looks; 0 off) counts the look
         against the uncertain cells it had in view without a hit
@@ -416,21 +421,25 @@ class Perception:
         res = self.tree.getResolution()
         if self.refute_hits == "through" and depth is None and len(scan_points):
             self._refute_through(scan_points, R, left, res)
-        rays = top = None
+        rays = top = proof_top = None
+        bounded = self.floor_eyes in ("bound", "bound-add")
         # (depth eyes assume nothing, so "bound" has nothing to bound: no picture work)
         if self.floor_eyes != "off" and picture is not None and \
-                not (self.floor_eyes == "bound" and depth is not None):
+                not (bounded and depth is not None):
             rays = floor_rays(R, left)
             pic = np.asarray(picture)
             if known is not None:
                 m = training_mask(rays, known, self.lowest_ft, self.max_range_ft,
-                                  whole_trace=self.floor_eyes == "bound")
+                                  whole_trace=bounded)
                 self.floor_hist += np.bincount(pic[m].astype(int), minlength=16)[:16]
             greys = floor_greys(self.floor_hist)
-            if greys is None and self.floor_eyes == "bound":
+            if greys is not None and self.floor_eyes == "bound-add":
+                # only the learned grey proves; the stand-in below only bounds
+                proof_top = floor_run(pic, greys)
+            if greys is None and bounded:
                 greys = nearest_greys(pic, min_share=STAND_INS[self.stand_in])
             if greys is not None:
-                top = floor_run(pic, greys, bridge=self.floor_eyes == "bound")
+                top = floor_run(pic, greys, bridge=bounded)
                 if self.floor_eyes == "veto" and len(scan_points):
                     bad = vetoed(scan_points, rays, top, res)
                     self.vetoed += int(bad.sum())
@@ -457,7 +466,7 @@ class Perception:
             self._look_keys = cell_keys(grown, res)
             assumed = fs.assumed if self.blank_carve == "unknown" and fs.assumed is not None \
                 else np.zeros(len(fs.free_ends), bool)
-            if top is not None and self.floor_eyes != "bound":
+            if top is not None and not bounded:
                 # the floor in view replaces the blank-column assumption
                 with self._carving(FLOOR_IN_VIEW):
                     self._carve_floor(fs, rays, top, left, res)
@@ -485,7 +494,12 @@ class Perception:
             reach = floor_end(rays, top, self.floor_within,
                               math.sqrt(max(float(pose_cov[2, 2]), 0.0))
                               if pose_cov is not None else 0.0) \
-                if top is not None and self.floor_eyes == "bound" else None
+                if top is not None and bounded else None
+            if proof_top is not None:
+                # "bound-add": the floor in view proves its trace too, no farther
+                # than where the bound ends it (nowhere in a column showing no end)
+                with self._carving(FLOOR_IN_VIEW):
+                    self._carve_floor(fs, rays, proof_top, left, res, reach=reach)
             if len(ends):
                 ends, ends_start = self._limit_assumed(
                     ends, ends_start, fs.free_cols[assumed] if reach is not None else None,
@@ -878,11 +892,13 @@ class Perception:
         sel = fm.cells[i, j] == UNCERTAIN
         fm.cells[i[sel], j[sel]] = UNKNOWN
 
-    def _carve_floor(self, fs, rays, top, left, res: float) -> int:
+    def _carve_floor(self, fs, rays, top, left, res: float, reach=None) -> int:
         """Carve each column's floor in view (:func:`planner.appearance.floor_proof`),
         cut at the floor scan's own bound of that column (its hit, or the end
         of its free sight line: the near end of its neighbours' error bound,
-        or the blank-column reach), never past a cell any look has hit."""
+        or the blank-column reach) and at ``reach`` when given (the column's
+        floor end, :func:`planner.appearance.floor_end`; 0: nothing), never
+        past a cell any look has hit."""
         clip = np.zeros(128)
         for pts, cols in ((fs.hits, fs.hit_cols), (fs.free_ends, fs.free_cols)):
             if cols is None or not len(pts):
@@ -891,6 +907,8 @@ class Perception:
             c = np.asarray(cols, int) - 1
             ok = (c >= 0) & (c < 128)
             np.maximum.at(clip, c[ok], d[ok])
+        if reach is not None:
+            clip = np.minimum(clip, reach)
         proof = floor_proof(rays, top, clip, self.lowest_ft, res)
         if proof is None:
             return 0

@@ -126,7 +126,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vehicle.commands import Forward, Pan, Tilt, Turn, format_commands
+from vehicle.commands import Back, Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
 from .appearance import STAND_INS as STAND_IN_SHARES
@@ -152,7 +152,8 @@ EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
-FLOOR_EYES = ("off", "carve", "add", "bound", "veto")   # planner.appearance in the loop (Perception.update)
+FLOOR_EYES = ("off", "carve", "add", "bound", "bound-add", "veto")   # planner.appearance in the loop (Perception.update)
+LEARN_FLOORS = ("off", "step-back")   # DriveConfig.learn_floor: a first look at the clear spot's floor
 STAND_INS = tuple(STAND_IN_SHARES)    # DriveConfig.stand_in: the bottom rows' greys for the floor's
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
@@ -302,7 +303,12 @@ class DriveConfig:
                                           # blank-column assumption; "add": the floor's
                                           # proof and the assumption (under its own rules)
                                           # both; "veto": "carve" and leave out the located
-                                          # points the floor in view contradicts
+                                          # points the floor in view contradicts; "bound"
+                                          # (the default since 2026-12-02): nothing carved,
+                                          # each assumed line ends where its column's floor
+                                          # in view ends; "bound-add" (measured, not the
+                                          # default): "bound", and the learned floor's proof
+                                          # carved no farther than that end
     expire_uncertain: int = 0             # 0 (off): an uncertain (once-hit) cell stays until
                                           # sight lines clear it; N (a named option, not
                                           # 1985): after N later looks had it in view and
@@ -332,6 +338,14 @@ class DriveConfig:
                                           # "low-all": "low", and a look that located nothing
                                           # frees only the far part of its blank view (as if
                                           # a surface at blank_ft showed to the band's bottom)
+    learn_floor: str = "off"              # (not 1985; a named option, for floor_eyes) "step-back":
+                                          # before the first look the vehicle steps learn_back_ft
+                                          # back inside the clear spot it was set down in (BACK
+                                          # where its profile reverses, else TURN 180, FORWARD,
+                                          # TURN -180), so the first look's bottom rows show floor
+                                          # the clear spot vouches for and the floor's grey is
+                                          # learned from it (Drive.step_back)
+    learn_back_ft: float = 1.25           # (1.0 ft leaves 249 training pixels, 1.25 ft 427)
     stand_in: str = "tenth"               # (not 1985; under floor_eyes="bound") what stands for
                                           # the floor's grey until it is learned: "tenth" (every
                                           # grey with a tenth of the picture's bottom 4 rows) or
@@ -541,7 +555,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
                           ("approach", APPROACHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
-                          ("plan_walls", PLAN_WALLS)):
+                          ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -550,6 +564,15 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.map_extent != "seen" and not cfg.known_walls:
         raise ValueError(f"map_extent {cfg.map_extent!r} needs known_walls: without the floor "
                          "plan the room's walls are not known")
+    if cfg.learn_floor != "off":
+        if cfg.floor_eyes == "off":
+            raise ValueError(f"learn_floor {cfg.learn_floor!r} learns the floor's grey for "
+                             "floor_eyes; with floor_eyes 'off' nothing uses it")
+        reach = cfg.learn_back_ft + cfg.profile.radius_ft
+        if not 0 < cfg.learn_back_ft or reach > cfg.start_clear_ft:
+            raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
+                             f"turn there ({reach:.2f} ft) must stay inside the clear spot "
+                             f"(start_clear_ft {cfg.start_clear_ft:g} ft) and be more than 0")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
@@ -772,7 +795,7 @@ class Drive:
             est_cam = State(est.x, est.z, wrap(est.heading_deg + pan))
             model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, tilt)
             model.blank_ft = head_blank_ft(cfg.blank_ft, prof, pan, tilt,
-                                           bounded=cfg.floor_eyes == "bound")
+                                           bounded=cfg.floor_eyes in ("bound", "bound-add"))
         elif self.assist:                 # the fixed rig's own look, as without a head
             model.near_ft, model.blank_ft = self.fixed_near, self.fixed_blank
         if cfg.known_walls:
@@ -934,7 +957,8 @@ class Drive:
         ok = veh.execute(seg)
         for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
             self.dead_cov = odometry_covariance(self.dead_cov, a, b, *self.odo)
-        corrected = self.walker is not None or (self.walls and self.look_est is not None)
+        # (before the first look, Drive.step_back: the estimate is the dead reckoning)
+        corrected = (self.walker is not None or self.walls) and self.look_est is not None
         if corrected:
             from model.mapping import compose_step
         for d in veh.dead_track[n_before:]:
@@ -944,6 +968,21 @@ class Drive:
         if moved > 0.05:
             self.sweep = 0
         return ok, moved
+
+    def step_back(self) -> tuple[str, bool]:
+        """``learn_floor="step-back"``, before the first look: back
+        ``learn_back_ft`` inside the clear spot the vehicle was set down in
+        (``start_clear_ft`` from anything: the step and a turn there stay in
+        it, :func:`_check_config`).  From there the picture's bottom rows show
+        floor whose whole trace lies in that spot, so the floor's grey is
+        learned at the first look (:func:`planner.appearance.training_mask`:
+        after Ulrich and Nourbakhsh's reference area in front of the robot).
+        A vehicle that does not reverse turns about, drives forward and turns
+        back.  Returns (the commands, no collision)."""
+        d = self.cfg.learn_back_ft
+        seg = [Back(d)] if self.prof.reverse else [Turn(180.0), Forward(d), Turn(-180.0)]
+        ok, _ = self.act(seg, self.veh.dead)
+        return format_commands(seg), ok
 
     def count_progress(self, moved: float, left, fm: FloorMap) -> None:
         """The count toward ``max_stuck``: reset by progress (``cfg.progress``)."""
@@ -1040,6 +1079,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     t_start = time.perf_counter()
     reached, reason = False, ""
     try:
+        if cfg.learn_floor == "step-back" and not drive.step_back()[1]:
+            reason = "stopped: the vehicle hit something (true footprint against the room)"
+            return drive.result(False, reason, time.perf_counter() - t_start)
         for look_no in range(1, cfg.max_looks + 1):
             if drive.at_goal():
                 reached, reason = True, "goal reached"

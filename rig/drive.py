@@ -114,6 +114,9 @@ def cmd_drive(args) -> int:
           f"{start.heading_deg:g} deg, goal ({goal[0]:g}, {goal[1]:g}), unknown space "
           f"{args.unknown}, search {args.search}, eyes {args.eyes}, stereo matcher {args.match}, pose {args.pose}, odometry noise "
           f"{'off' if noise is None else 'on'}")
+    if cfg.learn_floor == "step-back":
+        print(f"before the first look: {cfg.learn_back_ft:g} ft back inside the clear spot, "
+              "to learn the floor's grey (--learn-floor step-back)")
 
     def line(c):
         left = "-" if c.path_left_ft is None else f"{c.path_left_ft:5.1f} ft"
@@ -156,7 +159,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -231,8 +234,10 @@ def add_loop_options(p) -> None:
                         "ends (none where the floor's grey runs to the picture's top or past the "
                         "plan's walls); off: the assumption unbounded, as before; carve: once "
                         "the floor's grey is learned, each column's floor in view carved free in "
-                        "place of the assumption; add: carved beside it; veto: carve, and leave "
-                        "out located points the floor in view contradicts")
+                        "place of the assumption; add: carved beside it; bound-add: bound, and the "
+                        "learned floor's proof carved no farther than where bound ends its "
+                        "column; veto: carve, and leave out located points the floor in view "
+                        "contradicts")
     p.add_argument("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
                    help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
                         "free) after N later looks had it in view and located nothing there "
@@ -308,6 +313,13 @@ def add_loop_options(p) -> None:
                         "rows, 'tenth' (default): each grey with a tenth of them; 'majority' "
                         "(not 1985): only a grey with more than half (none: the look assumes "
                         "nothing), so a box face near the vehicle does not pass for floor")
+    p.add_argument("--learn-floor", choices=LEARN_FLOORS, default=C.learn_floor,
+                   help="with --floor-eyes, where the floor's grey is first learned: 'off' "
+                        "(default): from floor the map shows free, once it shows any; "
+                        "'step-back' (not 1985): before the first look the vehicle steps "
+                        f"{C.learn_back_ft:g} ft back inside the clear spot it was set down in "
+                        "(a vehicle that does not reverse turns about, drives and turns back), "
+                        "so its first look's bottom rows show floor the clear spot vouches for")
     p.add_argument("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
                    help="before a move, find the first never-seen cell on the planned path's "
                         "swept band; while it is still far enough to show, cut the move there, "
@@ -370,7 +382,7 @@ def first_look_note(cycles, slow_s: float = 1.0) -> str:
 def loop_config(args, goal, fail):
     """The :class:`planner.loop.DriveConfig` of :func:`add_loop_options`'s
     arguments; ``fail(message)`` reports a bad value (and does not return)."""
-    from planner.loop import DriveConfig
+    from planner.loop import DriveConfig, _check_config
     from planner.octree import VolumeOfInterest
     from vehicle.profile import DEFAULT
     voi = DriveConfig.voi
@@ -395,7 +407,7 @@ def loop_config(args, goal, fail):
         fail(f"--margin {args.margin!r}: a planning margin in feet, at least 0 and under 10")
     profile = replace(DEFAULT, reverse=args.reverse == "on", head=args.head == "pan-tilt",
                       margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
-    return DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
+    cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                        max_looks=args.max_looks, eyes=args.eyes, match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
@@ -410,6 +422,7 @@ def loop_config(args, goal, fail):
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,
                        sight_lines=args.sight_lines, stand_in=args.stand_in,
+                       learn_floor=args.learn_floor,
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin,
                        sides_apart=tuple(args.sides_apart), head=args.head,
@@ -417,6 +430,11 @@ def loop_config(args, goal, fail):
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
                        map_extent=args.map_extent, plan_walls=args.plan_walls,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
+    try:
+        _check_config(cfg)          # what no one option refuses (learn_floor without floor_eyes)
+    except ValueError as exc:
+        fail(str(exc))
+    return cfg
 
 
 def add_parser(sub) -> None:

@@ -187,6 +187,54 @@ def test_columns_between_and_beside_take_their_bounding_hits_start():
     assert fs.far_start[np.asarray(fs.far_cols) < 50] == pytest.approx(s50)
 
 
+def _floor_picture(face_cols=None):
+    """The left picture of a bare floor (grey 3) out to the wall's foot 8 ft
+    away, the wall (grey 9) above; ``face_cols`` (0-based): columns where a
+    face of the floor's grey goes on up to the picture's top row."""
+    from planner.appearance import floor_rays
+    pic = np.full((120, 128), 9, np.uint8)
+    pic[floor_rays(R, LEFT).dist <= WALL_FT] = 3
+    if face_cols is not None:
+        pic[:, face_cols] = 3
+    return pic
+
+
+@pytest.mark.parametrize("how", ["bound", "bound-add", "carve"])
+def test_the_learned_floor_proves_the_part_a_high_point_does_not(how):
+    """A wall edge 8 ft away located down to 2.5 ft below the camera only (as
+    over a box): under ``low`` its line proves the band from 7.04 ft on
+    (2.2 x 8 / 2.5).  The floor's grey learned, the picture shows the floor
+    out to the wall's foot, which proves its trace from 2.33 ft (the near
+    limit) to a cell short of 8 ft: ``bound-add`` and ``carve`` carve that,
+    ``bound`` does not.  Where a face of the floor's grey runs up to the
+    picture's top (columns 44-84) the column shows no end of the floor:
+    ``bound-add`` proves nothing there, ``carve`` carves the same proof as
+    before, which is the hazard of a face of the floor's grey."""
+    lines = _lines_down_to(2.5)
+    look = _edge(64, lines)
+    start = 2.2 * WALL_FT / _drop(lines[-1])
+    assert 7.0 < start < 7.3
+    along = {}
+    for face in (None, slice(44, 85)):
+        m = _model("low", place="point")
+        m.floor_eyes = how
+        m.floor_hist[3] = 1000.0                 # the floor's grey, as if learned
+        m.update(look, State(0.0, 0.0, 0.0), Pose, PITCH, None, None, _floor_picture(face))
+        along[face is None] = _free_along(m)[1]
+    bare, face = along[True], along[False]
+    assert len(bare) and bare.max() <= WALL_FT
+    if how == "bound":
+        assert bare.min() >= start - 0.3 and face.min() >= start - 0.3
+        return
+    # the floor's proof: from the near limit, 2.2 ft + 1/3 of the bottom row's 3.5 ft
+    assert bare.min() < 2.6
+    assert np.isin(np.round(np.arange(2.6, 7.5, 0.05), 2), np.round(bare, 2)).all()
+    if how == "bound-add":
+        assert not len(face) or face.min() >= start - 0.3
+    else:
+        assert face.min() < 2.6
+
+
 def test_the_default_is_low_and_a_bad_value_is_refused():
     assert DriveConfig((0.0, 0.0)).sight_lines == "low"
     from planner.loop import run

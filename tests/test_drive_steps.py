@@ -17,7 +17,7 @@ from vehicle.sim import State
 @pytest.mark.parametrize("field", [
     "match", "pose", "eyes", "pivot", "look_around", "progress", "uncertain", "track_free",
     "goal_region", "floor_eyes", "blank_carve", "blank_limit", "blank_sides", "sight_lines",
-    "occupied", "hit_at", "feature_pose", "approach", "head", "refute_hits"])
+    "occupied", "hit_at", "feature_pose", "approach", "head", "refute_hits", "learn_floor"])
 def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
     from planner.loop import run
     cfg = DriveConfig(goal=GOAL, **{field: "nonsense"})
@@ -35,6 +35,10 @@ def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
     (dict(expire_uncertain=True), "expire_uncertain must be a whole number"),
     (dict(head="assist", pose="fused"), "head 'assist' with pose 'fused'"),
     (dict(head="pan-tilt", pose="fused"), "head 'pan-tilt' with pose 'fused'"),
+    (dict(learn_floor="step-back", floor_eyes="off"), "with floor_eyes 'off' nothing uses it"),
+    # 2.0 ft back and the turn's 0.64 ft circle there leave the 2.5 ft clear spot
+    (dict(learn_floor="step-back", learn_back_ft=2.0), r"\(2\.64 ft\) must stay inside"),
+    (dict(learn_floor="step-back", learn_back_ft=0.0), "must stay inside"),
 ])
 def test_values_out_of_range_and_the_head_with_the_walk_are_refused(kw, words):
     with pytest.raises(ValueError, match=words):
@@ -78,3 +82,57 @@ def test_progress_under_moved_counts_looks_without_motion():
         assert drive.stuck == n
     drive.count_progress(0.06, None, None)      # more than 0.05 ft: progress
     assert drive.stuck == 0
+
+
+@pytest.mark.parametrize("reverse", [False, True])
+def test_the_step_back_stands_the_vehicle_behind_its_start_and_learns_the_floor(reverse):
+    """``learn_floor="step-back"`` with the noise off: before the first look
+    the vehicle stands exactly 1.25 ft behind its start, heading as it was
+    (a forward-only vehicle by TURN 180, FORWARD 1.25, TURN -180; one that
+    reverses by BACK 1.25), and that one look learns the tiny room's floor
+    grey (6, its floor quad's) from the clear spot's floor; without the step
+    the look shows none of the clear spot and learns nothing."""
+    from dataclasses import replace
+    from planner.loop import run
+    from vehicle.profile import DEFAULT
+    prof = replace(DEFAULT, reverse=reverse)
+    learned = {}
+    for how in ("off", "step-back"):
+        res = run(tiny_room(), State(0.0, 0.0, 0.0),
+                  DriveConfig(goal=GOAL, floor_eyes="bound", learn_floor=how, max_looks=1,
+                              profile=prof))
+        learned[how] = res.floor
+        if how == "step-back":
+            look_pose = res.cycles[0].true
+            assert (look_pose.x, look_pose.z) == pytest.approx((0.0, -1.25), abs=1e-9)
+            assert look_pose.heading_deg == pytest.approx(0.0, abs=1e-9)
+            assert res.collisions == 0
+    assert learned["off"]["floor_greys"] == [] and learned["off"]["floor_samples"] == 0
+    assert learned["step-back"]["floor_greys"] == [6]
+    assert learned["step-back"]["floor_samples"] >= 200
+
+
+def test_the_step_back_is_in_the_commands_of_a_forward_only_vehicle():
+    d = Drive(tiny_room(), State(0.0, 0.0, 0.0),
+              DriveConfig(goal=GOAL, floor_eyes="bound", learn_floor="step-back"), None, False,
+              Perception)
+    cmds, ok = d.step_back()
+    assert ok and cmds == "TURN 180; FORWARD 1.25; TURN -180"
+    assert (d.veh.true.x, d.veh.true.z) == pytest.approx((0.0, -1.25))
+    assert [(s.x, s.z) for s in d.est_track][-1] == pytest.approx((0.0, -1.25))
+    assert d.veh.travelled_ft == pytest.approx(1.25)
+
+
+def test_rig_drive_passes_learn_floor_and_refuses_it_without_floor_eyes(tmp_path, monkeypatch,
+                                                                       capsys):
+    from rig.main import main
+    from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path).learn_floor == "off"
+    assert drive_config(monkeypatch, tmp_path, "--learn-floor", "step-back").learn_floor == \
+        "step-back"
+    with pytest.raises(SystemExit) as exc:
+        main(["drive", "--out", str(tmp_path), "--learn-floor", "step-back",
+              "--floor-eyes", "off"])
+    assert "with floor_eyes 'off' nothing uses it" in str(exc.value.code) + \
+        capsys.readouterr().err
+    assert not (tmp_path / "drive.json").exists()
