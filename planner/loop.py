@@ -344,7 +344,8 @@ class DriveConfig:
                                           # where its profile reverses, else TURN 180, FORWARD,
                                           # TURN -180), so the first look's bottom rows show floor
                                           # the clear spot vouches for and the floor's grey is
-                                          # learned from it (Drive.step_back)
+                                          # learned from it (Drive.step_back); measured,
+                                          # rejected: fewer rooms (docs/planner.md)
     learn_back_ft: float = 1.25           # (1.0 ft leaves 249 training pixels, 1.25 ft 427)
     stand_in: str = "tenth"               # (not 1985; under floor_eyes="bound") what stands for
                                           # the floor's grey until it is learned: "tenth" (every
