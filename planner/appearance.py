@@ -65,6 +65,7 @@ MIN_SHARE = 0.1                            # a grey level is the floor's with th
 # with more than half of them, none when no grey has (room 256: a box face's grey 4
 # held 10-50 % of the bottom rows at look 1 and passed for floor; docs/planner.md)
 STAND_INS = {"tenth": MIN_SHARE, "majority": 0.5 + 1e-9}
+BOUNDING = ("bound", "bound-add")          # the floor_eyes values whose picture bounds the assumption
 
 
 @dataclass

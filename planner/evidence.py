@@ -27,7 +27,7 @@ import numpy as np
 
 from vehicle.sim import State
 from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
-    STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
+    BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
 from .depth_eyes import depth_floor_scan
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
@@ -422,7 +422,7 @@ class Perception:
         if self.refute_hits == "through" and depth is None and len(scan_points):
             self._refute_through(scan_points, R, left, res)
         rays = top = proof_top = None
-        bounded = self.floor_eyes in ("bound", "bound-add")
+        bounded = self.floor_eyes in BOUNDING
         # (depth eyes assume nothing, so "bound" has nothing to bound: no picture work)
         if self.floor_eyes != "off" and picture is not None and \
                 not (bounded and depth is not None):

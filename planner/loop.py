@@ -129,7 +129,7 @@ import numpy as np
 from vehicle.commands import Back, Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
-from .appearance import STAND_INS as STAND_IN_SHARES
+from .appearance import BOUNDING, STAND_INS as STAND_IN_SHARES
 from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
@@ -153,6 +153,7 @@ MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 FLOOR_EYES = ("off", "carve", "add", "bound", "bound-add", "veto")   # planner.appearance in the loop (Perception.update)
+HIT = "stopped: the vehicle hit something (true footprint against the room)"   # run's reason
 LEARN_FLOORS = ("off", "step-back")   # DriveConfig.learn_floor: a first look at the clear spot's floor
 STAND_INS = tuple(STAND_IN_SHARES)    # DriveConfig.stand_in: the bottom rows' greys for the floor's
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
@@ -796,7 +797,7 @@ class Drive:
             est_cam = State(est.x, est.z, wrap(est.heading_deg + pan))
             model.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft, tilt)
             model.blank_ft = head_blank_ft(cfg.blank_ft, prof, pan, tilt,
-                                           bounded=cfg.floor_eyes in ("bound", "bound-add"))
+                                           bounded=cfg.floor_eyes in BOUNDING)
         elif self.assist:                 # the fixed rig's own look, as without a head
             model.near_ft, model.blank_ft = self.fixed_near, self.fixed_blank
         if cfg.known_walls:
@@ -1081,8 +1082,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     reached, reason = False, ""
     try:
         if cfg.learn_floor == "step-back" and not drive.step_back()[1]:
-            reason = "stopped: the vehicle hit something (true footprint against the room)"
-            return drive.result(False, reason, time.perf_counter() - t_start)
+            return drive.result(False, HIT, time.perf_counter() - t_start)
         for look_no in range(1, cfg.max_looks + 1):
             if drive.at_goal():
                 reached, reason = True, "goal reached"
@@ -1092,7 +1092,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             if on_cycle:
                 on_cycle(cyc)
             if not ok:
-                reason = "stopped: the vehicle hit something (true footprint against the room)"
+                reason = HIT
                 break
             if drive.stuck >= cfg.max_stuck:
                 reason = f"stopped after {cfg.max_stuck} looks without progress: " + \
