@@ -297,7 +297,7 @@ class DriveConfig:
                                           # the tolerance disc that is nearest the goal
                                           # (goal_target); the loop's success test is the
                                           # disc either way
-    floor_eyes: str = "bound"             # what the picture shows of the floor (planner.appearance)
+    floor_eyes: str = "bound-add"         # what the picture shows of the floor (planner.appearance)
                                           # (planner.appearance, not 1985): "off"; "carve":
                                           # once the floor's grey is learned, each column's
                                           # floor in view carved as a proof in place of the
@@ -305,11 +305,11 @@ class DriveConfig:
                                           # proof and the assumption (under its own rules)
                                           # both; "veto": "carve" and leave out the located
                                           # points the floor in view contradicts; "bound"
-                                          # (the default since 2026-12-02): nothing carved,
+                                          # (the default 2026-12-02 to 12-03): nothing carved,
                                           # each assumed line ends where its column's floor
-                                          # in view ends; "bound-add" (measured, not the
-                                          # default): "bound", and the learned floor's proof
-                                          # carved no farther than that end
+                                          # in view ends; "bound-add" (the default since
+                                          # 2026-12-03): "bound", and the learned floor's
+                                          # proof carved no farther than that end
     expire_uncertain: int = 0             # 0 (off): an uncertain (once-hit) cell stays until
                                           # sight lines clear it; N (a named option, not
                                           # 1985): after N later looks had it in view and

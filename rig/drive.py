@@ -229,15 +229,15 @@ def add_loop_options(p) -> None:
                         "standable cell nearest it inside the goal tolerance (0.75 ft)")
     p.add_argument("--floor-eyes", choices=FLOOR_EYES, default=C.floor_eyes,
                    help="what the picture shows of the floor (not 1985; planner.appearance): "
-                        "bound (default since 2026-12-02): nothing carved, each line the "
+                        "bound-add (default since 2026-12-03): bound, and once the floor's grey "
+                        "is learned its proof carved, no farther than where bound ends its "
+                        "column; bound (the default 2026-12-02): nothing carved, each line the "
                         "blank-column assumption carves ends where its column's floor in view "
                         "ends (none where the floor's grey runs to the picture's top or past the "
                         "plan's walls); off: the assumption unbounded, as before; carve: once "
                         "the floor's grey is learned, each column's floor in view carved free in "
-                        "place of the assumption; add: carved beside it; bound-add: bound, and the "
-                        "learned floor's proof carved no farther than where bound ends its "
-                        "column; veto: carve, and leave out located points the floor in view "
-                        "contradicts")
+                        "place of the assumption; add: carved beside it; veto: carve, and leave "
+                        "out located points the floor in view contradicts")
     p.add_argument("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
                    help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
                         "free) after N later looks had it in view and located nothing there "

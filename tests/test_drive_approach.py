@@ -168,15 +168,18 @@ def test_a_goal_more_than_a_step_beyond_the_disc_is_not_approached():
 
 
 def test_the_bundled_lab_on_oracle_edges_is_reached_with_the_disc_move():
-    # rig drive --eyes truth --approach path: the drive ends 0.87 ft from the goal,
-    # turning in place (docs/planner.md, "The last foot"); with the disc move it is reached
+    # rig drive --eyes truth --approach path --floor-eyes bound: the drive ends 0.87 ft
+    # from the goal, turning in place (docs/planner.md, "The last foot"); with the disc move
+    # it is reached.  (Under bound-add, the default since 2026-12-03, the floor in view
+    # shows the last foot and the path reaches it without the disc move.)
     from rig.drive import DEFAULT_LAB_GOAL
     from world.odometry import OdometryNoise
     from world.room import bundled_lab
     room = bundled_lab()
     s = room.start
     res = run(room, State(s.x, s.z, s.heading_deg),
-              DriveConfig(goal=DEFAULT_LAB_GOAL, eyes="truth", approach="disc"),
+              DriveConfig(goal=DEFAULT_LAB_GOAL, eyes="truth", approach="disc",
+                          floor_eyes="bound"),
               noise=OdometryNoise(seed=1985), keep_maps=False)
     assert res.reached, res.reason
     assert res.collisions == 0

@@ -188,10 +188,9 @@ def test_floor_eyes_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="floor_eyes"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, floor_eyes="on"))
     assert drive_config(monkeypatch, tmp_path, "--floor-eyes", "veto").floor_eyes == "veto"
-    assert drive_config(monkeypatch, tmp_path).floor_eyes == "bound"     # since 2026-12-02
+    assert drive_config(monkeypatch, tmp_path).floor_eyes == "bound-add"   # since 2026-12-03
     assert drive_config(monkeypatch, tmp_path, "--floor-eyes", "off").floor_eyes == "off"
-    assert drive_config(monkeypatch, tmp_path, "--floor-eyes", "bound-add").floor_eyes == \
-        "bound-add"
+    assert drive_config(monkeypatch, tmp_path, "--floor-eyes", "bound").floor_eyes == "bound"
 
 
 def test_add_carves_both_the_floor_in_view_and_the_assumption():
