@@ -213,11 +213,14 @@ class DriveConfig:
     carve: str = "error"                  # perception.floor_scan's carve: "error": to the
                                           # near end of an edge's bound; "range": to its range
                                           # (0.2-0.45 ft into a face in room 40)
-    blank_px: int | None = 16             # the blank-column assumption only this many picture
+    blank_px: int | None = None           # the blank-column assumption only this many picture
                                           # columns beside a located one (floor_scan's
-                                          # blank_px: half max_gap_px, as between two edges);
-                                          # None: the whole blank run (a box whose edges no
-                                          # look located was carved: collision in room 45)
+                                          # blank_px: half max_gap_px, as between two edges;
+                                          # 16 from 2026-12-01 14:55, after room 45's
+                                          # collision); None (the default since 2026-12-03,
+                                          # under floor_eyes "bound-add", each assumed line
+                                          # ended where its column's floor ends): the whole
+                                          # blank run
     blank_limit: str = "all"              # where blank_px applies (floor_scan's blank_limit):
                                           # "all": beside the outermost edges and inside wide
                                           # gaps; "sides": only beside the outermost edges

@@ -273,7 +273,9 @@ def add_loop_options(p) -> None:
     p.add_argument("--blank-px", type=int, default=C.blank_px if C.blank_px is not None else -1,
                    metavar="N",
                    help="that assumption carves only picture columns at most N columns beside a "
-                        "located one (default 16; -1: the whole blank run, collides in room 45)")
+                        "located one (-1, the default since 2026-12-03: the whole blank run, "
+                        "its lines ended by the floor in view; 16 before, since room 45's "
+                        "collision under the rules of 2026-12-01)")
     p.add_argument("--blank-limit", choices=BLANK_LIMITS, default=C.blank_limit,
                    help="where --blank-px applies: 'all' (default): beside the outermost located "
                         "columns and inside wide gaps between two; 'sides': only beside the "
@@ -282,7 +284,8 @@ def add_loop_options(p) -> None:
                    help="the side columns --blank-px cuts off (beside the outermost located "
                         "one, out to the picture's edge): 'two-looks' (default): a cell carved "
                         "once two looks --sides-apart apart both had it in such a blank "
-                        "column; 'cut': never carved")
+                        "column; 'cut': never carved (with --blank-px -1, the default, no "
+                        "column is cut off and this does nothing)")
     p.add_argument("--sides-apart", type=float, nargs=2, default=C.sides_apart,
                    metavar=("FT", "DEG"),
                    help="for --blank-sides two-looks: the two looks at least FT apart or "

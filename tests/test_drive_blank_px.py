@@ -133,8 +133,9 @@ def test_blank_px_reaches_the_config_and_a_bad_value_is_refused():
     import argparse
     ap = argparse.ArgumentParser()
     add_loop_options(ap)
-    assert DriveConfig.blank_px == 16        # the default since room 45 (seeds 41-60)
-    assert loop_config(ap.parse_args([]), (0.0, 0.0), ap.error).blank_px == 16
+    assert DriveConfig.blank_px is None      # since 2026-12-03 (16 from room 45 to then)
+    assert loop_config(ap.parse_args([]), (0.0, 0.0), ap.error).blank_px is None
+    assert loop_config(ap.parse_args(["--blank-px", "16"]), (0.0, 0.0), ap.error).blank_px == 16
     assert loop_config(ap.parse_args(["--blank-px", "32"]), (0.0, 0.0), ap.error).blank_px == 32
     assert loop_config(ap.parse_args(["--blank-px", "-1"]), (0.0, 0.0), ap.error).blank_px is None
     with pytest.raises(ValueError, match="blank_px"):
