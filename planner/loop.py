@@ -351,7 +351,7 @@ class DriveConfig:
                                           # learned from it (Drive.step_back); measured,
                                           # rejected: fewer rooms (docs/planner.md)
     learn_back_ft: float = 1.25           # (1.0 ft leaves 249 training pixels, 1.25 ft 427)
-    stand_in: str = "tenth"               # (not 1985; under floor_eyes="bound") what stands for
+    stand_in: str = "tenth"               # (not 1985; under floor_eyes in BOUNDING) what stands for
                                           # the floor's grey until it is learned: "tenth" (every
                                           # grey with a tenth of the picture's bottom 4 rows) or
                                           # "majority" (only a grey with more than half; none:

@@ -311,9 +311,10 @@ def add_loop_options(p) -> None:
                         "and a look that located nothing frees only the far part of its "
                         "blank view (from 0.8 of --blank-ft)")
     p.add_argument("--stand-in", choices=STAND_INS, default=C.stand_in,
-                   help="under --floor-eyes bound, what stands for the floor's grey until the "
-                        "map has shown enough floor free: the greys of the picture's bottom 4 "
-                        "rows, 'tenth' (default): each grey with a tenth of them; 'majority' "
+                   help="under --floor-eyes bound or bound-add, what stands for the floor's "
+                        "grey until the map has shown enough floor free: the greys of the "
+                        "picture's bottom 4 rows, 'tenth' (default): each grey with a tenth "
+                        "of them; 'majority' "
                         "(not 1985): only a grey with more than half (none: the look assumes "
                         "nothing), so a box face near the vehicle does not pass for floor")
     p.add_argument("--learn-floor", choices=LEARN_FLOORS, default=C.learn_floor,
