@@ -261,7 +261,9 @@ class DriveConfig:
                                           # path, then turn +35 / -70 deg in place;
                                           # "evidence" (measured, not adopted): look at
                                           # where the path lacks it, from where it shows
-                                          # (fetch_evidence)
+                                          # (fetch_evidence; since bound-add it nearly
+                                          # doubles success, but its longer drives let
+                                          # the heading drift collide on new seeds)
     track_free: str = "poses"             # free where the vehicle stood: "poses": its
                                           # footprint at each pose; "swept" (a named
                                           # option): every pose between as well, shrunk
