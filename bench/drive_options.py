@@ -120,19 +120,23 @@ def main(argv=None) -> int:
     print(f"{len(runs)} runs of {args.rooms} rooms, {args.jobs} at a time, into {directory}",
           flush=True)
     results = {}
+    pool = ThreadPoolExecutor(args.jobs)
     try:
-        with ThreadPoolExecutor(args.jobs) as pool:
-            futures = {flags: pool.submit(run_one, flags, common, directory) for flags in runs}
-            for n, (flags, fut) in enumerate(futures.items(), 1):
-                results[flags] = json.loads(fut.result().read_text())
-                print(f"[{n}/{len(runs)}] {flags or '(defaults)'} done, "
-                      f"{time.time() - t0:.0f} s", flush=True)
+        futures = {flags: pool.submit(run_one, flags, common, directory) for flags in runs}
+        for n, (flags, fut) in enumerate(futures.items(), 1):
+            results[flags] = json.loads(fut.result().read_text())
+            print(f"[{n}/{len(runs)}] {flags or '(defaults)'} done, "
+                  f"{time.time() - t0:.0f} s", flush=True)
     except KeyboardInterrupt:
+        # the runs under way had the Ctrl-C too; none queued may start after it
+        pool.shutdown(cancel_futures=True)
         print("stopped; the runs finished so far are kept in", directory, file=sys.stderr)
         return 130
     except RuntimeError as e:
+        pool.shutdown(cancel_futures=True)
         print(f"drive_options: {e}", file=sys.stderr)
         return 1
+    pool.shutdown()
 
     base = results[""]
     rows = [row_of(flags, results[flags], None if flags == "" else base) for flags in runs]

@@ -77,3 +77,13 @@ def test_the_script_runs_the_defaults_and_an_option_and_keeps_each_run(tmp_path,
     assert drive_options.main(argv) == 0
     assert not (kept / "defaults.log").exists()
     assert "goal-region disc" in capsys.readouterr().out
+
+
+@pytest.mark.processes
+def test_a_run_that_fails_is_one_clear_error_naming_its_log(tmp_path, capsys):
+    argv = ["--rooms", "1", "--first", "22", "--eyes", "truth", "--option", "--no-such-flag 3",
+            "--dir", str(tmp_path / "runs")]
+    assert drive_options.main(argv) == 1
+    err = capsys.readouterr().err
+    assert "--no-such-flag" in err and "no_such_flag_3.log" in err
+    assert not (tmp_path / "runs" / "truth_22_22" / "no_such_flag_3.json").exists()
