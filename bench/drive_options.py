@@ -13,8 +13,8 @@ box cells its final maps show free.
     python bench/drive_options.py --rooms 100 --eyes truth         # every option with oracle edges
 
 Each run's JSON is kept in ``--dir`` (one file per option, the name its flags), so
-a run cut short by Ctrl-C picks up where it stopped; ``--out`` writes the table
-as JSON.  Numbers go into docs/planner.md with the command that made them.
+a run cut short by Ctrl-C picks up where it stopped (a kept run is reused as it is:
+after a change to the code, give a fresh ``--dir``); ``--out`` writes the table as JSON.  Numbers go into docs/planner.md with the command that made them.
 """
 
 from __future__ import annotations
