@@ -105,7 +105,8 @@ def main(argv=None) -> int:
                          "(repeatable; without it the built-in list of rejected options)")
     ap.add_argument("--jobs", type=int, default=2, help="runs at a time (default 2)")
     ap.add_argument("--dir", default="out/drive-options",
-                    help="where each run's JSON and log are kept (default out/drive-options)")
+                    help="where each run's JSON and log are kept, and reused by a later call "
+                         "(default out/drive-options; give a fresh one after a code change)")
     ap.add_argument("--out", help="write the table as JSON")
     args = ap.parse_args(argv)
     if args.rooms < 1 or args.first < 1 or args.jobs < 1:
