@@ -52,6 +52,8 @@ OPTIONS = [
     "--sight-lines band",
     "--blank-carve always",
     "--learn-floor step-back",
+    "--free-drift erode",
+    "--look-around evidence --free-drift erode",
 ]
 
 HERE = Path(__file__).resolve().parent

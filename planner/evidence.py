@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from contextlib import contextmanager
+from dataclasses import replace
 
 import numpy as np
 
@@ -29,6 +30,7 @@ from vehicle.sim import State
 from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
     BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
 from .depth_eyes import depth_floor_scan
+from .drift import LookFree, Odometry
 from .features import FloorFeatures, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
 from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
@@ -326,6 +328,10 @@ class Perception:
         self.hi = None
         self.pending = []
         self.provenance = None            # a FreeProvenance: which carving freed each cell
+        self.look_free = None             # DriveConfig.free_drift="erode": a list of each
+                                          # look's free floor columns (planner.drift.LookFree)
+        self.odometry = None              # its planner.drift.Odometry totals (the loop's)
+        self._freed: list = []            # the packed keys this look marked free
         self.assume_within = None         # (x0, x1, z0, z1): the assumed floor stops there
         self.floor_within = None          # (x0, x1, z0, z1): floor in view ends inside (bound)
                                           # (the loop: the plan's walls less wall_growth)
@@ -343,7 +349,7 @@ class Perception:
         name, or a function of the packed keys returning ``(keys, name)``
         pairs); the updates themselves are unchanged."""
         prov, tree = self.provenance, self.tree
-        if prov is None:
+        if prov is None and self.look_free is None:
             yield
             return
 
@@ -351,8 +357,11 @@ class Perception:
             out = type(tree).updateNodes(tree, values, update, lazy_eval)
             if not update and values is not None and len(values):
                 keys = pack(tree.key_of(values))
-                for ks, name in (tag(keys) if callable(tag) else [(keys, tag)]):
-                    prov.add(ks, name, self.look_no)
+                if self.look_free is not None:
+                    self._freed.append(keys)
+                if prov is not None:
+                    for ks, name in (tag(keys) if callable(tag) else [(keys, tag)]):
+                        prov.add(ks, name, self.look_no)
             return out
         tree.updateNodes = record
         try:
@@ -415,6 +424,7 @@ class Perception:
         the rest of the update is the same."""
         self.look_no += 1
         self._look_keys = np.zeros(0, np.int64)   # this look's grown hit cells
+        self._freed = []
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
         left = pose.camera_centre("left")
@@ -548,7 +558,21 @@ class Perception:
             self.expire_in_view(fs, R, left, np.zeros(0, np.int64))   # it located nothing
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
+        if self.look_free is not None:
+            self._keep_look_free(left, res)
         return len(fs.hits)
+
+    def _keep_look_free(self, left, res: float) -> None:
+        """This look's free cells of the floor slab, as floor columns, into
+        :attr:`look_free` with the odometry's totals now (``free_drift``)."""
+        keys = unpack(np.unique(np.concatenate(self._freed))) if self._freed else \
+            np.zeros((0, 3), np.int64)
+        y = (keys[:, 1] + 0.5) * res
+        slab = (y + res / 2 > self.band[0]) & (y - res / 2 < self.band[1])
+        cols = np.unique(keys[slab][:, [0, 2]], axis=0) if slab.any() else np.zeros((0, 2), int)
+        self.look_free.append(LookFree((float(left[0]), float(left[2])), cols,
+                                       replace(self.odometry) if self.odometry is not None
+                                       else Odometry()))
 
     def _mark_low_rays(self, left, ends, starts, res: float, short=None) -> int:
         """:func:`~planner.octree.mark_free_rays` from ``near_ft`` on, each

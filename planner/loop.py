@@ -131,6 +131,7 @@ from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
 from .appearance import BOUNDING, STAND_INS as STAND_IN_SHARES
 from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
+from .drift import Odometry, erode_by_drift
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map
 from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
@@ -162,6 +163,7 @@ APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
+FREE_DRIFTS = ("off", "erode")   # DriveConfig.free_drift: an older look's free space by the drift since
 
 
 @dataclass
@@ -387,6 +389,12 @@ class DriveConfig:
                                           # (evidence.wall_growth), as the assumption stops
                                           # short of them: the map is placed by the estimate
                                           # (room 471: 0.8 ft of drift, driven into the wall)
+    free_drift: str = "off"               # an older look's free space on the map: "off" (as
+                                          # proved) or "erode" (not 1985; named): shrunk by
+                                          # 2 sigma of the odometry's drift since that look
+                                          # (planner.drift; rooms 219, 298, 640, 471)
+    drift_sigmas: float = 2.0             # under "erode": the standard deviations of the
+                                          # drift a free edge beside a hit gives up
     map_extent: str = "seen"              # what the floor map (the search's space) covers:
                                           # "seen": every hit so far, the estimate and the
                                           # goal, 2 ft round (its border blocks the search);
@@ -562,7 +570,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
                           ("approach", APPROACHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
-                          ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS)):
+                          ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
+                          ("free_drift", FREE_DRIFTS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -580,6 +589,9 @@ def _check_config(cfg: DriveConfig) -> None:
             raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
                              f"turn there ({reach:.2f} ft) must stay inside the clear spot "
                              f"(start_clear_ft {cfg.start_clear_ft:g} ft) and be more than 0")
+    if not (isinstance(cfg.drift_sigmas, (int, float)) and 0 < cfg.drift_sigmas < 10):
+        raise ValueError(f"drift_sigmas must be a number of standard deviations above 0 and "
+                         f"under 10, not {cfg.drift_sigmas!r}")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
@@ -631,6 +643,8 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     if cfg.head == "assist" and cfg.assist_pivot_ft is not None:   # a pivot's cells proven,
         model.pivot_proof = cfg.assist_pivot_ft                      # not assumed (room 45)
         model.provenance = model.provenance or FreeProvenance()
+    if cfg.free_drift == "erode":
+        model.look_free, model.odometry = [], Odometry()
     return model
 
 
@@ -826,6 +840,9 @@ class Drive:
         track free and the plan's walls."""
         cfg, prof = self.cfg, self.prof
         fm = self.model.floor_map(map_around(est, self.goal, self.room.bounds, extent))
+        if cfg.free_drift == "erode":
+            erode_by_drift(fm, cfg.voi.resolution, self.model.look_free, self.model.odometry,
+                           (est.x, est.z), self.odo[1], cfg.drift_sigmas)
         mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
                         prof.margin_ft if cfg.track_free == "swept" else None)
         if cfg.known_walls:
@@ -964,6 +981,8 @@ class Drive:
         ok = veh.execute(seg)
         for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
             self.dead_cov = odometry_covariance(self.dead_cov, a, b, *self.odo)
+            if self.model.odometry is not None and a != b:     # (a command that moved)
+                self.model.odometry.report(math.hypot(b.x - a.x, b.z - a.z), self.odo[0])
         # (before the first look, Drive.step_back: the estimate is the dead reckoning)
         corrected = (self.walker is not None or self.walls) and self.look_est is not None
         if corrected:

@@ -159,7 +159,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -367,6 +367,13 @@ def add_loop_options(p) -> None:
                         "the plan has them; 'grown' (not 1985): two standard deviations of the "
                         "estimate's position nearer, since the map is placed by the estimate "
                         "and the plan by the room's truth")
+    p.add_argument("--free-drift", choices=FREE_DRIFTS, default=C.free_drift,
+                   help="an older look's free space on the map: 'off' (default): as that look "
+                        "proved it; 'erode' (not 1985): its edges shrunk by two standard "
+                        "deviations of the odometry's drift since that look")
+    p.add_argument("--drift-sigmas", type=float, default=C.drift_sigmas, metavar="S",
+                   help="under --free-drift erode: how many standard deviations of the drift "
+                        "an older look's free edge beside a hit gives up (default 2)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -433,6 +440,7 @@ def loop_config(args, goal, fail):
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
                        map_extent=args.map_extent, plan_walls=args.plan_walls,
+                       free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:
         _check_config(cfg)          # what no one option refuses (learn_floor without floor_eyes)

@@ -1,0 +1,171 @@
+"""An older look's free space shrunk by the odometry's drift since that look
+(``planner.drift``, ``DriveConfig.free_drift="erode"``, a named option).  Hand-made
+looks and maps; every margin derived by hand from the noise model of
+``world.odometry`` (1 deg per command, 2 % of the distance)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from planner.drift import LookFree, Odometry, drift_ft, erode_by_drift
+from planner.floormap import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, FloorMap
+from planner.loop import Drive, DriveConfig, _check_config
+from planner.evidence import Perception
+from planner.tiny import GOAL, tiny_room
+from vehicle.commands import Forward, Turn
+from vehicle.sim import State
+from world.odometry import OdometryNoise
+
+RES = 0.25
+FAR = (100.0, 100.0)                    # the vehicle now, far from every cell
+
+
+def test_drift_by_hand():
+    then = Odometry()
+    now = Odometry(commands=4, path_ft=2.0, distance_var=0.01)
+    # 2 sigma of sqrt(4 (1 deg)^2 (3 + 2)^2 + 0.01)
+    want = 2 * math.sqrt(4 * math.radians(1.0) ** 2 * 25 + 0.01)
+    assert drift_ft(3.0, then, now, 1.0) == pytest.approx(want)
+    assert drift_ft(3.0, now, now, 1.0) == 0.0           # the last look: nothing since
+    assert drift_ft(3.0, then, now, 0.0) == pytest.approx(2 * 0.1)   # no heading noise
+    assert drift_ft([0.0, 3.0], then, now, 1.0, sigmas=1.0)[1] == pytest.approx(want / 2)
+
+
+def test_report_counts_commands_and_their_distance_variance():
+    o = Odometry()
+    o.report(1.5, 0.02)
+    o.report(0.0, 0.02)                                   # a turn in place
+    assert (o.commands, o.path_ft) == (2, 1.5)
+    assert o.distance_var == pytest.approx((0.02 * 1.5) ** 2)
+
+
+def _map(ring=OCCUPIED, n=20):
+    """A 20 x 20 map of 0.25 ft cells from (0, 0), UNKNOWN but for the FREE block of
+    rows and columns 2..11 (x, z 0.5..3.0 ft), the ring of cells round it in the
+    state ``ring`` (hit cells: the block's edge is 0.5 and 3.0 ft), and the one FREE
+    cell (15, 15)."""
+    cells = np.full((n, n), UNKNOWN, np.uint8)
+    cells[1:13, 1:13] = ring
+    cells[2:12, 2:12] = FREE
+    cells[15, 15] = FREE
+    return FloorMap(cells, 0.0, 0.0, RES)
+
+
+def _columns(i0, i1, j0, j1):
+    """The (kx, kz) keys of rows i0..i1-1, columns j0..j1-1 of :func:`_map`."""
+    i, j = np.mgrid[i0:i1, j0:j1]
+    return np.stack([j.ravel(), i.ravel()], 1)
+
+
+def test_a_look_without_drift_since_keeps_all_it_freed():
+    fm = _map()
+    before = fm.cells.copy()
+    look = LookFree((0.0, 0.0), _columns(2, 12, 2, 12), Odometry())
+    assert erode_by_drift(fm, RES, [look], Odometry(), FAR, 1.0) == 0
+    assert (fm.cells == before).all()
+
+
+def test_an_older_look_gives_up_its_edge_by_its_drift():
+    """The look freed the block from a camera at (1.75, 1.75), its centre; since then
+    10 commands and no distance: the margin at r ft is 2 sqrt(10) (1 deg) r = 0.110 r
+    ft.  A cell stays where its centre is at least the margin inside the free space's
+    edge beside the hit cells."""
+    fm = _map()
+    look = LookFree((1.75, 1.75), _columns(2, 12, 2, 12), Odometry())
+    lost = erode_by_drift(fm, RES, [look], Odometry(commands=10), FAR, 1.0)
+    k = 2 * math.sqrt(10) * math.radians(1.0)
+    inside = np.zeros(fm.shape, bool)
+    inside[2:12, 2:12] = True
+    kept = np.zeros(fm.shape, bool)
+    for i in range(2, 12):
+        for j in range(2, 12):
+            x, z = (j + 0.5) * RES, (i + 0.5) * RES
+            to_edge = min(x - 0.5, 3.0 - x, z - 0.5, 3.0 - z)
+            kept[i, j] = to_edge >= k * math.hypot(x - 1.75, z - 1.75)
+    assert kept.sum() < inside.sum() and kept[6, 6]       # the middle stays, edges go
+    assert lost == int((inside & ~kept).sum())
+    assert ((fm.cells == UNKNOWN) & inside == inside & ~kept).all()
+    # cells no look freed are left as they are (the track, the start spot are drawn after)
+    assert (fm.cells[1, 1:13] == OCCUPIED).all() and fm.cells[15, 15] == FREE
+
+
+def test_the_newest_look_that_freed_a_cell_sets_its_margin():
+    fm = _map()
+    old = LookFree((1.75, 1.75), _columns(2, 12, 2, 12), Odometry())
+    new = LookFree((1.75, 1.75), _columns(2, 4, 2, 12), Odometry(commands=10))
+    erode_by_drift(fm, RES, [old, new], Odometry(commands=10), FAR, 1.0)
+    assert (fm.cells[2:4, 2:12] == FREE).all()            # the newer look's, kept whole
+    assert (fm.cells[11, [2, 11]] == UNKNOWN).all()        # the older look's far corners
+
+
+def test_a_cell_beside_the_vehicle_after_a_turn_in_place_moves_by_little():
+    """Turned in place since the look (40 commands, no distance), a cell 2 ft from the
+    look's camera but beside the vehicle now gives up the drift at its distance to the
+    vehicle: the vehicle at (1.75, 0.625), in front of the block's near edge row 2."""
+    fm = _map()
+    look = LookFree((1.75, 4.0), _columns(2, 12, 2, 12), Odometry())
+    erode_by_drift(fm, RES, [look], Odometry(commands=40), (1.75, 0.625), 1.0)
+    k = 2 * math.sqrt(40) * math.radians(1.0)
+    # row 3 (z 0.875, 0.375 ft inside the edge), column 7 (x 1.875): 0.27 ft from the
+    # vehicle, 3.1 ft from the camera
+    assert 0.375 >= k * math.hypot(0.125, 0.25) and 0.375 < k * math.hypot(0.125, 3.125)
+    assert fm.cells[3, 7] == FREE
+    fm = _map()
+    erode_by_drift(fm, RES, [look], Odometry(commands=40), FAR, 1.0)
+    assert fm.cells[3, 7] == UNKNOWN                       # from far, it gives way
+
+
+def test_only_an_edge_beside_a_hit_gives_way():
+    """Misplaced free space matters where it reaches into something: an edge beside
+    UNKNOWN space stays (eroding there too stopped the vehicle in the tiny room's
+    third look), an edge beside an UNCERTAIN cell (hit once) gives way as beside an
+    OCCUPIED one."""
+    look = LookFree((1.75, 1.75), _columns(2, 12, 2, 12), Odometry())
+    fm = _map(ring=UNKNOWN)
+    assert erode_by_drift(fm, RES, [look], Odometry(commands=10), FAR, 1.0) == 0
+    lost = {}
+    for ring in (OCCUPIED, UNCERTAIN):
+        fm = _map(ring=ring)
+        lost[ring] = erode_by_drift(fm, RES, [look], Odometry(commands=10), FAR, 1.0)
+    assert lost[OCCUPIED] == lost[UNCERTAIN] > 0
+
+
+def test_the_option_is_checked_and_records_each_look():
+    with pytest.raises(ValueError, match="free_drift"):
+        _check_config(DriveConfig(goal=GOAL, free_drift="shrink"))
+    d = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, free_drift="erode"),
+              OdometryNoise(seed=1), False, Perception)
+    assert d.model.look_free == [] and d.model.odometry == Odometry()
+    ok, _ = d.act([Turn(10.0), Forward(1.0)], d.veh.dead)
+    assert ok
+    o = d.model.odometry
+    assert o.commands == 2
+    # the dead-reckoned distance, 1 ft give or take the 2 % noise
+    assert o.path_ft == pytest.approx(1.0, abs=0.1)
+    assert o.distance_var == pytest.approx((0.02 * o.path_ft) ** 2)
+    # off: nothing recorded
+    off = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL), OdometryNoise(seed=1),
+                False, Perception)
+    assert off.model.look_free is None and off.model.odometry is None
+
+
+def test_closed_loop_reaches_the_tiny_room_goal_with_the_erosion():
+    """The loop still drives on what the newest looks prove (the tiny room's straight
+    way, oracle edges as in tests/test_drive.py), and each look was recorded."""
+    from planner.loop import run
+    made = []
+
+    def factory(*a):
+        made.append(Perception(*a))
+        return made[-1]
+    res = run(tiny_room(), State(0.0, 0.0, 0.0),
+              DriveConfig(goal=GOAL, eyes="truth", sight_lines="band", free_drift="erode"),
+              noise=OdometryNoise(seed=1), perception_factory=factory)
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    model = made[0]
+    assert len(model.look_free) == model.look_no == res.looks
+    assert all(len(lf.columns) for lf in model.look_free)
+    commands = [lf.odometry.commands for lf in model.look_free]
+    assert commands == sorted(commands) and commands[-1] > 0
