@@ -30,6 +30,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --eyes depth --map-extent walls   # plan to the walls, not only the seen extent
     python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
     python bench/drive.py --rooms 100 --losses --sight-lines band --stand-in majority  # before the floor's grey is learned, only a majority grey stands in
+    python bench/drive.py --rooms 100 --losses --look-around evidence --free-drift erode  # fetch evidence; an older look's free edge gives up its drift
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features

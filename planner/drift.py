@@ -9,8 +9,9 @@ command that moved, a distance error of ``distance_fraction`` of its length), so
 an edge of free space an old look proved beside a box may lie, seen from the
 vehicle now, inside that box.  That is how four of the six collisions traced on
 seeds 1-700 came about (rooms 219, 298 and 640 under ``--look-around evidence``,
-471 under the defaults: each look's own proof lies on the floor in that look's
-frame, its cells lie inside a box in the frame of now; docs/planner.md, "Free
+471 under the defaults: each look's free cells lie on the floor in the frame of
+that look's own true pose, inside a box only in the frame of the estimate; in
+177 and 659 the floor's proof itself reaches into a box; docs/planner.md, "Free
 space trusted by the drift since its look").
 
 The erosion: each FREE cell of the map that a look freed (a floor-slab cell it
