@@ -29,7 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 # Named options, each off by default, that were measured and not adopted under
-# some earlier day's defaults (docs/planner.md says where and why).
+# the defaults of their day (docs/planner.md says where and why).
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",

@@ -134,6 +134,9 @@ def test_only_an_edge_beside_a_hit_gives_way():
 def test_the_option_is_checked_and_records_each_look():
     with pytest.raises(ValueError, match="free_drift"):
         _check_config(DriveConfig(goal=GOAL, free_drift="shrink"))
+    for bad in (0, -1.0, 10, float("nan"), "2"):
+        with pytest.raises(ValueError, match="drift_sigmas"):
+            _check_config(DriveConfig(goal=GOAL, drift_sigmas=bad))
     d = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, free_drift="erode"),
               OdometryNoise(seed=1), False, Perception)
     assert d.model.look_free == [] and d.model.odometry == Odometry()
