@@ -43,6 +43,9 @@ the last two (``floor_cells``, ``vetoed_points``).
 ``--expire-uncertain N`` adds per room, and sums in the summary, ``expired_uncertain``: the
 uncertain cells that expired to unknown after N looks had them in view with no hit.
 
+``--free-drift erode`` adds per room, and sums in the summary, ``drift_eroded``: the FREE
+cells the final map gave up to the odometry's drift since the looks that freed them.
+
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
 obstacle cells it shows free, and the passable cells each kind costs.  It
@@ -280,6 +283,8 @@ def main(argv=None) -> int:
             row["expired_uncertain"] = res.expired_uncertain
         if res.wall_fixes is not None:
             row["wall_fixes"] = res.wall_fixes
+        if res.drift_eroded is not None:
+            row["drift_eroded"] = res.drift_eroded
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
             row["free_obstacle_cells"] = free_obstacle_report(room, res, model, cfg)
@@ -361,6 +366,8 @@ def main(argv=None) -> int:
         summary["floor_cells"] = sum(r.get("floor_cells", 0) for r in rows)
     if any("expired_uncertain" in r for r in rows):
         summary["expired_uncertain"] = sum(r.get("expired_uncertain", 0) for r in rows)
+    if any("drift_eroded" in r for r in rows):
+        summary["drift_eroded"] = sum(r.get("drift_eroded", 0) for r in rows)
     if any("wall_fixes" in r for r in rows):
         # --pose walls: the looks fixed against the plan's walls, of all looks
         summary["wall_fixes"] = sum(r.get("wall_fixes", 0) for r in rows)

@@ -461,6 +461,8 @@ class DriveResult:
     floor: dict = field(default_factory=dict)  # under floor_eyes: what the floor in view did
     expired_uncertain: int | None = None       # under expire_uncertain: the cells expired
     wall_fixes: int | None = None              # under pose="walls": the looks that gave a fix
+    drift_eroded: int | None = None            # under free_drift="erode": the FREE cells the
+                                               # last map gave up to the drift
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -503,6 +505,7 @@ class DriveResult:
             **({"expired_uncertain": self.expired_uncertain}
                if self.expired_uncertain is not None else {}),
             **({"wall_fixes": self.wall_fixes} if self.wall_fixes is not None else {}),
+            **({"drift_eroded": self.drift_eroded} if self.drift_eroded is not None else {}),
             "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
             "dead_reckoning_error_ft_final":
                 round(float(self.track_errors(self.dead_track)[-1]), 3),
@@ -699,6 +702,7 @@ class Drive:
         self.walker = None
         self.walls = cfg.pose == "walls"      # the estimate fixed against the plan's walls
         self.wall_fixes = 0
+        self.drift_eroded = 0                 # free_drift="erode": what the last map gave up
         if cfg.pose == "fused":
             from model.mapping import WalkConfig, Walker
             self.walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
@@ -841,8 +845,9 @@ class Drive:
         cfg, prof = self.cfg, self.prof
         fm = self.model.floor_map(map_around(est, self.goal, self.room.bounds, extent))
         if cfg.free_drift == "erode":
-            erode_by_drift(fm, cfg.voi.resolution, self.model.look_free, self.model.odometry,
-                           (est.x, est.z), self.odo[1], cfg.drift_sigmas)
+            self.drift_eroded = erode_by_drift(
+                fm, cfg.voi.resolution, self.model.look_free, self.model.odometry,
+                (est.x, est.z), self.odo[1], cfg.drift_sigmas)
         mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
                         prof.margin_ft if cfg.track_free == "swept" else None)
         if cfg.known_walls:
@@ -1086,7 +1091,8 @@ class Drive:
                            model.features if cfg.occupied == "model" else None,
                            floor_stats(model) if cfg.floor_eyes != "off" else {},
                            model.expired_total if cfg.expire_uncertain else None,
-                           self.wall_fixes if self.walls else None)
+                           self.wall_fixes if self.walls else None,
+                           self.drift_eroded if cfg.free_drift == "erode" else None)
 
 
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,

@@ -172,3 +172,8 @@ def test_closed_loop_reaches_the_tiny_room_goal_with_the_erosion():
     assert all(len(lf.columns) for lf in model.look_free)
     commands = [lf.odometry.commands for lf in model.look_free]
     assert commands == sorted(commands) and commands[-1] > 0
+    assert isinstance(res.drift_eroded, int) and res.drift_eroded >= 0
+    assert res.as_json()["drift_eroded"] == res.drift_eroded
+    off = run(tiny_room(), State(0.0, 0.0, 0.0),
+              DriveConfig(goal=GOAL, eyes="truth", sight_lines="band"), noise=OdometryNoise(seed=1))
+    assert off.drift_eroded is None and "drift_eroded" not in off.as_json()
