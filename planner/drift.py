@@ -25,10 +25,12 @@ from the look's camera to where it is now, so no farther from the cell than ``r
 + D``, where ``r`` is the nearer of the cell's distances to the look's camera and
 to the vehicle now (a look turned in place, ``D = 0``, moves the cells beside the
 vehicle by little).  The last look gives up nothing; the vehicle's track, its
-start spot and the plan's walls are drawn after.  Only edges beside a hit give way: eroding every edge of free space, beside unknown
-space too, stopped the vehicle in the tiny room (``planner.tiny``) at its third
-look, and shrinking each look's own free columns instead (view-cone sides and all)
-reached no goal in seeds 1-30 under ``--look-around evidence``."""
+start spot and the plan's walls are drawn after.
+
+Only edges beside a hit give way: eroding every edge of free space, beside
+unknown space too, stopped the vehicle in the tiny room (``planner.tiny``) at
+its third look, and shrinking each look's own free columns instead (view-cone
+sides and all) reached no goal in seeds 1-30 under ``--look-around evidence``."""
 from __future__ import annotations
 
 import math

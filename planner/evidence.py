@@ -53,6 +53,13 @@ MECHANISMS = (SIGHT_TO_HIT, BETWEEN_EDGES, BLANK_ASSUMPTION, TWO_LOOK_SIDES, FLO
               START_SPOT, TRACK)
 
 
+def in_band(keys: np.ndarray, res: float, band) -> np.ndarray:
+    """Which of the (N, 3) integer cell ``keys`` (cells of side ``res``) reach
+    into the height ``band`` (room Y top, bottom)."""
+    y = (keys[:, 1] + 0.5) * res
+    return (y + res / 2 > band[0]) & (y - res / 2 < band[1])
+
+
 class FreeProvenance:
     """Which carving marked each octree cell free, and in which looks: a
     diagnostic a :class:`Perception` keeps when its ``provenance`` is one
@@ -76,8 +83,7 @@ class FreeProvenance:
             return out
         keys = np.fromiter(self.misses.keys(), np.int64, len(self.misses))
         k = unpack(keys)
-        y = (k[:, 1] + 0.5) * res
-        inband = (y + res / 2 > band[0]) & (y - res / 2 < band[1])
+        inband = in_band(k, res, band)
         for key, (kx, _, kz) in zip(keys[inband].tolist(), k[inband].tolist()):
             col = out.setdefault((int(kx), int(kz)), {})
             for m, n in self.misses[key].items():
@@ -567,8 +573,7 @@ class Perception:
         :attr:`look_free` with the odometry's totals now (``free_drift``)."""
         keys = unpack(np.unique(np.concatenate(self._freed))) if self._freed else \
             np.zeros((0, 3), np.int64)
-        y = (keys[:, 1] + 0.5) * res
-        slab = (y + res / 2 > self.band[0]) & (y - res / 2 < self.band[1])
+        slab = in_band(keys, res, self.band)
         cols = np.unique(keys[slab][:, [0, 2]], axis=0) if slab.any() else np.zeros((0, 2), int)
         self.look_free.append(LookFree((float(left[0]), float(left[2])), cols,
                                        replace(self.odometry) if self.odometry is not None
