@@ -177,3 +177,33 @@ def test_closed_loop_reaches_the_tiny_room_goal_with_the_erosion():
     off = run(tiny_room(), State(0.0, 0.0, 0.0),
               DriveConfig(goal=GOAL, eyes="truth", sight_lines="band"), noise=OdometryNoise(seed=1))
     assert off.drift_eroded is None and "drift_eroded" not in off.as_json()
+
+
+def test_the_erosion_refuses_a_pivot_beside_a_hit():
+    """Why the erosion costs eyes that see everything 15 points (docs/planner.md, "What
+    the erosion costs: the pivots"): the vehicle stands at (1.75, 1.2), its pivot circle
+    (the half diagonal, 0.64 ft) reaching row 2 of the free block, whose cells' centres
+    lie 0.125 ft from the edge of the hit ring (row 1).  Freed by a look one step back
+    (2 commands, 1.5 ft) their margins stay under 0.125 ft and the pivot is allowed;
+    freed by a look two steps back (4 commands, 3 ft) they are over it, those cells turn
+    unknown and a turn of half a degree is refused, though nothing moved."""
+    from planner.motion import pivot_allowed
+    from vehicle.profile import DEFAULT
+    here = State(1.75, 1.2, 90.0)
+    disc_row2 = [(2, j) for j in range(5, 9)]            # x 1.25..2.25: within 0.64 ft
+    for j in (4, 9):                                      # and no farther along the row
+        dx = min(abs(j * RES - 1.75), abs((j + 1) * RES - 1.75))
+        assert math.hypot(dx, 1.2 - 0.75) > DEFAULT.radius_ft
+    fm = _map()
+    assert pivot_allowed(fm, here, -0.5, DEFAULT)         # no erosion: allowed
+    for steps, allowed in ((1, True), (2, False)):
+        d = 1.5 * steps
+        since = Odometry(commands=2 * steps, path_ft=d, distance_var=steps * (0.02 * 1.5) ** 2)
+        look = LookFree((1.75, 1.2 - d), _columns(2, 12, 2, 12), Odometry())
+        r = [math.hypot((j + 0.5) * RES - 1.75, 1.2 - 0.625) for _, j in disc_row2]
+        margins = drift_ft(r, Odometry(), since, 1.0)
+        assert ((margins < 0.125) if allowed else (margins > 0.125)).all()
+        fm = _map()
+        erode_by_drift(fm, RES, [look], since, (here.x, here.z), 1.0)
+        assert all((fm.cells[i, j] == FREE) == allowed for i, j in disc_row2)
+        assert pivot_allowed(fm, here, -0.5, DEFAULT) == allowed
