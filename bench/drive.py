@@ -30,20 +30,20 @@ taut, and time).
     python bench/drive.py --rooms 20 --eyes depth --map-extent walls   # plan to the walls, not only the seen extent
     python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
     python bench/drive.py --rooms 100 --losses --sight-lines band --stand-in majority  # before the floor's grey is learned, only a majority grey stands in
-    python bench/drive.py --rooms 100 --losses --look-around evidence --free-drift erode  # fetch evidence; an older look's free edge gives up its drift
+    python bench/drive.py --rooms 100 --losses --look-around sweep --free-drift off --plan-walls plan  # the defaults before 2026-12-04
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
 whose 2-sigma ellipse reaches the true outline.
 
-``--floor-eyes`` (planner.appearance; ``bound`` by default) adds per room the floor's learned greys,
+``--floor-eyes`` (planner.appearance; ``bound-add`` by default) adds per room the floor's learned greys,
 the cells the floor in view proved free and the located points it vetoed; the summary sums
 the last two (``floor_cells``, ``vetoed_points``).
 
 ``--expire-uncertain N`` adds per room, and sums in the summary, ``expired_uncertain``: the
 uncertain cells that expired to unknown after N looks had them in view with no hit.
 
-``--free-drift erode`` adds per room, and sums in the summary, ``drift_eroded``: the FREE
+``--free-drift erode`` or ``moves`` (the default) adds per room, and sums in the summary, ``drift_eroded``: the FREE
 cells the final map gave up to the odometry's drift since the looks that freed them.
 
 ``--losses`` sorts each run's final map against the true room: the cells it

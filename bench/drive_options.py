@@ -29,13 +29,13 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 # Named options, each off by default, that were measured and not adopted under
-# the defaults of their day (docs/planner.md says where and why).
+# the defaults of their day (docs/planner.md says where and why); last, the three
+# defaults of 2026-12-04 turned back one at a time and together.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
     "--goal-region disc",
     "--reverse on",
-    "--look-around evidence",
     "--progress evidence",
     "--uncertain look",
     "--refute-hits through",
@@ -47,13 +47,15 @@ OPTIONS = [
     "--growth across",
     "--rejoin waypoint",
     "--map-extent fallback",
-    "--plan-walls grown",
     "--pose walls",
     "--sight-lines band",
     "--blank-carve always",
     "--learn-floor step-back",
     "--free-drift erode",
-    "--look-around evidence --free-drift erode",
+    "--look-around sweep",
+    "--free-drift off",
+    "--plan-walls plan",
+    "--look-around sweep --free-drift off --plan-walls plan",
 ]
 
 HERE = Path(__file__).resolve().parent

@@ -1,6 +1,6 @@
 """Free space an older look proved, trusted only as far as the odometry's drift
-since that look allows (``DriveConfig.free_drift="erode"``; not 1985, a named
-option, off by default).
+since that look allows (``DriveConfig.free_drift``: "erode", a named option, and
+"moves", the default since 2026-12-04; not 1985).
 
 Every look's free cells are placed by the estimate of its moment; the vehicle
 plans from the estimate of now.  Under dead reckoning the two differ by the noise
@@ -26,6 +26,17 @@ from the look's camera to where it is now, so no farther from the cell than ``r
 to the vehicle now (a look turned in place, ``D = 0``, moves the cells beside the
 vehicle by little).  The last look gives up nothing; the vehicle's track, its
 start spot and the plan's walls are drawn after.
+
+``free_drift="moves"`` (the default since 2026-12-04, with ``look_around="evidence"``
+and ``plan_walls="grown"``) erodes the same cells for moves only: a pivot's cells are
+checked on the map before the erosion (:attr:`~planner.floormap.FloorMap.drift_kept`).
+Under ``"erode"`` a vehicle beside a box could not turn: the pivot's circle reaches a
+cell from the box's hits, the erosion takes that cell, and no look can give it back
+(nothing nearer than 2.3 ft is in view); with eyes that see everything that cost 15
+points.  A pivot turns the footprint about where the estimate stands; the erosion
+guards against a move the drift carries into what an older look placed.  Without the
+grown walls it collided in two long drives whose estimate ended 2 ft off (rooms 7
+and 272; docs/planner.md, "What the erosion costs: the pivots").
 
 Only edges beside a hit give way: eroding every edge of free space, beside
 unknown space too, stopped the vehicle in the tiny room (``planner.tiny``) at
@@ -83,12 +94,16 @@ def drift_ft(r_ft, then: Odometry, now: Odometry, turn_deg: float,
 
 
 def erode_by_drift(fm: FloorMap, res: float, looks: list[LookFree], now: Odometry,
-                   vehicle, turn_deg: float, sigmas: float = DRIFT_SIGMAS) -> int:
+                   vehicle, turn_deg: float, sigmas: float = DRIFT_SIGMAS,
+                   keep_for_pivots: bool = False) -> int:
     """Turn UNKNOWN every FREE cell of ``fm`` nearer to a cell a look hit
     (OCCUPIED, UNCERTAIN) than the drift (:func:`drift_ft`) of the newest look
     of ``looks`` that freed it, the vehicle now at ``vehicle`` (x, z); ``res`` is
     the octree's cell (``fm.cell`` the same).
-    Cells no look freed are left as they are.  Returns how many cells changed."""
+    Cells no look freed are left as they are.  With ``keep_for_pivots``
+    (``free_drift="moves"``) the cells it took are kept as
+    :attr:`~planner.floormap.FloorMap.drift_kept`, which a pivot may still count
+    free (module docstring).  Returns how many cells changed."""
     nz, nx = fm.shape
     i0, j0 = int(round(fm.z0 / res)), int(round(fm.x0 / res))
     margin = np.full((nz, nx), np.nan)
@@ -108,4 +123,6 @@ def erode_by_drift(fm: FloorMap, res: float, looks: list[LookFree], now: Odometr
     freed = ~np.isnan(margin)
     lost = (fm.cells == FREE) & freed & (away < np.where(freed, margin, 0.0))
     fm.cells[lost] = UNKNOWN
+    if keep_for_pivots:
+        fm.drift_kept = lost
     return int(lost.sum())

@@ -37,6 +37,9 @@ class FloorMap:
     assumed: np.ndarray | None = None   # (nz, nx) bool: FREE only by assumption, no look's
                                         # proof nor the track (Perception.pivot_proof); a
                                         # pivot's cells must not be (motion._pivot_ok)
+    drift_kept: np.ndarray | None = None   # (nz, nx) bool: FREE until the drift's erosion took
+                                        # it (DriveConfig.free_drift="moves"): a pivot's cells
+                                        # may be these where still UNKNOWN (motion._proven_free)
 
     @property
     def shape(self):

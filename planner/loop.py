@@ -163,7 +163,7 @@ APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
-FREE_DRIFTS = ("off", "erode")   # DriveConfig.free_drift: an older look's free space by the drift since
+FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 
 
 @dataclass
@@ -259,13 +259,14 @@ class DriveConfig:
                                           # points on the floor plan's walls fused with the
                                           # odometry's prior, planner.localize)
     pose_method: str = "robust"           # the walk's driving method under "fused"
-    look_around: str = "sweep"            # the vehicle cannot move: "sweep": face the
-                                          # path, then turn +35 / -70 deg in place;
-                                          # "evidence" (measured, not adopted): look at
-                                          # where the path lacks it, from where it shows
-                                          # (fetch_evidence; since bound-add it nearly
-                                          # doubles success, but its longer drives let
-                                          # the heading drift collide on new seeds)
+    look_around: str = "evidence"         # the vehicle cannot move: "sweep" (the default
+                                          # before 2026-12-04): face the path, then turn
+                                          # +35 / -70 deg in place; "evidence" (not 1985;
+                                          # the default since 2026-12-04, with free_drift
+                                          # "moves" and plan_walls "grown", which hold its
+                                          # longer drives' heading drift off the boxes and
+                                          # walls): look at where the path lacks it, from
+                                          # where it shows (fetch_evidence)
     track_free: str = "poses"             # free where the vehicle stood: "poses": its
                                           # footprint at each pose; "swept" (a named
                                           # option): every pose between as well, shrunk
@@ -383,17 +384,24 @@ class DriveConfig:
                                           # where it would stop or pivot only to look, the
                                           # head's look (head_look) added first, the cycle
                                           # decided again with it (looks counts both)
-    plan_walls: str = "plan"              # the floor plan's walls on the map: "plan" (where
-                                          # the plan has them) or "grown" (not 1985; named):
+    plan_walls: str = "grown"             # the floor plan's walls on the map: "plan" (where
+                                          # the plan has them; the default before
+                                          # 2026-12-04) or "grown" (not 1985; the default
+                                          # since; rooms 7 and 272 under free_drift "moves"):
                                           # 2 sigma of the estimate's x, z nearer
                                           # (evidence.wall_growth), as the assumption stops
                                           # short of them: the map is placed by the estimate
                                           # (room 471: 0.8 ft of drift, driven into the wall)
-    free_drift: str = "off"               # an older look's free space on the map: "off" (as
-                                          # proved) or "erode" (not 1985; named): shrunk by
-                                          # 2 sigma of the odometry's drift since that look
-                                          # (planner.drift; rooms 219, 298, 640, 471)
-    drift_sigmas: float = 2.0             # under "erode": the standard deviations of the
+    free_drift: str = "moves"             # an older look's free space on the map: "off" (as
+                                          # proved; the default before 2026-12-04), "erode"
+                                          # (not 1985; named): shrunk beside a hit by 2 sigma
+                                          # of the odometry's drift since that look
+                                          # (planner.drift; rooms 219, 298, 640, 471), or
+                                          # "moves" (not 1985; the default since 2026-12-04):
+                                          # "erode" for moves, a pivot's cells checked on the
+                                          # map before it (FloorMap.drift_kept; under "erode"
+                                          # a vehicle beside a box "cannot turn")
+    drift_sigmas: float = 2.0             # under "erode", "moves": the standard deviations of the
                                           # drift a free edge beside a hit gives up
     map_extent: str = "seen"              # what the floor map (the search's space) covers:
                                           # "seen": every hit so far, the estimate and the
@@ -461,7 +469,7 @@ class DriveResult:
     floor: dict = field(default_factory=dict)  # under floor_eyes: what the floor in view did
     expired_uncertain: int | None = None       # under expire_uncertain: the cells expired
     wall_fixes: int | None = None              # under pose="walls": the looks that gave a fix
-    drift_eroded: int | None = None            # under free_drift="erode": the FREE cells the
+    drift_eroded: int | None = None            # under free_drift "erode", "moves": the FREE cells the
                                                # last map gave up to the drift
 
     def track_errors(self, track=None) -> np.ndarray:
@@ -646,7 +654,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     if cfg.head == "assist" and cfg.assist_pivot_ft is not None:   # a pivot's cells proven,
         model.pivot_proof = cfg.assist_pivot_ft                      # not assumed (room 45)
         model.provenance = model.provenance or FreeProvenance()
-    if cfg.free_drift == "erode":
+    if cfg.free_drift != "off":
         model.look_free, model.odometry = [], Odometry()
     return model
 
@@ -702,7 +710,7 @@ class Drive:
         self.walker = None
         self.walls = cfg.pose == "walls"      # the estimate fixed against the plan's walls
         self.wall_fixes = 0
-        self.drift_eroded = 0                 # free_drift="erode": what the last map gave up
+        self.drift_eroded = 0                 # free_drift "erode", "moves": what the last map gave up
         if cfg.pose == "fused":
             from model.mapping import WalkConfig, Walker
             self.walker = Walker(room, WalkConfig(methods=(), driver=cfg.pose_method,
@@ -844,10 +852,10 @@ class Drive:
         track free and the plan's walls."""
         cfg, prof = self.cfg, self.prof
         fm = self.model.floor_map(map_around(est, self.goal, self.room.bounds, extent))
-        if cfg.free_drift == "erode":
+        if cfg.free_drift != "off":
             self.drift_eroded = erode_by_drift(
                 fm, cfg.voi.resolution, self.model.look_free, self.model.odometry,
-                (est.x, est.z), self.odo[1], cfg.drift_sigmas)
+                (est.x, est.z), self.odo[1], cfg.drift_sigmas, cfg.free_drift == "moves")
         mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
                         prof.margin_ft if cfg.track_free == "swept" else None)
         if cfg.known_walls:
@@ -1092,7 +1100,7 @@ class Drive:
                            floor_stats(model) if cfg.floor_eyes != "off" else {},
                            model.expired_total if cfg.expire_uncertain else None,
                            self.wall_fixes if self.walls else None,
-                           self.drift_eroded if cfg.free_drift == "erode" else None)
+                           self.drift_eroded if cfg.free_drift != "off" else None)
 
 
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,

@@ -94,8 +94,14 @@ def _disc_seen_free(fm: FloorMap, x: float, z: float, radius: float) -> bool:
 
 def _proven_free(fm: FloorMap, i, j) -> np.ndarray:
     """FREE, and (on a map that says, :attr:`FloorMap.assumed`) not by
-    assumption only: what a pivot's cells must be."""
+    assumption only: what a pivot's cells must be.  On a map that keeps them
+    (:attr:`FloorMap.drift_kept`, ``free_drift="moves"``) a cell the drift's
+    erosion took, and nothing drew over since, counts as FREE: a pivot turns the
+    footprint about where it stands, and what the erosion guards against is a
+    move carried by the estimate's drift into what an older look placed."""
     ok = fm.cells[i, j] == FREE
+    if fm.drift_kept is not None:
+        ok = ok | (fm.drift_kept[i, j] & (fm.cells[i, j] == UNKNOWN))
     return ok if fm.assumed is None else ok & ~fm.assumed[i, j]
 
 

@@ -247,8 +247,9 @@ def add_loop_options(p) -> None:
                         "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
                         "depth 8)")
     p.add_argument("--look-around", choices=LOOK_AROUNDS, default=C.look_around,
-                   help="when the vehicle cannot move: face the path and sweep (default), or look "
-                        "at where the path lacks evidence, from a place a look shows it")
+                   help="when the vehicle cannot move: 'evidence' (default since 2026-12-04): look "
+                        "at where the path lacks evidence, from a place a look shows it; 'sweep': "
+                        "face the path and sweep")
     p.add_argument("--progress", choices=PROGRESSES, default=C.progress,
                    help="what resets the count of looks without progress: any motion (default), "
                         "or a shorter way left than ever or new free space seen")
@@ -363,16 +364,18 @@ def add_loop_options(p) -> None:
                         "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
                         "whose seen map has no path to the goal")
     p.add_argument("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
-                   help="where the map draws the floor plan's walls: 'plan' (default): where "
-                        "the plan has them; 'grown' (not 1985): two standard deviations of the "
-                        "estimate's position nearer, since the map is placed by the estimate "
-                        "and the plan by the room's truth")
+                   help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
+                        "since 2026-12-04): two standard deviations of the estimate's position "
+                        "nearer, since the map is placed by the estimate and the plan by the "
+                        "room's truth; 'plan': where the plan has them")
     p.add_argument("--free-drift", choices=FREE_DRIFTS, default=C.free_drift,
-                   help="an older look's free space on the map: 'off' (default): as that look "
-                        "proved it; 'erode' (not 1985): its edges shrunk by two standard "
-                        "deviations of the odometry's drift since that look")
+                   help="an older look's free space on the map: 'moves' (not 1985; default "
+                        "since 2026-12-04): for moves its edges beside a hit shrunk by two "
+                        "standard deviations of the odometry's drift since that look, a pivot's "
+                        "cells checked on the map before that; 'erode': shrunk for pivots too; "
+                        "'off': as that look proved it")
     p.add_argument("--drift-sigmas", type=float, default=C.drift_sigmas, metavar="S",
-                   help="under --free-drift erode: how many standard deviations of the drift "
+                   help="under --free-drift erode or moves: how many standard deviations of the drift "
                         "an older look's free edge beside a hit gives up (default 2)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 

@@ -262,3 +262,10 @@ def drive_config(monkeypatch, out, *options):
     with pytest.raises(Caught):
         main(["drive", "--out", str(out), *options])
     return seen["cfg"]
+
+
+# The drive's defaults before 2026-12-04 (docs/planner.md, "Fetching the evidence, the
+# drift and the grown walls"): a test that traced a drive under them pins them, so that
+# what it shows (a collision and the rule that prevents it, a fix's accuracy) stays the
+# drive it traced.
+DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan")

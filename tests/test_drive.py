@@ -215,17 +215,17 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     names); the defaults are the loop's; a bad value is refused by argparse."""
     from rig.main import main
     c = drive_config(monkeypatch, tmp_path, "--clearance-at", "centre", "--growth", "across",
-                     "--look-around", "evidence", "--progress", "evidence", "--uncertain",
+                     "--look-around", "sweep", "--progress", "evidence", "--uncertain",
                      "look", "--reverse", "on", "--track-free", "swept")
     assert c.clearance_at == "centre" and c.growth == "across"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
-        ("evidence", "evidence", "look", "swept", True)
+        ("sweep", "evidence", "look", "swept", True)
     assert drive_config(monkeypatch, tmp_path, "--clearance-at",
                         "anywhere-exact").clearance_at == "anywhere-exact"
     c = drive_config(monkeypatch, tmp_path)
     assert c.clearance_at == "anywhere" and c.growth == "covariance"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
-        ("sweep", "moved", "blocked", "poses", False)
+        ("evidence", "moved", "blocked", "poses", False)     # look_around: since 2026-12-04
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--growth", "sideways"])
 

@@ -325,6 +325,7 @@ def test_bound_keeps_the_blank_assumption_out_of_the_boxes_it_drove_into(seed, b
     from planner.floormap import FREE as MAP_FREE
     from planner.loop import DriveConfig, run
     from planner.planning import random_goal
+    from rigtools import DRIVE_BEFORE_2026_12_04
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
     from world.odometry import OdometryNoise
@@ -351,7 +352,7 @@ def test_bound_keeps_the_blank_assumption_out_of_the_boxes_it_drove_into(seed, b
                 return n
             model.update = counted
             return model
-        res = run(room, start, DriveConfig(goal=goal, floor_eyes=how),
+        res = run(room, start, DriveConfig(goal=goal, floor_eyes=how, **DRIVE_BEFORE_2026_12_04),
                   noise=OdometryNoise(seed=seed), perception_factory=traced)
         freed[how] = (worst[0], res.collisions)
     assert freed["off"][0] > 5 and freed["off"][1] == 1    # the hazard, as traced

@@ -1,7 +1,8 @@
 """An older look's free space shrunk by the odometry's drift since that look
-(``planner.drift``, ``DriveConfig.free_drift="erode"``, a named option).  Hand-made
-looks and maps; every margin derived by hand from the noise model of
-``world.odometry`` (1 deg per command, 2 % of the distance)."""
+(``planner.drift``, ``DriveConfig.free_drift``: "erode", a named option, and "moves",
+the default since 2026-12-04).  Hand-made looks and maps; every margin derived by hand
+from the noise model of ``world.odometry`` (1 deg per command, 2 % of the distance);
+the two drives that show why "moves" goes with grown walls (rooms 7 and 272)."""
 
 import math
 
@@ -148,8 +149,8 @@ def test_the_option_is_checked_and_records_each_look():
     assert o.path_ft == pytest.approx(1.0, abs=0.1)
     assert o.distance_var == pytest.approx((0.02 * o.path_ft) ** 2)
     # off: nothing recorded
-    off = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL), OdometryNoise(seed=1),
-                False, Perception)
+    off = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, free_drift="off"),
+                OdometryNoise(seed=1), False, Perception)
     assert off.model.look_free is None and off.model.odometry is None
 
 
@@ -175,7 +176,8 @@ def test_closed_loop_reaches_the_tiny_room_goal_with_the_erosion():
     assert isinstance(res.drift_eroded, int) and res.drift_eroded >= 0
     assert res.as_json()["drift_eroded"] == res.drift_eroded
     off = run(tiny_room(), State(0.0, 0.0, 0.0),
-              DriveConfig(goal=GOAL, eyes="truth", sight_lines="band"), noise=OdometryNoise(seed=1))
+              DriveConfig(goal=GOAL, eyes="truth", sight_lines="band", free_drift="off"),
+              noise=OdometryNoise(seed=1))
     assert off.drift_eroded is None and "drift_eroded" not in off.as_json()
 
 
@@ -207,3 +209,49 @@ def test_the_erosion_refuses_a_pivot_beside_a_hit():
         erode_by_drift(fm, RES, [look], since, (here.x, here.z), 1.0)
         assert all((fm.cells[i, j] == FREE) == allowed for i, j in disc_row2)
         assert pivot_allowed(fm, here, -0.5, DEFAULT) == allowed
+
+
+def test_moves_keeps_what_the_erosion_took_for_pivots_only():
+    """``free_drift="moves"`` (the default since 2026-12-04): the same map as the test
+    above, the look two steps back.  The erosion takes the same cells (the map a move is
+    checked on is the same), but keeps them aside, and a pivot counts them free; a cell
+    drawn over since (the plan's walls, the track: anything not UNKNOWN) counts as drawn."""
+    from planner.motion import pivot_allowed
+    from vehicle.profile import DEFAULT
+    here = State(1.75, 1.2, 90.0)
+    since = Odometry(commands=4, path_ft=3.0, distance_var=2 * (0.02 * 1.5) ** 2)
+    look = LookFree((1.75, -1.8), _columns(2, 12, 2, 12), Odometry())
+    eroded, kept = _map(), _map()
+    n = erode_by_drift(eroded, RES, [look], since, (here.x, here.z), 1.0)
+    assert erode_by_drift(kept, RES, [look], since, (here.x, here.z), 1.0,
+                          keep_for_pivots=True) == n > 0
+    assert (kept.cells == eroded.cells).all() and eroded.drift_kept is None
+    assert kept.drift_kept.sum() == n and (kept.cells[kept.drift_kept] == UNKNOWN).all()
+    assert not pivot_allowed(eroded, here, -0.5, DEFAULT)
+    assert pivot_allowed(kept, here, -0.5, DEFAULT)
+    kept.cells[2, 7] = OCCUPIED                            # drawn over since: not free
+    assert kept.drift_kept[2, 7] and not pivot_allowed(kept, here, -0.5, DEFAULT)
+
+
+@pytest.mark.parametrize("seed", [7, 272])
+def test_moves_goes_with_grown_walls(seed):
+    """Rooms 7 and 272 (the 1985 eyes, the odometry noise and goal of the bench's seed):
+    with pivots given back (``free_drift="moves"``) and the plan's walls where the truth
+    has them, the drive goes on for over 50 looks until the estimate is about 2 ft off,
+    and the true footprint meets the room (room 7: the east wall, the estimate 1.7 ft
+    west of the truth); with the walls grown by the estimate's 2 sigma (the default) the
+    same drive does not collide (docs/planner.md, "What the erosion costs: the pivots")."""
+    from planner.loop import run
+    from planner.planning import random_goal
+    from vehicle.profile import DEFAULT
+    from world.room import generate_room
+    room = generate_room(seed)
+    start = State(room.start.x, room.start.z, room.start.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+    res = {walls: run(room, start, DriveConfig(goal=goal, plan_walls=walls),
+                      noise=OdometryNoise(seed=seed), keep_maps=False)
+           for walls in ("plan", "grown")}
+    assert DriveConfig(goal=goal).free_drift == "moves"
+    assert res["plan"].collisions == 1 and "hit something" in res["plan"].reason
+    assert res["plan"].looks > 50 and res["plan"].final_true_error_ft > 1.5
+    assert res["grown"].collisions == 0

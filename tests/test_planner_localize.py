@@ -178,12 +178,14 @@ def test_the_loop_fixed_against_the_walls_ends_nearer_the_truth_than_dead_reckon
     vehicle reaches the goal by the truth, without collision."""
     from planner.loop import DriveConfig, run
     from planner.tiny import GOAL, tiny_room
+    from rigtools import DRIVE_BEFORE_2026_12_04
     from vehicle.sim import State
     from world.odometry import OdometryNoise
 
     def drive(pose):
         return run(tiny_room(), State(0.0, 0.0, 0.0),
-                   DriveConfig(goal=GOAL, eyes="depth", head="pan-tilt", pose=pose),
+                   DriveConfig(goal=GOAL, eyes="depth", head="pan-tilt", pose=pose,
+                               **DRIVE_BEFORE_2026_12_04),
                    noise=OdometryNoise(0.1, 5.0, seed=3), keep_maps=False)
     dead, walls = drive("dead_reckoning"), drive("walls")
     assert walls.reached and walls.collisions == 0
