@@ -106,9 +106,11 @@ round the far side of a box no hit has reached yet); ``"walls"`` does so every c
 
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
-nearest the goal; when it cannot move at all it turns to look
-(toward the goal first, then sweeping), and gives up with the planner's reason
-after ``max_stuck`` looks without progress.
+nearest the goal; when it cannot move at all it fetches the evidence its path
+lacks (``look_around="evidence"``, the default since 2026-12-04: a look where the
+path has not been seen free, from where it shows; ``"sweep"``, before: toward the
+goal first, then sweeping), and gives up with the planner's reason after
+``max_stuck`` looks without progress.
 
 This module holds the loop's configuration (:class:`DriveConfig`, checked by
 :func:`_check_config`), the cycle's steps by name (:class:`Drive`: :meth:`~Drive.look`,

@@ -11,8 +11,8 @@ shown free.
 * the vehicle's own track as free space (:func:`mark_track_free`);
 * the pan-tilt head (``DriveConfig.head="pan-tilt"``, a named option): where
   the head looks (:func:`head_aim`, :func:`head_look`, :func:`head_commands`);
-* fetching evidence when it cannot move (``look_around="evidence"``, a named
-  option): the blocking cells, a viewpoint to look at them from, backing off
+* fetching evidence when it cannot move (``look_around="evidence"``, the default
+  since 2026-12-04): the blocking cells, a viewpoint to look at them from, backing off
   (:func:`fetch_evidence`).
 """
 

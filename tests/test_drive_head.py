@@ -312,9 +312,9 @@ def test_assist_adds_the_heads_look_where_the_fixed_rig_pivots_only_to_look():
     (a TURN of about -60 deg, no move: -62.7 since ``look_around="evidence"`` aims it
     where the path lacks evidence, -60 toward the path before).  With the assisting head
     the same cycle takes a second look, the head aimed (head_aim) at the first never-seen
-    cell of the way, and the cycle's
-    commands are decided again with it; the looks counted are both; no PAN or TILT is
-    commanded (the body always drives with the head ahead)."""
+    cell of the way, and the cycle's commands are decided again with it; the looks
+    counted are both; no PAN or TILT is commanded (the body always drives with the head
+    ahead)."""
     start = State(0.0, 0.0, 60.0)
     fixed = run(tiny_room(), start, DriveConfig(goal=GOAL, eyes="depth"))
     kind, angle = fixed.cycles[0].command.split(" ")
