@@ -124,6 +124,23 @@ def stop_kind(reason: str) -> str:
         if phrase in reason:
             return kind
     return "other"
+SLACK_BINS = ((0.0, 0.25), (0.25, 0.5), (0.5, None))     # ft of slack: (from, below)
+
+
+def success_by_slack(rows) -> dict:
+    """Success by the room to spare each task leaves (``slack_ft``): per bin of
+    :data:`SLACK_BINS` the rooms reached, the rooms and the rate."""
+    out = {}
+    for lo, hi in SLACK_BINS:
+        name = f"{lo:g}-{hi:g} ft" if hi is not None else f">={lo:g} ft"
+        got = [r for r in rows if r["slack_ft"] is not None and r["slack_ft"] >= lo
+               and (hi is None or r["slack_ft"] < hi)]
+        n_ok = sum(bool(r["reached"]) for r in got)
+        out[name] = {"reached": n_ok, "rooms": len(got),
+                     "rate": n_ok / len(got) if got else None}
+    return out
+
+
 def final_map_losses(room, fmap, radius):
     """planner.floormap.map_losses of a run's final map against the TRUE room
     drawn on the same grid."""
@@ -232,6 +249,7 @@ def main(argv=None) -> int:
         return true_maps(args)
 
     from planner.loop import run
+    from planner.planning import task_slack
     from rig.drive import loop_config
     from vehicle.profile import DEFAULT
     from world.odometry import OdometryNoise
@@ -259,7 +277,10 @@ def main(argv=None) -> int:
         row = {"room": seed, "goal": goal, "reached": res.reached, "reason": res.reason,
                "collisions": res.collisions, "looks": res.looks,
                "travelled_ft": res.travelled_ft, "optimal_ft": res.optimal_ft,
-               "ratio": ratio, "work_ms_per_cycle": res.work_ms_per_cycle,
+               "ratio": ratio,
+               # the room to spare the task leaves in the true room (planner.planning.task_slack)
+               "slack_ft": task_slack(room, (start.x, start.z), goal, DEFAULT, voi.resolution),
+               "work_ms_per_cycle": res.work_ms_per_cycle,
                "scan_ms_per_cycle": res.scan_ms_per_cycle,
                "ms_per_cycle_with_look": 1e3 * res.seconds_per_cycle,
                "octree_bytes": res.octree_bytes, "final_true_error_ft": res.final_true_error_ft,
@@ -372,6 +393,7 @@ def main(argv=None) -> int:
         # --pose walls: the looks fixed against the plan's walls, of all looks
         summary["wall_fixes"] = sum(r.get("wall_fixes", 0) for r in rows)
         summary["wall_fix_share"] = summary["wall_fixes"] / max(1, looks)
+    summary["success_by_slack"] = success_by_slack(rows)
     kinds = {}
     for r in rows:
         kinds.setdefault(stop_kind(r["reason"]), []).append(r["room"])

@@ -369,3 +369,35 @@ def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float 
         if comp[gi, gj] == comp[si, sj] and room.clearance(gx, gz) >= r:
             return round(gx, 2), round(gz, 2)
     return None
+
+
+SLACK_STEP_FT = 0.125                 # task_slack's step: half a cell of the default grid
+
+
+def task_slack(room, start, goal, profile: VehicleProfile, cell: float,
+               step_ft: float = SLACK_STEP_FT, max_ft: float = 2.0) -> float | None:
+    """How much room to spare a task leaves: the largest multiple of ``step_ft``
+    (at most ``max_ft``) by which the vehicle's planning radius can grow and the
+    TRUE room, on the planner's grid, still join ``start`` to ``goal`` (both
+    standable, one 8-connected region).  None when they are not joined at the
+    radius itself.
+
+    Why the benchmark reports it: :func:`random_goal` accepts any goal the true
+    room joins at the radius itself, and the generated rooms keep only 1.8 ft
+    between boxes for a vehicle 1.58 ft across, so a map that blocks even half a
+    cell more than the truth on a passage (the growth of a hit by its error, the
+    drift of the estimate, the grown walls) closes it.  Success by slack says
+    how much of what a drive misses is that margin (docs/planner.md)."""
+    fm = true_floor_map(room.obstacles, room.bounds, cell)
+    si, sj = fm.index(*start)
+    gi, gj = fm.index(*goal)
+    if not (fm.inside(si, sj) and fm.inside(gi, gj)):
+        return None
+    best = None
+    for k in range(int(round(max_ft / step_ft)) + 1):
+        p = clearance_map(fm, profile.planning_radius_ft + k * step_ft, "blocked")
+        _, comp = cv2.connectedComponents(p.ok.astype(np.uint8), connectivity=8)
+        if comp[si, sj] == 0 or comp[si, sj] != comp[gi, gj]:
+            break
+        best = k * step_ft
+    return best

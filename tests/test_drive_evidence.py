@@ -266,3 +266,22 @@ def test_assumed_lines_are_cut_a_cell_past_where_they_leave_the_walls_less_the_g
     # from outside the walls less the growth (the estimate within 2 sigma of a wall): nothing
     assert within_walls(np.array([3.5, 2.0, 1.0]), ends, (0.0, 3.0, 0.0, 5.0), 0.25) == \
         pytest.approx(np.repeat([[3.5, 2.0, 1.0]], 4, 0))
+
+
+def test_bench_counts_success_by_the_slack_a_task_leaves():
+    """bench/drive.py's ``success_by_slack``: each room in the bin of its slack
+    (a bin holds its lower edge, not its upper), a room without a slack in none."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "bench" / "drive.py"
+    spec = importlib.util.spec_from_file_location("bench_drive", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    rows = [{"slack_ft": 0.0, "reached": False}, {"slack_ft": 0.125, "reached": True},
+            {"slack_ft": 0.25, "reached": True}, {"slack_ft": 0.375, "reached": False},
+            {"slack_ft": 0.5, "reached": True}, {"slack_ft": 2.0, "reached": True},
+            {"slack_ft": None, "reached": False}]
+    got = bench.success_by_slack(rows)
+    assert got == {"0-0.25 ft": {"reached": 1, "rooms": 2, "rate": 0.5},
+                   "0.25-0.5 ft": {"reached": 1, "rooms": 2, "rate": 0.5},
+                   ">=0.5 ft": {"reached": 2, "rooms": 2, "rate": 1.0}}
