@@ -31,6 +31,7 @@ taut, and time).
     python bench/drive.py --rooms 100 --losses --sight-lines band  # sight lines free the whole band (the default before 2026-12-01)
     python bench/drive.py --rooms 100 --losses --sight-lines band --stand-in majority  # before the floor's grey is learned, only a majority grey stands in
     python bench/drive.py --rooms 100 --losses --look-around sweep --free-drift off --plan-walls plan  # the defaults before 2026-12-04
+    python bench/drive.py --rooms 100 --losses --free-gaps fill   # one-cell gaps in free space filled
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
@@ -42,6 +43,14 @@ the last two (``floor_cells``, ``vetoed_points``).
 
 ``--expire-uncertain N`` adds per room, and sums in the summary, ``expired_uncertain``: the
 uncertain cells that expired to unknown after N looks had them in view with no hit.
+
+Each room's ``slack_ft`` is the room to spare its task leaves
+(planner.planning.task_slack: how far the vehicle's radius can grow and the true room
+still join start and goal); the summary's ``success_by_slack`` counts the rooms reached
+in bins of it (under 0.25 ft, 0.25-0.5 ft, 0.5 ft or more).
+
+``--free-gaps fill`` (a named option) shows free every unknown cell between two free ones
+across a row or a column (planner.floormap.one_cell_gaps).
 
 ``--free-drift erode`` or ``moves`` (the default) adds per room, and sums in the summary, ``drift_eroded``: the FREE
 cells the final map gave up to the odometry's drift since the looks that freed them.
@@ -334,7 +343,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "drift_sigmas": args.drift_sigmas, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "drift_sigmas": args.drift_sigmas, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,

@@ -52,6 +52,7 @@ OPTIONS = [
     "--blank-carve always",
     "--learn-floor step-back",
     "--free-drift erode",
+    "--free-gaps fill",
     "--look-around sweep",
     "--free-drift off",
     "--plan-walls plan",

@@ -178,6 +178,43 @@ def project_octree(tree, bounds, band=(-0.5, FLOOR_Y - 0.25), margin: float = 1.
     return fm
 
 
+def one_cell_gaps(cells: np.ndarray) -> np.ndarray:
+    """(rows, cols) bool: the UNKNOWN cells whose two neighbours across a row, or
+    across a column, are both FREE: a gap one cell wide in space seen free
+    (``DriveConfig.free_gaps="fill"``; not 1985).
+
+    Why it is safe: what stands in the generated rooms is an axis-aligned box at
+    least 0.8 ft on each side (or a wall), more than a cell of 0.25 ft.  A box
+    that reaches into such a cell is wider than the cell, so it reaches out of
+    it across the row (or column) too, into one of the two neighbours on that
+    line, which are free: were they truly free, the gap is.  Only the
+    two neighbours across a row or a column are trusted, not a diagonal pair: a
+    box reaching into the cell from the other diagonal's corner misses both.
+    The map's free cells themselves can be wrong (a cell the grid rounds at a
+    box's foot, the estimate's drift): a gap filled next to such a cell carries
+    the error one cell on.  Why it is needed: the floor in view proves its floor
+    column by column, and a column whose run the picture's noise cut short
+    leaves a stripe one cell wide, along the sight lines, unknown between its
+    neighbours' proofs (room 57, docs/planner.md)."""
+    free = np.asarray(cells) == FREE
+    p = np.pad(free, 1)
+    across_row = p[1:-1, :-2] & p[1:-1, 2:]
+    across_col = p[:-2, 1:-1] & p[2:, 1:-1]
+    return (np.asarray(cells) == UNKNOWN) & (across_row | across_col)
+
+
+def fill_one_cell_gaps(cells: np.ndarray) -> np.ndarray:
+    """A copy of ``cells`` with every :func:`one_cell_gaps` cell FREE, again until none
+    is left: a filled cell may close the next gap, and by the same argument it is free
+    where its two neighbours are."""
+    out = np.array(cells, copy=True)
+    gaps = one_cell_gaps(out)
+    while gaps.any():
+        out[gaps] = FREE
+        gaps = one_cell_gaps(out)
+    return out
+
+
 def true_floor_map(obstacles, bounds, cell: float, margin: float = 1.0) -> FloorMap:
     """The true room on the grid: OCCUPIED where any obstacle footprint
     (x0, x1, z0, z1) overlaps a cell or the cell reaches outside the walls

@@ -135,7 +135,7 @@ from .appearance import BOUNDING, STAND_INS as STAND_IN_SHARES
 from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
 from .drift import Odometry, erode_by_drift
 from .features import FloorFeatures
-from .floormap import FLOOR_Y, FloorMap, empty_map
+from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
@@ -165,6 +165,7 @@ APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
+FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 
 
@@ -403,6 +404,11 @@ class DriveConfig:
                                           # "erode" for moves, a pivot's cells checked on the
                                           # map before it (FloorMap.drift_kept; under "erode"
                                           # a vehicle beside a box "cannot turn")
+    free_gaps: str = "keep"               # an UNKNOWN cell between two FREE ones across a row
+                                          # or a column: "keep" (unknown) or "fill" (not
+                                          # 1985; named): free (floormap.one_cell_gaps: no
+                                          # box fits there that misses both; the floor in
+                                          # view leaves such stripes, room 57)
     drift_sigmas: float = 2.0             # under "erode", "moves": the standard deviations of the
                                           # drift a free edge beside a hit gives up
     map_extent: str = "seen"              # what the floor map (the search's space) covers:
@@ -584,7 +590,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("approach", APPROACHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
                           ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
-                          ("free_drift", FREE_DRIFTS)):
+                          ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -860,6 +866,8 @@ class Drive:
                 (est.x, est.z), self.odo[1], cfg.drift_sigmas, cfg.free_drift == "moves")
         mark_track_free(fm, self.est_track, prof.footprint, cfg.start_clear_ft,
                         prof.margin_ft if cfg.track_free == "swept" else None)
+        if cfg.free_gaps == "fill":       # (after the erosion: what it gave up stays unknown)
+            fm.cells = fill_one_cell_gaps(fm.cells)
         if cfg.known_walls:
             bx0, bx1, bz0, bz1 = self.room.bounds
             gx, gz = wall_growth(self.dead_cov) if cfg.plan_walls == "grown" else (0.0, 0.0)

@@ -363,11 +363,15 @@ def random_goal(room, start: State, profile: VehicleProfile, rng, min_ft: float 
         return None
     for _ in range(tries):
         gx, gz = float(rng.uniform(x0 + r, x1 - r)), float(rng.uniform(z0 + r, z1 - r))
+        # the goal returned is rounded to 0.01 ft, and the rounded point is the one tested:
+        # rounding may carry it into the next cell (room 126's did, into a cell nearer a
+        # box than the radius: a goal the true room does not reach)
+        gx, gz = round(gx, 2), round(gz, 2)
         if math.hypot(gx - start.x, gz - start.z) < min_ft:
             continue
         gi, gj = fm.index(gx, gz)
         if comp[gi, gj] == comp[si, sj] and room.clearance(gx, gz) >= r:
-            return round(gx, 2), round(gz, 2)
+            return gx, gz
     return None
 
 

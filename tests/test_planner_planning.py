@@ -41,3 +41,20 @@ def test_task_slack_of_an_open_room_is_the_goals_own_room():
     assert task_slack(room, (0.0, 0.0), (0.0, 12.5), DEFAULT, CELL) == 0.25
     # and capped at max_ft where nothing is near
     assert task_slack(room, (0.0, 0.0), (0.0, 5.0), DEFAULT, CELL, max_ft=0.5) == 0.5
+
+
+def test_a_random_goal_is_tested_where_it_is_returned():
+    """random_goal rounds the goal to 0.01 ft; the rounded point is the one the true
+    room must join to the start.  Room 126's draw (-2.087.., 10.75..) rounded into the
+    next cell, nearer a box than the radius (slack None before the fix); that draw is
+    now refused and the next one taken."""
+    import numpy as np
+    from planner.planning import random_goal
+    from vehicle.sim import State
+    from world.room import generate_room
+    room = generate_room(126)
+    goal = random_goal(room, State(0.0, 0.0, 0.0), DEFAULT, np.random.default_rng(126))
+    assert goal != (-2.09, 10.75)
+    assert goal == (round(goal[0], 2), round(goal[1], 2))
+    assert room.clearance(*goal) >= DEFAULT.planning_radius_ft
+    assert task_slack(room, (0.0, 0.0), goal, DEFAULT, CELL) is not None
