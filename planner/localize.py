@@ -331,3 +331,46 @@ def rig_wall_points(points):
     xyz, cov, _, _, ep = camera_points(points)
     keep = filter_points(xyz, ep)
     return xyz[keep], cov[keep]
+
+
+def floor_end_points(picture, greys, pitch_deg: float, floor_y: float, step: int = 2,
+                     min_sigma_ft: float = 0.03):
+    """Candidate wall points of the floor in view (``DriveConfig.wall_points="floor-ends"``,
+    not 1985): where each ``step``-th column's floor run ends inside the picture
+    (:func:`planner.appearance.floor_run` on the greys ``greys``), the floor point at the
+    run's top edge.  The floor ends at whatever stands on it, so beside a wall that point is
+    the wall's foot: the edge-based eyes locate few points on blank walls, but the floor's end
+    shows along all of them.  A box's foot is left to the gate (the generated rooms keep
+    boxes 1.8 ft from the walls, twice :data:`MAX_RESIDUAL_FT`), as a face of the floor's
+    grey (its run ends past the wall, or at the picture's top, and is dropped here).
+
+    A lone pixel of another grey in the run is bridged (the sensor noise moves single
+    pixels).  The run's top row ``r`` (rows r - 1 .. 119 show the floor) ends at the pixel edge
+    between rows r - 2 and r - 1 of the 128 x 120 picture; the point is that edge's ray
+    met with the floor plane ``floor_y`` below the camera (the rig pitched ``pitch_deg``,
+    exact).  Its covariance: half a row each way along the ray (the condensed picture
+    averages 2 x 2 pixels, so the edge is known to a row), at least ``min_sigma_ft`` each
+    way.  Returns ((N, 3) points in the left camera's axes, (N, 3, 3) covariances)."""
+    from .appearance import CX, CY, FOCAL, ROWS, floor_run
+    top = floor_run(picture, greys, bridge=True)
+    cols = np.arange(0, top.shape[0], step)
+    cols = cols[(top[cols] > 1) & (top[cols] < ROWS)]
+    if not len(cols):
+        return np.zeros((0, 3)), np.zeros((0, 3, 3))
+    c, s = math.cos(math.radians(pitch_deg)), math.sin(math.radians(pitch_deg))
+    px = (cols + 0.5 - CX) / FOCAL
+
+    def on_floor(edge_row):
+        py = (edge_row - CY) / FOCAL
+        down = c * py - s * 1.0                    # the ray's level-frame y per unit z_cam
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(down > 1e-6, floor_y / down, np.nan)
+        return np.stack([px * t, py * t, t], 1)
+
+    edge = (top[cols] - 1).astype(float)
+    p = on_floor(edge)
+    lo, hi = on_floor(edge + 0.5), on_floor(edge - 0.5)
+    keep = np.all(np.isfinite(p), 1) & np.all(np.isfinite(lo), 1) & np.all(np.isfinite(hi), 1)
+    p, d = p[keep], (hi - lo)[keep]
+    cov = np.einsum("ni,nj->nij", d, d) / 4.0 + np.eye(3)[None] * min_sigma_ft ** 2
+    return p, cov

@@ -165,6 +165,7 @@ APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
+WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 
@@ -404,6 +405,10 @@ class DriveConfig:
                                           # "erode" for moves, a pivot's cells checked on the
                                           # map before it (FloorMap.drift_kept; under "erode"
                                           # a vehicle beside a box "cannot turn")
+    wall_points: str = "edges"            # under pose="walls", what the fix uses: "edges" (the
+                                          # look's located points) or "floor-ends" (not 1985;
+                                          # named): those and where the floor in view ends,
+                                          # each second column (localize.floor_end_points)
     free_gaps: str = "keep"               # an UNKNOWN cell between two FREE ones across a row
                                           # or a column: "keep" (unknown) or "fill" (not
                                           # 1985; named): free (floormap.one_cell_gaps: no
@@ -590,7 +595,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("approach", APPROACHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
                           ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
-                          ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS)):
+                          ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS),
+                          ("wall_points", WALL_POINTS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -809,6 +815,8 @@ class Drive:
             q, cq = depth_wall_points(look.range_left, pitch, FLOOR_Y)
         else:
             q, cq = rig_wall_points(points)
+            if self.cfg.wall_points == "floor-ends":
+                q, cq = self._with_floor_ends(q, cq, look.left_bi, pitch)
         fix = fix_against_walls(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
                                 self.room.bounds, pitch, pan)
         if not fix.fixed:
@@ -816,6 +824,18 @@ class Drive:
         self.wall_fixes += 1
         self.dead_cov = fix.cov
         return State(fix.x, fix.z, fix.heading_deg)
+
+    def _with_floor_ends(self, q, cq, picture, pitch: float):
+        """``q``, ``cq`` and the floor in view's ends (:func:`planner.localize.floor_end_points`)
+        in the floor's learned greys, or, before they are learned, the bottom rows' (the
+        stand-in of ``cfg.stand_in``): the fix's gate drops a box's foot."""
+        from .appearance import floor_greys, nearest_greys, STAND_INS as SHARES
+        from .localize import floor_end_points
+        greys = floor_greys(self.model.floor_hist)
+        if greys is None:
+            greys = nearest_greys(picture, min_share=SHARES[self.cfg.stand_in])
+        fq, fc = floor_end_points(picture, greys, pitch, FLOOR_Y)
+        return np.vstack([q, fq]), np.concatenate([cq, fc])
 
     def update_map(self, look, points, est: State, pan: float, tilt: float,
                    headed: bool) -> FloorMap:

@@ -159,7 +159,8 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, \
+        WALL_POINTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -374,6 +375,11 @@ def add_loop_options(p) -> None:
                         "standard deviations of the odometry's drift since that look, a pivot's "
                         "cells checked on the map before that; 'erode': shrunk for pivots too; "
                         "'off': as that look proved it")
+    p.add_argument("--wall-points", choices=WALL_POINTS, default=C.wall_points,
+                   help="under --pose walls, what fixes the estimate against the plan's walls: "
+                        "'edges' (default): the look's located points; 'floor-ends' (not 1985): "
+                        "those and where the floor in view ends, a wall's foot along every "
+                        "blank wall")
     p.add_argument("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
                    help="an unknown cell between two free ones across a row or a column: "
                         "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
@@ -449,6 +455,7 @@ def loop_config(args, goal, fail):
                        map_extent=args.map_extent, plan_walls=args.plan_walls,
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps,
+                       wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:
         _check_config(cfg)          # what no one option refuses (learn_floor without floor_eyes)
