@@ -133,6 +133,8 @@ def stop_kind(reason: str) -> str:
         if phrase in reason:
             return kind
     return "other"
+
+
 SLACK_BINS = ((0.0, 0.25), (0.25, 0.5), (0.5, None))     # ft of slack: (from, below)
 
 

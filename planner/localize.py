@@ -341,8 +341,10 @@ def floor_end_points(picture, greys, pitch_deg: float, floor_y: float, step: int
     run's top edge.  The floor ends at whatever stands on it, so beside a wall that point is
     the wall's foot: the edge-based eyes locate few points on blank walls, but the floor's end
     shows along all of them.  A box's foot is left to the gate (the generated rooms keep
-    boxes 1.8 ft from the walls, twice :data:`MAX_RESIDUAL_FT`), as a face of the floor's
-    grey (its run ends past the wall, or at the picture's top, and is dropped here).
+    boxes 1.8 ft from the walls, twice :data:`MAX_RESIDUAL_FT`); a run up to the picture's
+    top shows no end and is dropped here.  What it cannot tell: a surface of the floor's
+    grey standing at the wall (a skirting, a wall of that grey) moves the run's end up it,
+    and the point past the wall (room 276, docs/planner.md).
 
     A lone pixel of another grey in the run is bridged (the sensor noise moves single
     pixels).  The run's top row ``r`` (rows r - 1 .. 119 show the floor) ends at the pixel edge

@@ -602,6 +602,10 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
                          "assumes the fixed rig's pitch; use pose 'dead_reckoning' or 'walls'")
+    if cfg.wall_points != "edges" and (cfg.pose != "walls" or cfg.eyes == "depth"):
+        raise ValueError(f"wall_points {cfg.wall_points!r} adds to the points the rig's eyes fix "
+                         "the estimate on under pose 'walls'; with pose "
+                         f"{cfg.pose!r} and eyes {cfg.eyes!r} nothing uses them")
     if cfg.map_extent != "seen" and not cfg.known_walls:
         raise ValueError(f"map_extent {cfg.map_extent!r} needs known_walls: without the floor "
                          "plan the room's walls are not known")

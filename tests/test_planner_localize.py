@@ -280,6 +280,10 @@ def test_the_floor_ends_hold_the_heading_where_the_edges_cannot():
     assert WALL_POINTS == ("edges", "floor-ends") and DriveConfig.wall_points == "edges"
     with pytest.raises(ValueError, match="wall_points"):
         _check_config(DriveConfig(goal=(0.0, 1.0), wall_points="feet"))
+    for alone in (dict(), dict(pose="walls", eyes="depth")):          # nothing would use them
+        with pytest.raises(ValueError, match="wall_points 'floor-ends'"):
+            _check_config(DriveConfig(goal=(0.0, 1.0), wall_points="floor-ends", **alone))
+    _check_config(DriveConfig(goal=(0.0, 1.0), wall_points="floor-ends", pose="walls"))
     room = generate_room(471)
     start = State(0.0, 0.0, 0.0)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(471))
