@@ -193,9 +193,9 @@ def one_cell_gaps(cells: np.ndarray) -> np.ndarray:
     The map's free cells themselves can be wrong (a cell the grid rounds at a
     box's foot, the estimate's drift): a gap filled next to such a cell carries
     the error one cell on.  Why it is needed: the floor in view proves its floor
-    column by column, and a column whose run the picture's noise cut short
-    leaves a stripe one cell wide, along the sight lines, unknown between its
-    neighbours' proofs (room 57, docs/planner.md)."""
+    column by column, and a column whose proof ends sooner than its neighbours'
+    (a pixel of noise, its own bound) leaves a stripe one cell wide, along the
+    sight lines, unknown between their proofs (room 57, docs/planner.md)."""
     free = np.asarray(cells) == FREE
     p = np.pad(free, 1)
     across_row = p[1:-1, :-2] & p[1:-1, 2:]
