@@ -378,6 +378,12 @@ class Perception:
     def estimate(self, look, dead: State) -> State:
         return dead
 
+    def stand_in_greys(self, picture) -> np.ndarray:
+        """What stands for the floor's greys until they are learned: the picture's
+        bottom rows' greys, each with the share ``stand_in`` asks
+        (:func:`planner.appearance.nearest_greys`)."""
+        return nearest_greys(picture, min_share=STAND_INS[self.stand_in])
+
     def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
                known: FloorMap | None = None, pose_cov=None, picture=None, depth=None) -> int:
         """One look into the model as a floor range scan
@@ -453,7 +459,7 @@ class Perception:
                 # only the learned grey proves; the stand-in below only bounds
                 proof_top = floor_run(pic, greys)
             if greys is None and bounded:
-                greys = nearest_greys(pic, min_share=STAND_INS[self.stand_in])
+                greys = self.stand_in_greys(pic)
             if greys is not None:
                 top = floor_run(pic, greys, bridge=bounded)
                 if self.floor_eyes == "veto" and len(scan_points):

@@ -214,14 +214,20 @@ def test_swept_track_marks_the_moves_and_pivots_shrunk_by_the_margin():
     assert poses_only.state_at(0.4, 0.0) == FREE and swept.state_at(0.4, 0.0) == UNKNOWN
 
 
-def test_bench_sorts_the_stop_reasons_by_kind():
-    """bench/drive.py's table of stop reasons, on reasons the loop writes."""
+def _bench_drive():
+    """bench/drive.py as a module (it is a script, not a package)."""
     import importlib.util
     from pathlib import Path
     path = Path(__file__).resolve().parents[1] / "bench" / "drive.py"
     spec = importlib.util.spec_from_file_location("bench_drive", path)
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
+    return bench
+
+
+def test_bench_sorts_the_stop_reasons_by_kind():
+    """bench/drive.py's table of stop reasons, on reasons the loop writes."""
+    bench = _bench_drive()
     k = bench.stop_kind
     assert k("goal reached") == "reached"
     assert k("stopped after 8 looks without progress: no path: the way from the start to the "
@@ -271,12 +277,7 @@ def test_assumed_lines_are_cut_a_cell_past_where_they_leave_the_walls_less_the_g
 def test_bench_counts_success_by_the_slack_a_task_leaves():
     """bench/drive.py's ``success_by_slack``: each room in the bin of its slack
     (a bin holds its lower edge, not its upper), a room without a slack in none."""
-    import importlib.util
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[1] / "bench" / "drive.py"
-    spec = importlib.util.spec_from_file_location("bench_drive", path)
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    bench = _bench_drive()
     rows = [{"slack_ft": 0.0, "reached": False}, {"slack_ft": 0.125, "reached": True},
             {"slack_ft": 0.25, "reached": True}, {"slack_ft": 0.375, "reached": False},
             {"slack_ft": 0.5, "reached": True}, {"slack_ft": 2.0, "reached": True},
