@@ -193,12 +193,17 @@ def run_reach(rays: FloorRays, top: np.ndarray) -> np.ndarray:
 
 
 def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft: float,
-                res: float, row_step: int = 4):
+                res: float, row_step: int = 4, lead_in: bool = False):
     """The proven floor of a look as sight-line samples: for every column's
     run (rows ``top[c]``..119) the rays of every ``row_step``-th row and the
     top one, each from d (1 - h / H) to d, cut at ``clip_ft[c]`` (horizontal
     ft from the camera).  Returns (samples (N, 3) at the camera's height, the
-    ray of each sample, its distance from the camera) or None."""
+    ray of each sample, its distance from the camera) or None.
+
+    ``lead_in``: each ray's samples also run back from d (1 - h / H) toward
+    the camera at the same spacing, and a fourth item marks the samples
+    that prove (the trace); the others only lead in, for
+    :func:`keep_before_hit` to stop a trace that lies past a hit."""
     frac = 1.0 - lowest_ft / rays.height
     rr, cc = [], []
     for c in np.flatnonzero(top < ROWS):
@@ -215,14 +220,18 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     n[~np.isfinite(d)] = 0
     if n.sum() == 0:
         return None
-    ray = np.repeat(np.arange(len(rr)), n)
-    step = np.concatenate([np.arange(m) for m in n]) * (res / 2)
-    dist = near[ray] + step
+    lead = np.where(n > 0, np.floor(near / (res / 2)).astype(int), 0) if lead_in \
+        else np.zeros(len(n), int)
+    ray = np.repeat(np.arange(len(rr)), n + lead)
+    k = np.concatenate([np.arange(-a, m) for a, m in zip(lead, n)])
+    dist = near[ray] + k * (res / 2)
     o = rays.origin
     ux = (rays.x[rr, cc] - o[0]) / d
     uz = (rays.z[rr, cc] - o[2]) / d
     pts = np.column_stack([o[0] + dist * ux[ray], np.full(len(dist), o[1]),
                            o[2] + dist * uz[ray]])
+    if lead_in:
+        return pts, ray, dist, k >= 0
     return pts, ray, dist
 
 
@@ -300,6 +309,66 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
     if within is not None:
         reach[past_walls(rays, top, within, heading_sd)] = 0.0
     return reach
+
+
+def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
+                rows: int = 3) -> np.ndarray:
+    """(128,) the floor ends ``reach`` (:func:`floor_end`) each cut where a
+    located point (rig.scan Points) stands at its column's run top (within
+    ``rows`` rows of it, in the column or a neighbour) clearly nearer than
+    the floor end (by more than the point's range error and a row's floor
+    footprint): the run went on up a surface of the floor's grey to a mark
+    on it (a box face's stripe, room 34), and what ended it stands off the
+    floor.  Such a column proves the floor only to the point, less its
+    range error.  A floor end at an obstacle's foot locates there, within
+    those errors, and stays."""
+    reach = np.array(reach, float)
+    if not len(points):
+        return reach
+    c = np.array([p.loc1 for p in points], int) - 1
+    line = np.array([p.line for p in points], int)
+    dp = np.array([p.dp for p in points], float)
+    ep = np.array([p.ep for p in points], float)
+    cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
+    w = cam @ rays.R.T
+    horiz = np.hypot(w[:, 0], w[:, 2])
+    cols = np.arange(COLS)
+    r = np.clip(top, 1, ROWS - 2)
+    with np.errstate(invalid="ignore"):
+        slack = np.abs(rays.dist[r - 1, cols] - rays.dist[r + 1, cols])
+    slack = np.where(np.isfinite(slack), slack, np.inf)
+    for k in range(-1, 2):
+        cc = c + k
+        ok = (cc >= 0) & (cc < COLS)
+        cc, i = cc[ok], np.flatnonzero(ok)
+        at_top = (top[cc] < ROWS) & (np.abs(line[i] - top[cc]) <= rows)
+        raised = at_top & (horiz[i] + ep[i] + slack[cc] < reach[cc])
+        np.minimum.at(reach, cc[raised], np.maximum(horiz[i][raised] - ep[i][raised], 0.0))
+    return reach
+
+
+def within_heading(reach: np.ndarray, heading_sd: float, sigmas: float = 2.0) -> np.ndarray:
+    """(128,) each column's floor end ``reach`` (:func:`floor_end`) cut to
+    the nearest end of every column within ``sigmas`` standard deviations
+    ``heading_sd`` (rad) of the estimate's heading of it, a column off the
+    picture counting 0 (nothing seen there).  The look is laid down along
+    the estimated heading, so the ray a column claims may be a neighbour's
+    by up to that angle: beside an obstacle, the floor that one column
+    shows past its side another column shows blocked, and only what all of
+    them show is proven.  Under the 1985 eyes' dead reckoning the heading
+    drifts 5-9 deg in 20 looks (rooms 6, 34, 49), and the floor in view,
+    laid down along it, proved cells 0.3-1 ft inside boxes."""
+    reach = np.asarray(reach, float)
+    delta = sigmas * max(float(heading_sd), 0.0)
+    if delta <= 0.0:
+        return reach.copy()
+    angle = np.arctan((np.arange(COLS) + 0.5 - CX) / FOCAL)     # increasing with the column
+    lo = np.searchsorted(angle, angle - delta, side="left")
+    hi = np.searchsorted(angle, angle + delta, side="right")    # columns lo..hi-1 in the window
+    off_picture = (angle - delta < angle[0]) | (angle + delta > angle[-1])
+    out = np.array([reach[a:b].min() for a, b in zip(lo, hi)])
+    out[off_picture] = 0.0
+    return out
 
 
 def bound_by_floor(ends, cols, origin, reach: np.ndarray):

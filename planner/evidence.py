@@ -28,7 +28,8 @@ import numpy as np
 
 from vehicle.sim import State
 from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
-    BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed
+    BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed, \
+    raised_ends, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, pose_point_covariance
@@ -309,6 +310,10 @@ class Perception:
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
+        self.floor_end_check = "off"      # or "stereo" (DriveConfig.floor_end_check)
+        self.proof_hits = "trace"         # or "line" (DriveConfig.proof_hits)
+        self.proof_heading = "estimate"   # or "window" (DriveConfig.proof_heading)
+        self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
         self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
@@ -517,6 +522,14 @@ class Perception:
                               math.sqrt(max(float(pose_cov[2, 2]), 0.0))
                               if pose_cov is not None else 0.0) \
                 if top is not None and bounded else None
+            if reach is not None and self.floor_end_check == "stereo" and depth is None:
+                # a located point at a floor end, nearer than it: the run went up a face
+                reach = raised_ends(scan_points, rays, top, reach)
+            if reach is not None and self.proof_heading == "window" and pose_cov is not None:
+                # the look lies along the estimated heading: only what every column
+                # within its sigmas shows is proven (rooms 6, 34, 49)
+                reach = within_heading(reach, math.sqrt(max(float(pose_cov[2, 2]), 0.0)),
+                                       self.heading_sigmas)
             if proof_top is not None:
                 # "bound-add": the floor in view proves its trace too, no farther
                 # than where the bound ends it (nowhere in a column showing no end)
@@ -944,12 +957,16 @@ class Perception:
             np.maximum.at(clip, c[ok], d[ok])
         if reach is not None:
             clip = np.minimum(clip, reach)
-        proof = floor_proof(rays, top, clip, self.lowest_ft, res)
+        proof = floor_proof(rays, top, clip, self.lowest_ft, res,
+                            lead_in=self.proof_hits == "line")
         if proof is None:
             return 0
-        pts, ray, _ = proof
+        pts, ray = proof[0], proof[1]
         keys = cell_keys(pts, res)
-        keys = np.unique(keys[keep_before_hit(keys, ray, self.hit_keys)])
+        keep = keep_before_hit(keys, ray, self.hit_keys)
+        if len(proof) == 4:               # proof_hits "line": the lead-in only stops a trace
+            keep &= proof[3]
+        keys = np.unique(keys[keep])
         if not len(keys):
             return 0
         self.tree.updateNodes(np.ascontiguousarray(key_centres(keys, res)), False)

@@ -167,6 +167,9 @@ MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
+FLOOR_END_CHECKS = ("off", "stereo")   # DriveConfig.floor_end_check: a floor end the eyes place nearer
+PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops the floor's proof
+PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 
 
@@ -414,6 +417,24 @@ class DriveConfig:
                                           # 1985; named): free (floormap.one_cell_gaps: no
                                           # box fits there that misses both; the floor in
                                           # view leaves such stripes, room 57)
+    proof_hits: str = "trace"             # under floor_eyes "bound-add", the floor in view's
+                                          # proof of a row: never past a cell any look has hit
+                                          # on its trace (d (1 - h / H) to d; "trace"), or on
+                                          # its whole line from the camera ("line", not 1985;
+                                          # named): a box nearer than the picture's bottom row
+                                          # with a face of the floor's grey (room 293)
+    floor_end_check: str = "off"          # under floor_eyes "bound"/"bound-add": "off", or
+                                          # "stereo" (not 1985; named): a located point at a
+                                          # column's floor end, clearly nearer than it, ends
+                                          # the column's floor there (appearance.raised_ends:
+                                          # the run went up a face of the floor's grey to a
+                                          # mark on it, room 34)
+    proof_heading: str = "estimate"       # under floor_eyes "bound"/"bound-add", the look's
+                                          # floor ends laid down along: "estimate" (its
+                                          # heading) or "window" (not 1985; named): each
+                                          # column only as far as every column within
+                                          # drift_sigmas of the heading's standard deviation
+                                          # shows (appearance.within_heading; rooms 6, 34, 49)
     drift_sigmas: float = 2.0             # under "erode", "moves": the standard deviations of the
                                           # drift a free edge beside a hit gives up
     map_extent: str = "seen"              # what the floor map (the search's space) covers:
@@ -596,7 +617,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
                           ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
                           ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS),
-                          ("wall_points", WALL_POINTS)):
+                          ("wall_points", WALL_POINTS), ("proof_heading", PROOF_HEADINGS),
+                          ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     if cfg.head != "fixed" and cfg.pose == "fused":
@@ -667,6 +689,8 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.place = cfg.hit_at
     model.feature_pose = cfg.feature_pose
     model.floor_eyes = cfg.floor_eyes
+    model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
+    model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
     model.expire_uncertain = int(cfg.expire_uncertain)
     model.lowest_ft = cfg.lowest_obstacle_ft
     if cfg.head == "assist" and cfg.assist_pivot_ft is not None:   # a pivot's cells proven,

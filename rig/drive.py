@@ -159,7 +159,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, \
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, \
         WALL_POINTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
@@ -384,9 +384,27 @@ def add_loop_options(p) -> None:
                    help="an unknown cell between two free ones across a row or a column: "
                         "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
                         "that misses both; the floor in view leaves such stripes")
+    p.add_argument("--proof-hits", choices=PROOF_HITS, default=C.proof_hits,
+                   help="under --floor-eyes bound-add, where a cell some look has hit stops "
+                        "the floor in view's proof of a row: 'trace' (default): on the floor "
+                        "stretch an 0.8 ft obstacle would hide; 'line' (not 1985): anywhere on "
+                        "its line from the camera, so a box nearer than the picture's bottom "
+                        "row with a face of the floor's grey proves nothing behind it")
+    p.add_argument("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
+                   help="under --floor-eyes bound or bound-add: 'off' (default), or 'stereo' "
+                        "(not 1985): where the eyes locate a point at a column's floor end "
+                        "clearly nearer than the floor end, the run went on up a face of the "
+                        "floor's grey and the column's floor ends at that point")
+    p.add_argument("--proof-heading", choices=PROOF_HEADINGS, default=C.proof_heading,
+                   help="under --floor-eyes bound or bound-add, where each column's floor in "
+                        "view ends: 'estimate' (default): along the estimated heading; 'window' "
+                        "(not 1985): no farther than every column within --drift-sigmas of the "
+                        "heading's standard deviation shows, since the look may lie that far "
+                        "round")
     p.add_argument("--drift-sigmas", type=float, default=C.drift_sigmas, metavar="S",
                    help="under --free-drift erode or moves: how many standard deviations of the drift "
-                        "an older look's free edge beside a hit gives up (default 2)")
+                        "an older look's free edge beside a hit gives up; under --proof-heading "
+                        "window, of the heading (default 2)")
     p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
@@ -454,7 +472,8 @@ def loop_config(args, goal, fail):
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
                        map_extent=args.map_extent, plan_walls=args.plan_walls,
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
-                       free_gaps=args.free_gaps,
+                       free_gaps=args.free_gaps, proof_heading=args.proof_heading,
+                       floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
                        wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:

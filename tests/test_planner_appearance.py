@@ -86,6 +86,35 @@ def test_proof_runs_from_the_near_limit_to_the_run_and_the_clip():
     assert floor_proof(rays, np.full(128, ROWS), clip, h, res) is None
 
 
+def test_a_lead_in_stops_a_proof_that_lies_past_a_hit_nearer_than_its_trace():
+    """proof_hits="line" (room 293): a box 1.25 ft ahead, nearer than the
+    picture's bottom row, whose face of the floor's grey fills the bottom
+    rows.  Its hit cell lies before every trace (which starts 2.33 ft
+    out), so the trace alone never meets it; the lead-in does, and no
+    proving sample past it is kept.  The proving samples are the same
+    with or without the lead-in."""
+    from planner.octree import cell_keys
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    top = np.full(128, ROWS)
+    top[64] = 60
+    res, h = 0.25, 0.8
+    clip = np.full(128, 100.0)
+    pts, ray, dist = floor_proof(rays, top, clip, h, res)
+    lpts, lray, ldist, proving = floor_proof(rays, top, clip, h, res, lead_in=True)
+    assert ldist[proving] == pytest.approx(dist) and lray[proving].tolist() == ray.tolist()
+    for k in np.unique(lray):             # each ray led in from its camera's foot
+        lead, trace = ldist[(lray == k) & ~proving], ldist[(lray == k) & proving]
+        assert lead.min() < res / 2 and lead.max() < trace.min()
+        assert np.diff(np.sort(ldist[lray == k])) == pytest.approx(res / 2)   # one spacing
+    hit = cell_keys(np.array([[rays.origin[0], rays.origin[1], rays.origin[2] + 1.25]]), res)
+    keys, lkeys = cell_keys(pts, res), cell_keys(lpts, res)
+    assert keep_before_hit(keys, ray, hit).all()                      # the trace misses it
+    kept = keep_before_hit(lkeys, lray, hit) & proving
+    assert not kept.any()                                             # the line does not
+    assert floor_proof(rays, np.full(128, ROWS), clip, h, res, lead_in=True) is None
+
+
 def test_a_proof_stops_before_the_first_hit_cell_of_its_ray():
     keys = np.array([1, 2, 3, 4, 10, 11, 12])
     ray = np.array([0, 0, 0, 0, 1, 1, 1])
@@ -403,3 +432,210 @@ def test_a_run_past_the_walls_foot_shows_no_floors_end():
     assert past_walls(rays, far, (-5.0, 5.0, -1.0, end - 1.1 * step))[64]
     # and no better than the heading is known, times its distance
     assert not past_walls(rays, far, (-5.0, 5.0, -1.0, end - 2.0), heading_sd=0.1).any()
+
+
+def test_within_heading_cuts_each_column_to_its_heading_window():
+    """By hand: near the centre the 128-column picture turns 1/180 rad a
+    column, so a 0.02 rad window (2 sigma of 0.01 rad) round column 64
+    (atan(0.5/180) = 0.00278 rad) holds columns 61-67 (column 68 is
+    atan(4.5/180) - 0.00278 = 0.0222 rad off); a column within 0.02 rad of
+    the picture's outermost column may look past it (column 0 at
+    atan(-63.5/180) = -0.3391 rad; column 4 at atan(-59.5/180), 0.0199 rad
+    from it, column 5 0.0249 rad)."""
+    from planner.appearance import within_heading
+    reach = np.full(128, 5.0)
+    reach[64] = 2.0
+    out = within_heading(reach, 0.01, sigmas=2.0)
+    assert np.flatnonzero(out == 2.0).tolist() == list(range(61, 68))
+    assert np.flatnonzero(out == 0.0).tolist() == [0, 1, 2, 3, 4, 123, 124, 125, 126, 127]
+    assert (out[(out != 2.0) & (out != 0.0)] == 5.0).all()
+    assert (within_heading(reach, 0.0) == reach).all()          # a known heading: as shown
+    assert reach[64] == 2.0 and reach[63] == 5.0                 # the input is left alone
+
+
+def _low_box_room():
+    """The tiny room's walls and a flat floor of grey 6, with one low box of
+    flat greys (1.5 ft tall, x 1-2.5, z 5-6.5) right of the view's centre."""
+    from planner.tiny import BOUNDS, bands
+    from rig.scene import flat
+    from world.room import FLOOR_Y, full_box, make_room, quad
+    bx, bz = (1.0, 2.5), (5.0, 6.5)
+    x0, x1, z0, z1 = BOUNDS
+    quads = full_box("box", bx, (FLOOR_Y - 1.5, FLOOR_Y), bz, flat(12), flat(10), flat(14))
+    quads += [quad("back wall", 2, z1, (x0, x1), (-5.0, FLOOR_Y), bands(3, 0, x0, x1)),
+              quad("front wall", 2, z0, (x0, x1), (-5.0, FLOOR_Y), bands(4, 0, x0, x1)),
+              quad("left wall", 0, x0, (-5.0, FLOOR_Y), (z0, z1), bands(5, 2, z0, z1)),
+              quad("right wall", 0, x1, (-5.0, FLOOR_Y), (z0, z1), bands(6, 2, z0, z1)),
+              quad("floor", 1, FLOOR_Y, (x0, x1), (z0, z1), flat(6)),
+              quad("ceiling", 1, -5.0, (x0, x1), (z0, z1), flat(12))]
+    return make_room("low box room", quads, [(bx, bz)], BOUNDS, ceiling_y=-5.0), bx, bz
+
+
+def test_the_heading_window_keeps_a_look_laid_down_8_deg_off_out_of_the_box():
+    """The look taken facing +Z and laid down by an estimate 8 deg off (the
+    1985 eyes' dead reckoning drifts that far in 20 looks, rooms 6, 34, 49):
+    the floor seen left of the box is proven inside it, 0.2 ft and more from
+    its sides.  With the heading's standard deviation 4 deg,
+    ``proof_heading="window"`` proves none of it, and a look whose heading
+    is known proves as much as before."""
+    from eyes import scan_pair
+    from planner.evidence import FLOOR_IN_VIEW, FreeProvenance, Perception
+    from planner.loop import DriveConfig, true_range_points
+    from planner.motion import near_visible_ft
+    from planner.octree import FREE as F
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    room, bx, bz = _low_box_room()
+    look = render_look(room, Pose(0.0, 0.0, 0.0, PITCH), seed=7, supersample=2)
+    pts = true_range_points(scan_pair(look.left_bi, look.right_bi,
+                                      lines=tuple(range(8, 113, 2))).points, look)
+
+    def proven_in_box(how, off_deg, sd_deg):
+        m = Perception(DriveConfig.voi, DriveConfig.band, 12.0, 2, 1,
+                       near_visible_ft(DEFAULT, 0.8), 8.0)
+        m.blank_carve, m.carve, m.floor_eyes, m.proof_heading = "unknown", "error", "bound-add", how
+        m.floor_hist[6] = 1000.0                     # the floor's grey, as if learned
+        m.provenance = FreeProvenance()
+        cov = np.diag([0.0, 0.0, math.radians(sd_deg) ** 2])
+        m.update(pts, State(0.0, 0.0, off_deg), Pose, PITCH, None, cov, look.left_bi)
+        fm = m.floor_map([(0.0, 0.0), (0.0, 9.0)])
+        cols = m.provenance.columns(fm.cell, DriveConfig.band)
+        i0, j0 = int(round(fm.z0 / fm.cell)), int(round(fm.x0 / fm.cell))
+        n = 0
+        for i, j in np.argwhere(fm.cells == F):
+            x, z = fm.x0 + (j + 0.5) * fm.cell, fm.z0 + (i + 0.5) * fm.cell
+            if bx[0] + 0.2 < x < bx[1] - 0.2 and bz[0] + 0.2 < z < bz[1] - 0.2 and \
+                    FLOOR_IN_VIEW in cols.get((j0 + j, i0 + i), {}):
+                n += 1
+        return n, m.floor_cells
+
+    assert proven_in_box("estimate", 8.0, 4.0)[0] >= 3
+    assert proven_in_box("window", 8.0, 4.0)[0] == 0
+    assert proven_in_box("window", 0.0, 0.0) == proven_in_box("estimate", 0.0, 0.0)
+
+
+def _point_on_ray(rays, row, col, horiz_ft, ep=0.05):
+    """A located point (rig.scan Point) on the ray of pixel (row, col),
+    ``horiz_ft`` from the camera horizontally."""
+    from planner.appearance import CX, CY, FOCAL
+    u = np.array([(col + 0.5 - CX) / FOCAL, (row + 0.5 - CY) / FOCAL, 1.0])
+    w = rays.R @ u
+    dp = horiz_ft / math.hypot(w[0], w[2])
+    return Point(row, 1, col + 1, col + 1, dp, u[0] * dp, u[1] * dp, ep, 0.01, 0.01)
+
+
+def test_a_point_located_at_a_floor_end_nearer_than_it_ends_the_floor_there():
+    """By hand: column 64's floor runs to the row whose floor lies 6 ft away.
+    A point located on that row's ray only 4 ft away stands 1 ft off the
+    floor (3 (1 - 4/6)): the run went up a face of the floor's grey, and the
+    column's floor ends at the point less its range error.  A point at the
+    floor end itself (an obstacle's foot), or rows away from it, changes
+    nothing."""
+    from planner.appearance import raised_ends
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    row6 = int(np.argmin(np.abs(rays.dist[:, 64] - 6.0)))
+    top = np.full(128, ROWS)
+    top[64] = row6
+    reach = floor_end(rays, top)
+    assert reach[64] == pytest.approx(rays.dist[row6, 64])
+    raised = _point_on_ray(rays, row6, 64, 4.0, ep=0.2)
+    out = raised_ends([raised], rays, top, reach)
+    assert out[64] == pytest.approx(3.8)
+    assert (np.delete(out, 64) == np.delete(reach, 64)).all()
+    assert reach[64] == pytest.approx(rays.dist[row6, 64])             # left alone
+    # a neighbouring column's point counts too (its edge may fall a column off)
+    assert raised_ends([_point_on_ray(rays, row6, 65, 4.0, ep=0.2)], rays, top,
+                       reach)[64] == pytest.approx(3.8)
+    foot = _point_on_ray(rays, row6, 64, reach[64])
+    assert (raised_ends([foot], rays, top, reach) == reach).all()
+    far_row = _point_on_ray(rays, row6 - 10, 64, 4.0)
+    assert (raised_ends([far_row], rays, top, reach) == reach).all()
+    assert (raised_ends([], rays, top, reach) == reach).all()
+
+
+def test_a_striped_face_of_the_floors_grey_ends_no_floor_behind_it():
+    """A box 3.5 ft tall (above the camera) whose side facing the rig has the
+    floor's grey 6 with a vertical stripe of grey 15, 1.2-2.6 ft away: the
+    floor run goes on up the face to the stripe, whose lower edge passes for
+    a floor end 3.7-17 ft off, six of them inside the box.  The eyes locate the
+    stripe's edges on the face; with them every column's floor end lies in
+    front of the face (the world's geometry: the plane x = 1.2 ft), but
+    where the face stands nearer than the picture's bottom row."""
+    from eyes import scan_pair
+    from planner.appearance import raised_ends
+    from planner.loop import true_range_points
+    from planner.tiny import BOUNDS, bands
+    from rig.scene import flat
+    from world.room import FLOOR_Y, full_box, make_room, quad
+
+    def striped(axis, centre):
+        return lambda X, Y, Z: np.where(np.abs((X, Y, Z)[axis] - centre) < 0.15, 15.0, 6.0)
+    bx, bz = (1.2, 3.0), (0.5, 5.0)
+    x0, x1, z0, z1 = BOUNDS
+    quads = full_box("box", bx, (FLOOR_Y - 3.5, FLOOR_Y), bz, striped(0, 2.0), striped(2, 2.5),
+                     flat(14))
+    quads += [quad("back wall", 2, z1, (x0, x1), (-5.0, FLOOR_Y), bands(3, 0, x0, x1)),
+              quad("front wall", 2, z0, (x0, x1), (-5.0, FLOOR_Y), bands(4, 0, x0, x1)),
+              quad("left wall", 0, x0, (-5.0, FLOOR_Y), (z0, z1), bands(5, 2, z0, z1)),
+              quad("right wall", 0, x1, (-5.0, FLOOR_Y), (z0, z1), bands(6, 2, z0, z1)),
+              quad("floor", 1, FLOOR_Y, (x0, x1), (z0, z1), flat(6)),
+              quad("ceiling", 1, -5.0, (x0, x1), (z0, z1), flat(12))]
+    room = make_room("striped face", quads, [(bx, bz)], BOUNDS, ceiling_y=-5.0)
+    pose = Pose(0.0, 0.0, 20.0, PITCH)
+    look = render_look(room, pose, seed=7, supersample=2)
+    greys = np.zeros(16, bool)
+    greys[6] = True
+    top = floor_run(look.left_bi, greys, bridge=True)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    reach = floor_end(rays, top)
+    pts = true_range_points(scan_pair(look.left_bi, look.right_bi,
+                                      lines=tuple(range(8, 113, 2))).points, look)
+
+    def behind_the_face(r):
+        cols = np.flatnonzero(r > 0)
+        row = np.minimum(top[cols], ROWS - 1)
+        d = rays.dist[row, cols]
+        x = rays.origin[0] + (rays.x[row, cols] - rays.origin[0]) * r[cols] / d
+        z = rays.origin[2] + (rays.z[row, cols] - rays.origin[2]) * r[cols] / d
+        return cols[(x > bx[0] + 0.1) & (z > bz[0]) & (z < bz[1])]   # (a row's footprint)
+    assert len(behind_the_face(reach)) >= 5                   # the hazard, as shown (6)
+    # one column is left, a known limit: column 101 meets the face 2.29 ft away, nearer
+    # than the bottom row's floor (3.2 ft), so its run is face from the bottom up and ends
+    # in row 118, below the last scan line (112): no point is located there to check it
+    assert behind_the_face(raised_ends(pts, rays, top, reach)).tolist() == [101]
+    assert top[101] == 118
+
+
+def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
+    """``--proof-heading``, ``--floor-end-check`` and ``--proof-hits`` reach
+    DriveConfig (defaults ``estimate``, ``off``, ``trace``: the drive as before)
+    and the loop's map, bad values are refused, and the tiny room is driven to
+    its goal with all three without a collision."""
+    from planner.loop import DriveConfig, _check_config, _perception, run
+    from planner.evidence import Perception
+    from planner.tiny import GOAL
+    from rigtools import drive_config
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    cfg = drive_config(monkeypatch, tmp_path)
+    assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("estimate", "off", "trace")
+    cfg = drive_config(monkeypatch, tmp_path, "--proof-heading", "window", "--floor-end-check",
+                       "stereo", "--proof-hits", "line", "--drift-sigmas", "1.5")
+    assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("window", "stereo", "line")
+    m = _perception(cfg, DEFAULT, Perception)
+    assert (m.proof_heading, m.heading_sigmas, m.floor_end_check, m.proof_hits) == \
+        ("window", 1.5, "stereo", "line")
+    for name, bad in (("proof_heading", "sigma"), ("floor_end_check", "on"),
+                      ("proof_hits", "all")):
+        with pytest.raises(ValueError, match=name):
+            _check_config(DriveConfig(goal=GOAL, **{name: bad}))
+    # (oracle edges and band sight lines, as the tiny room's other loop tests)
+    res = run(tiny_room(), State(0.0, 0.0, 0.0),
+              DriveConfig(goal=GOAL, eyes="truth", sight_lines="band", proof_heading="window",
+                          floor_end_check="stereo", proof_hits="line"),
+              noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
+    assert 0 < res.floor["floor_cells"]
