@@ -314,14 +314,15 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
 def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
                 rows: int = 3) -> np.ndarray:
     """(128,) the floor ends ``reach`` (:func:`floor_end`) each cut where a
-    located point (rig.scan Points) stands at its column's run top (within
-    ``rows`` rows of it, in the column or a neighbour) clearly nearer than
-    the floor end (by more than the point's range error and a row's floor
-    footprint): the run went on up a surface of the floor's grey to a mark
-    on it (a box face's stripe, room 34), and what ended it stands off the
-    floor.  Such a column proves the floor only to the point, less its
-    range error.  A floor end at an obstacle's foot locates there, within
-    those errors, and stays."""
+    located point (rig.scan Points) in its column's floor run (from ``rows``
+    rows above its top down, in the column or a neighbour) stands clearly
+    nearer than the floor its pixel would show (by more than the point's
+    range error and a row's floor footprint): the pixel shows a surface off
+    the floor that has the floor's grey, a box face the run went on up to a
+    mark on it (room 34) or a box top of the floor's grey (room 278).  Such
+    a column proves the floor only to the point, less its range error.  A
+    point on the floor (a tile's edge, an obstacle's foot) locates where its
+    pixel's floor lies, within those errors, and cuts nothing."""
     reach = np.array(reach, float)
     if not len(points):
         return reach
@@ -332,17 +333,17 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
     w = cam @ rays.R.T
     horiz = np.hypot(w[:, 0], w[:, 2])
-    cols = np.arange(COLS)
-    r = np.clip(top, 1, ROWS - 2)
-    with np.errstate(invalid="ignore"):
-        slack = np.abs(rays.dist[r - 1, cols] - rays.dist[r + 1, cols])
-    slack = np.where(np.isfinite(slack), slack, np.inf)
+    r = np.clip(line, 1, ROWS - 2)
     for k in range(-1, 2):
         cc = c + k
         ok = (cc >= 0) & (cc < COLS)
         cc, i = cc[ok], np.flatnonzero(ok)
-        at_top = (top[cc] < ROWS) & (np.abs(line[i] - top[cc]) <= rows)
-        raised = at_top & (horiz[i] + ep[i] + slack[cc] < reach[cc])
+        floor_d = rays.dist[r[i], cc]
+        with np.errstate(invalid="ignore"):
+            slack = np.abs(rays.dist[r[i] - 1, cc] - rays.dist[r[i] + 1, cc])
+        slack = np.where(np.isfinite(slack), slack, np.inf)
+        in_run = (top[cc] < ROWS) & (line[i] >= top[cc] - rows)
+        raised = in_run & (horiz[i] + ep[i] + slack < floor_d)
         np.minimum.at(reach, cc[raised], np.maximum(horiz[i][raised] - ep[i][raised], 0.0))
     return reach
 

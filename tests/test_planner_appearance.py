@@ -528,9 +528,10 @@ def test_a_point_located_at_a_floor_end_nearer_than_it_ends_the_floor_there():
     """By hand: column 64's floor runs to the row whose floor lies 6 ft away.
     A point located on that row's ray only 4 ft away stands 1 ft off the
     floor (3 (1 - 4/6)): the run went up a face of the floor's grey, and the
-    column's floor ends at the point less its range error.  A point at the
-    floor end itself (an obstacle's foot), or rows away from it, changes
-    nothing."""
+    column's floor ends at the point less its range error; so does a point
+    lower in the run nearer than its own row's floor.  A point where its
+    pixel's floor lies (an obstacle's foot, a tile's edge), or rows above
+    the run, changes nothing."""
     from planner.appearance import raised_ends
     pose = Pose(0.0, 0.0, 0.0, PITCH)
     rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
@@ -549,8 +550,16 @@ def test_a_point_located_at_a_floor_end_nearer_than_it_ends_the_floor_there():
                        reach)[64] == pytest.approx(3.8)
     foot = _point_on_ray(rays, row6, 64, reach[64])
     assert (raised_ends([foot], rays, top, reach) == reach).all()
-    far_row = _point_on_ray(rays, row6 - 10, 64, 4.0)
-    assert (raised_ends([far_row], rays, top, reach) == reach).all()
+    above = _point_on_ray(rays, row6 - 10, 64, 4.0)             # above the run: not its
+    assert (raised_ends([above], rays, top, reach) == reach).all()
+    # inside the run: 20 rows down the floor lies 4.66 ft off; a point 2.5 ft off there
+    # stands 3 (1 - 2.5/4.66) = 1.4 ft up (a box top of the floor's grey, room 278)
+    low = row6 + 20
+    assert 4.6 < rays.dist[low, 64] < 4.7
+    on_top = _point_on_ray(rays, low, 64, 2.5, ep=0.1)
+    assert raised_ends([on_top], rays, top, reach)[64] == pytest.approx(2.4)
+    on_floor = _point_on_ray(rays, low, 64, rays.dist[low, 64])   # a tile's edge
+    assert (raised_ends([on_floor], rays, top, reach) == reach).all()
     assert (raised_ends([], rays, top, reach) == reach).all()
 
 
