@@ -312,7 +312,7 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
 
 
 def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
-                rows: int = 3) -> np.ndarray:
+                rows: int = 3, min_points: int = 3, min_range_ft: float = 0.0) -> np.ndarray:
     """(128,) the floor ends ``reach`` (:func:`floor_end`) each cut where a
     located point (rig.scan Points) in its column's floor run (from ``rows``
     rows above its top down, in the column or a neighbour) stands clearly
@@ -322,8 +322,17 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     mark on it (room 34) or a box top of the floor's grey (room 278).  Such
     a column proves the floor only to the point, less its range error.  A
     point on the floor (a tile's edge, an obstacle's foot) locates where its
-    pixel's floor lies, within those errors, and cuts nothing."""
+    pixel's floor lies, within those errors, and cuts nothing.  The matcher
+    locates few of an edge's scan lines, so where the run's top goes on
+    across columns (no jump of more than ``rows`` rows) and ``min_points``
+    points on it are raised, it is taken for one edge at one height, as a box
+    top's edge is, and all its ends are cut by the least share of their
+    floor distance (room 566: a 0.99 ft box whose sides have the floor's
+    grey).  Points nearer than ``min_range_ft`` (the loop passes the floor
+    scan's 2.5 ft, :data:`planner.perception.MIN_RANGE_FT`: most of them are
+    false matches) are not used."""
     reach = np.array(reach, float)
+    points = [p for p in points if p.dp >= min_range_ft]
     if not len(points):
         return reach
     c = np.array([p.loc1 for p in points], int) - 1
@@ -334,6 +343,8 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     w = cam @ rays.R.T
     horiz = np.hypot(w[:, 0], w[:, 2])
     r = np.clip(line, 1, ROWS - 2)
+    share = np.full(COLS, np.inf)
+    count = np.zeros(COLS, int)                   # raised points in their own column
     for k in range(-1, 2):
         cc = c + k
         ok = (cc >= 0) & (cc < COLS)
@@ -345,6 +356,25 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
         in_run = (top[cc] < ROWS) & (line[i] >= top[cc] - rows)
         raised = in_run & (horiz[i] + ep[i] + slack < floor_d)
         np.minimum.at(reach, cc[raised], np.maximum(horiz[i][raised] - ep[i][raised], 0.0))
+        # how far below its floor each raised point stands, (H - h) / H of it
+        np.minimum.at(share, cc[raised], (horiz[i][raised] - ep[i][raised]) / floor_d[raised])
+        if k == 0:
+            np.add.at(count, cc[raised], 1)
+    # the run's top goes on from raised columns to their neighbours without a point (the
+    # matcher locates few of an edge's scan lines): the same edge, as high, as a box top's
+    # edge is (room 566).  An edge: the columns with an end, no jump of more than ``rows``
+    # rows between neighbours; carried only where ``min_points`` points on it are raised,
+    # so one false match does not cut a whole floor end
+    cols = np.arange(COLS)
+    end_d = np.where(top < ROWS, rays.dist[np.minimum(top, ROWS - 1), cols], 0.0)
+    ends = (top < ROWS) & (reach > 0) & np.isfinite(end_d)
+    jump = np.abs(np.diff(top.astype(int))) > rows
+    cut = np.flatnonzero(~ends[:-1] | ~ends[1:] | jump) + 1     # edges split here
+    for seg in np.split(cols, cut):
+        seg = seg[ends[seg]]
+        raised = np.isfinite(share[seg])
+        if count[seg].sum() >= min_points:
+            reach[seg] = np.minimum(reach[seg], share[seg][raised].min() * end_d[seg])
     return reach
 
 

@@ -522,9 +522,9 @@ class Perception:
                               math.sqrt(max(float(pose_cov[2, 2]), 0.0))
                               if pose_cov is not None else 0.0) \
                 if top is not None and bounded else None
-            if reach is not None and self.floor_end_check == "stereo" and depth is None:
-                # a located point at a floor end, nearer than it: the run went up a face
-                reach = raised_ends(scan_points, rays, top, reach)
+            if reach is not None and self.floor_end_check != "off" and depth is None:
+                # a located point in a floor run, nearer than its floor: the run went up a face
+                reach = raised_ends(scan_points, rays, top, reach, min_range_ft=MIN_RANGE_FT)
             if reach is not None and self.proof_heading == "window" and pose_cov is not None:
                 # the look lies along the estimated heading: only what every column
                 # within its sigmas shows is proven (rooms 6, 34, 49)

@@ -648,3 +648,40 @@ def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     assert res.reached, res.reason
     assert res.collisions == 0
     assert 0 < res.floor["floor_cells"]
+
+
+def test_a_raised_edge_carries_along_the_runs_top_to_columns_without_a_point():
+    """The run's top a straight edge across columns 56-72 (a row a column)
+    and three points located on it, in columns 60, 64 and 68, each at 2/3
+    of its row's floor distance (1 ft up): every column of the edge ends at
+    the least such share of its own floor end; beyond a jump of 10 rows
+    (column 73 on) another edge, left alone.  One point alone (a false
+    match, as likely) cuts only its own columns."""
+    from planner.appearance import raised_ends
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    row6 = int(np.argmin(np.abs(rays.dist[:, 64] - 6.0)))
+    top = np.full(128, ROWS)
+    cols = np.arange(56, 73)
+    top[cols] = row6 + (cols - 64)
+    top[73:80] = row6 + 20
+    reach = floor_end(rays, top)
+    on_edge = [_point_on_ray(rays, top[c], c, 2 / 3 * rays.dist[top[c], c], ep=0.0)
+               for c in (60, 64, 68)]
+    out = raised_ends(on_edge, rays, top, reach)
+    # each point counts in its neighbours' columns too: the least share of all
+    share = min(2 / 3 * rays.dist[top[c], c] / rays.dist[top[c], n]
+                for c in (60, 64, 68) for n in (c - 1, c, c + 1))
+    assert 0.64 < share <= 2 / 3
+    want = reach.copy()
+    want[cols] = np.minimum(share * rays.dist[top[cols], cols], reach[cols])
+    for c in (60, 64, 68):                  # and a point's own distance in its columns
+        want[c - 1:c + 2] = np.minimum(want[c - 1:c + 2], 2 / 3 * rays.dist[top[c], c])
+    assert out[cols] == pytest.approx(want[cols])
+    assert (out[cols] < reach[cols]).all()
+    assert (out[73:80] == reach[73:80]).all() and (out[:56] == reach[:56]).all()
+    one = raised_ends(on_edge[1:2], rays, top, reach)
+    assert np.flatnonzero(one != reach).tolist() == [63, 64, 65]
+    # points nearer than min_range_ft (the loop passes the floor scan's 2.5 ft) are not used
+    assert max(q.dp for q in on_edge) < 6.0
+    assert (raised_ends(on_edge, rays, top, reach, min_range_ft=6.0) == reach).all()
