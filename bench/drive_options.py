@@ -53,6 +53,12 @@ OPTIONS = [
     "--learn-floor step-back",
     "--free-drift erode",
     "--free-gaps fill",
+    "--wall-points floor-ends --pose walls",
+    "--proof-heading window",
+    "--floor-end-check stereo",
+    "--proof-hits line",
+    "--pose walls --wall-points floor-ends --proof-heading window --floor-end-check stereo "
+    "--proof-hits line",
     "--look-around sweep",
     "--free-drift off",
     "--plan-walls plan",
