@@ -417,18 +417,20 @@ class DriveConfig:
                                           # 1985; named): free (floormap.one_cell_gaps: no
                                           # box fits there that misses both; the floor in
                                           # view leaves such stripes, room 57)
-    proof_hits: str = "trace"             # under floor_eyes "bound-add", the floor in view's
-                                          # proof of a row: never past a cell any look has hit
+    proof_hits: str = "trace"             # where the floor in view carves (floor_eyes "carve",
+                                          # "add", "veto", "bound-add"), the proof of a
+                                          # picture row: never past a cell any look has hit
                                           # on its trace (d (1 - h / H) to d; "trace"), or on
                                           # its whole line from the camera ("line", not 1985;
                                           # named): a box nearer than the picture's bottom row
                                           # with a face of the floor's grey (room 293)
     floor_end_check: str = "off"          # under floor_eyes "bound"/"bound-add": "off", or
-                                          # "stereo" (not 1985; named): a located point at a
-                                          # column's floor end, clearly nearer than it, ends
-                                          # the column's floor there (appearance.raised_ends:
-                                          # the run went up a face of the floor's grey to a
-                                          # mark on it, room 34)
+                                          # "stereo" (not 1985; named): a located point in a
+                                          # column's floor run, clearly nearer than the floor
+                                          # its pixel would show, ends the column's floor there,
+                                          # and three on one run top the whole edge
+                                          # (appearance.raised_ends: a face or top of the
+                                          # floor's grey, rooms 34, 278, 566)
     proof_heading: str = "estimate"       # under floor_eyes "bound"/"bound-add", the look's
                                           # floor ends laid down along: "estimate" (its
                                           # heading) or "window" (not 1985; named): each
@@ -628,6 +630,15 @@ def _check_config(cfg: DriveConfig) -> None:
         raise ValueError(f"wall_points {cfg.wall_points!r} adds to the points the rig's eyes fix "
                          "the estimate on under pose 'walls'; with pose "
                          f"{cfg.pose!r} and eyes {cfg.eyes!r} nothing uses them")
+    bounded = cfg.floor_eyes in BOUNDING
+    for name, off in (("proof_heading", "estimate"), ("floor_end_check", "off")):
+        if getattr(cfg, name) != off and not bounded:
+            raise ValueError(f"{name} {getattr(cfg, name)!r} cuts where the floor in view ends, "
+                             f"under floor_eyes {' or '.join(map(repr, BOUNDING))}; with "
+                             f"floor_eyes {cfg.floor_eyes!r} nothing uses it")
+    if cfg.proof_hits != "trace" and cfg.floor_eyes in ("off", "bound"):
+        raise ValueError(f"proof_hits {cfg.proof_hits!r} stops the floor in view's proof; with "
+                         f"floor_eyes {cfg.floor_eyes!r} it proves nothing")
     if cfg.map_extent != "seen" and not cfg.known_walls:
         raise ValueError(f"map_extent {cfg.map_extent!r} needs known_walls: without the floor "
                          "plan the room's walls are not known")

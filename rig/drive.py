@@ -385,16 +385,18 @@ def add_loop_options(p) -> None:
                         "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
                         "that misses both; the floor in view leaves such stripes")
     p.add_argument("--proof-hits", choices=PROOF_HITS, default=C.proof_hits,
-                   help="under --floor-eyes bound-add, where a cell some look has hit stops "
-                        "the floor in view's proof of a row: 'trace' (default): on the floor "
+                   help="where the floor in view carves (--floor-eyes bound-add, carve, add, "
+                        "veto), where a cell some look has hit stops the proof of a picture "
+                        "row: 'trace' (default): on the floor "
                         "stretch an 0.8 ft obstacle would hide; 'line' (not 1985): anywhere on "
                         "its line from the camera, so a box nearer than the picture's bottom "
                         "row with a face of the floor's grey proves nothing behind it")
     p.add_argument("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
                    help="under --floor-eyes bound or bound-add: 'off' (default), or 'stereo' "
-                        "(not 1985): where the eyes locate a point at a column's floor end "
-                        "clearly nearer than the floor end, the run went on up a face of the "
-                        "floor's grey and the column's floor ends at that point")
+                        "(not 1985): where the eyes locate a point in a column's floor run "
+                        "clearly nearer than the floor there, the run went on up a face or top "
+                        "of the floor's grey, and the column's floor ends at that point (three "
+                        "such points on one edge cut all of it)")
     p.add_argument("--proof-heading", choices=PROOF_HEADINGS, default=C.proof_heading,
                    help="under --floor-eyes bound or bound-add, where each column's floor in "
                         "view ends: 'estimate' (default): along the estimated heading; 'window' "

@@ -640,6 +640,12 @@ def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
                       ("proof_hits", "all")):
         with pytest.raises(ValueError, match=name):
             _check_config(DriveConfig(goal=GOAL, **{name: bad}))
+    # where nothing would use them, one clear error
+    for name, value, eyes in (("proof_heading", "window", "add"),
+                              ("floor_end_check", "stereo", "off"), ("proof_hits", "line", "bound")):
+        with pytest.raises(ValueError, match=f"{name} '{value}'.*nothing"):
+            _check_config(DriveConfig(goal=GOAL, floor_eyes=eyes, **{name: value}))
+    _check_config(DriveConfig(goal=GOAL, floor_eyes="carve", proof_hits="line"))
     # (oracle edges and band sight lines, as the tiny room's other loop tests)
     res = run(tiny_room(), State(0.0, 0.0, 0.0),
               DriveConfig(goal=GOAL, eyes="truth", sight_lines="band", proof_heading="window",
