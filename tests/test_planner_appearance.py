@@ -453,22 +453,29 @@ def test_within_heading_cuts_each_column_to_its_heading_window():
     assert reach[64] == 2.0 and reach[63] == 5.0                 # the input is left alone
 
 
-def _low_box_room():
-    """The tiny room's walls and a flat floor of grey 6, with one low box of
-    flat greys (1.5 ft tall, x 1-2.5, z 5-6.5) right of the view's centre."""
+def _one_box_room(name, bx, bz, height, front, side, top):
+    """The tiny room's walls and a flat floor of grey 6 with one box (shades
+    ``front`` for its front and back, ``side``, ``top``)."""
     from planner.tiny import BOUNDS, bands
     from rig.scene import flat
     from world.room import FLOOR_Y, full_box, make_room, quad
-    bx, bz = (1.0, 2.5), (5.0, 6.5)
     x0, x1, z0, z1 = BOUNDS
-    quads = full_box("box", bx, (FLOOR_Y - 1.5, FLOOR_Y), bz, flat(12), flat(10), flat(14))
+    quads = full_box("box", bx, (FLOOR_Y - height, FLOOR_Y), bz, front, side, top)
     quads += [quad("back wall", 2, z1, (x0, x1), (-5.0, FLOOR_Y), bands(3, 0, x0, x1)),
               quad("front wall", 2, z0, (x0, x1), (-5.0, FLOOR_Y), bands(4, 0, x0, x1)),
               quad("left wall", 0, x0, (-5.0, FLOOR_Y), (z0, z1), bands(5, 2, z0, z1)),
               quad("right wall", 0, x1, (-5.0, FLOOR_Y), (z0, z1), bands(6, 2, z0, z1)),
               quad("floor", 1, FLOOR_Y, (x0, x1), (z0, z1), flat(6)),
               quad("ceiling", 1, -5.0, (x0, x1), (z0, z1), flat(12))]
-    return make_room("low box room", quads, [(bx, bz)], BOUNDS, ceiling_y=-5.0), bx, bz
+    return make_room(name, quads, [(bx, bz)], BOUNDS, ceiling_y=-5.0)
+
+
+def _low_box_room():
+    """One low box of flat greys (1.5 ft tall, x 1-2.5, z 5-6.5) right of the
+    view's centre."""
+    from rig.scene import flat
+    bx, bz = (1.0, 2.5), (5.0, 6.5)
+    return _one_box_room("low box room", bx, bz, 1.5, flat(12), flat(10), flat(14)), bx, bz
 
 
 def test_the_heading_window_keeps_a_look_laid_down_8_deg_off_out_of_the_box():
@@ -574,23 +581,12 @@ def test_a_striped_face_of_the_floors_grey_ends_no_floor_behind_it():
     from eyes import scan_pair
     from planner.appearance import raised_ends
     from planner.loop import true_range_points
-    from planner.tiny import BOUNDS, bands
     from rig.scene import flat
-    from world.room import FLOOR_Y, full_box, make_room, quad
 
     def striped(axis, centre):
         return lambda X, Y, Z: np.where(np.abs((X, Y, Z)[axis] - centre) < 0.15, 15.0, 6.0)
     bx, bz = (1.2, 3.0), (0.5, 5.0)
-    x0, x1, z0, z1 = BOUNDS
-    quads = full_box("box", bx, (FLOOR_Y - 3.5, FLOOR_Y), bz, striped(0, 2.0), striped(2, 2.5),
-                     flat(14))
-    quads += [quad("back wall", 2, z1, (x0, x1), (-5.0, FLOOR_Y), bands(3, 0, x0, x1)),
-              quad("front wall", 2, z0, (x0, x1), (-5.0, FLOOR_Y), bands(4, 0, x0, x1)),
-              quad("left wall", 0, x0, (-5.0, FLOOR_Y), (z0, z1), bands(5, 2, z0, z1)),
-              quad("right wall", 0, x1, (-5.0, FLOOR_Y), (z0, z1), bands(6, 2, z0, z1)),
-              quad("floor", 1, FLOOR_Y, (x0, x1), (z0, z1), flat(6)),
-              quad("ceiling", 1, -5.0, (x0, x1), (z0, z1), flat(12))]
-    room = make_room("striped face", quads, [(bx, bz)], BOUNDS, ceiling_y=-5.0)
+    room = _one_box_room("striped face", bx, bz, 3.5, striped(0, 2.0), striped(2, 2.5), flat(14))
     pose = Pose(0.0, 0.0, 20.0, PITCH)
     look = render_look(room, pose, seed=7, supersample=2)
     greys = np.zeros(16, bool)
