@@ -55,6 +55,14 @@ across a row or a column (planner.floormap.one_cell_gaps).
 ``--free-drift erode`` or ``moves`` (the default) adds per room, and sums in the summary, ``drift_eroded``: the FREE
 cells the final map gave up to the odometry's drift since the looks that freed them.
 
+Each room also reports ``free_inside_now`` (summed as ``free_inside_now_total``):
+the final map's FREE cells a quarter foot or more inside a box as the vehicle
+stands at the end, each carried from the estimate's frame into the room by the
+true pose (planner.evidence.free_inside_now).  The map is placed by the
+estimate, so the count of ``--losses`` against the room itself also shows a
+drifted estimate's whole map turned; this one shows what the vehicle, driving
+by its estimate, would find inside a box.
+
 ``--losses`` sorts each run's final map against the true room: the cells it
 blocks wrongly (the cell rounding of hits, growth, false matches), the true
 obstacle cells it shows free, and the passable cells each kind costs.  It
@@ -259,6 +267,7 @@ def main(argv=None) -> int:
     if args.true_maps:
         return true_maps(args)
 
+    from planner.evidence import free_inside_now
     from planner.loop import run
     from planner.planning import task_slack
     from rig.drive import loop_config
@@ -317,6 +326,10 @@ def main(argv=None) -> int:
             row["wall_fixes"] = res.wall_fixes
         if res.drift_eroded is not None:
             row["drift_eroded"] = res.drift_eroded
+        if last:
+            # the final map's free cells inside a box as the vehicle stands now (its frame)
+            row["free_inside_now"] = free_inside_now(last.fmap, room.obstacles,
+                                                     res.estimate_track[-1], res.true_track[-1])
         if args.losses and last:
             row["map_losses"] = final_map_losses(room, last.fmap, DEFAULT.planning_radius_ft)
             row["free_obstacle_cells"] = free_obstacle_report(room, res, model, cfg)
@@ -345,7 +358,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "wall_points": args.wall_points, "drift_sigmas": args.drift_sigmas, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "wall_points": args.wall_points, "proof_heading": args.proof_heading, "floor_end_check": args.floor_end_check, "proof_hits": args.proof_hits, "drift_sigmas": args.drift_sigmas, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,
@@ -360,6 +373,7 @@ def main(argv=None) -> int:
         "success_true_rate": sum(r["final_true_error_ft"] <= tolerance_ft for r in ok) / len(rows),
         "true_error_ft_reached_max": max((r["final_true_error_ft"] for r in ok), default=None),
         "collisions": sum(r["collisions"] for r in rows),
+        "free_inside_now_total": sum(r.get("free_inside_now", 0) for r in rows),
         "ratio_median": float(np.median(ratios)) if ratios else None,
         "ratio_max": float(np.max(ratios)) if ratios else None,
         "looks_per_metre": looks / trav_m if trav_m else None,

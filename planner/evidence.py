@@ -230,6 +230,32 @@ def standing_opened(fm: FloorMap, cells, obstacles, bounds, radius: float,
     return {"opened": int(len(opened)), "opened_unsafe": int(unsafe.sum())}
 
 
+def free_inside_now(fm: FloorMap, obstacles, estimate, truth, depth_ft: float = 0.25) -> int:
+    """How many FREE cells of ``fm`` lie ``depth_ft`` or more inside an
+    obstacle (x0, x1, z0, z1) as the vehicle stands now: each cell's centre
+    carried from the map's frame (the estimate's, ``estimate``: a State) into
+    the room by where the vehicle truly is (``truth``).  The map is placed by
+    the estimate, so against the room itself (:func:`free_obstacle_cells`) a
+    look laid down by a drifted estimate shows free cells in the boxes that
+    are floor beside them as the vehicle sees it: a look's own free space
+    agrees with the pose it was taken from, and only the drift since then
+    moves it against the vehicle now."""
+    obs = np.asarray(obstacles, float).reshape(-1, 4)
+    i, j = np.nonzero(fm.cells == FREE)
+    if not len(i) or not len(obs):
+        return 0
+    x, z = fm.centre(i, j)
+    he, ht = math.radians(estimate.heading_deg), math.radians(truth.heading_deg)
+    dx, dz = x - estimate.x, z - estimate.z
+    ahead = dx * math.sin(he) + dz * math.cos(he)        # in the vehicle's own axes
+    right = dx * math.cos(he) - dz * math.sin(he)
+    wx = truth.x + ahead * math.sin(ht) + right * math.cos(ht)
+    wz = truth.z + ahead * math.cos(ht) - right * math.sin(ht)
+    inside = np.minimum.reduce([wx[:, None] - obs[None, :, 0], obs[None, :, 1] - wx[:, None],
+                                wz[:, None] - obs[None, :, 2], obs[None, :, 3] - wz[:, None]])
+    return int((inside.max(1) >= depth_ft).sum())
+
+
 def tally_free_obstacle_cells(cells) -> dict:
     """:func:`free_obstacle_cells` summed: cells per mechanism that had a
     hand in them (``any``), per mechanism that alone made them free

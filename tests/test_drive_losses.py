@@ -186,3 +186,27 @@ def test_a_perception_factory_traces_the_drive_without_changing_it():
     assert prov.misses, "a drive that looked carved no free cell"
     assert {m for per in prov.misses.values() for m in per} <= set(MECHANISMS)
     assert set(prov.first_look.values()) <= set(range(1, traced.looks + 1))
+
+
+def test_free_inside_now_carries_the_map_by_the_estimates_error():
+    """By hand: one FREE cell 2 ft ahead of the estimate (centre (0.125, 2.125)).
+    Where the estimate is the truth it lies clear of a box at x 1.5-2.5, z 0-1;
+    where the vehicle truly faces +X (heading 90 deg, the estimate 0), the cell
+    is truly 2.125 ft ahead and 0.125 ft right of it: (2.125, -0.125) -> with the
+    box at z -0.5-0.5 it lies 0.375 ft inside (counted at 0.25 ft, not at 0.5)."""
+    from planner.evidence import free_inside_now
+    fm = FloorMap(np.full((24, 24), UNKNOWN, np.uint8), -2.0, -2.0, 0.25)
+    i, j = fm.index(0.1, 2.1)
+    fm.cells[i, j] = FREE
+    assert fm.centre(i, j) == pytest.approx((0.125, 2.125))
+    box = [(1.5, 2.5, -0.5, 0.5)]
+    est = State(0.0, 0.0, 0.0)
+    assert free_inside_now(fm, box, est, est) == 0
+    assert free_inside_now(fm, [(-0.5, 0.5, 1.5, 2.5)], est, est) == 1      # in the box as mapped
+    truth = State(0.0, 0.0, 90.0)
+    assert free_inside_now(fm, box, est, truth) == 1
+    assert free_inside_now(fm, box, est, truth, depth_ft=0.5) == 0
+    moved = State(1.0, -1.0, 90.0)                                          # and shifted
+    assert free_inside_now(fm, [(2.5, 3.75, -1.75, -0.5)], est, moved) == 1   # at (3.125, -1.125)
+    fm.cells[i, j] = OCCUPIED
+    assert free_inside_now(fm, box, est, truth) == 0
