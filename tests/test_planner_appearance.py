@@ -610,6 +610,10 @@ def test_a_striped_face_of_the_floors_grey_ends_no_floor_behind_it():
     # in row 118, below the last scan line (112): no point is located there to check it
     assert behind_the_face(raised_ends(pts, rays, top, reach)).tolist() == [101]
     assert top[101] == 118
+    # the loop leaves out points nearer than 2.5 ft along the optical axis; the pitch puts
+    # even these, 1.2-2.6 ft off across the floor, past it, so the loop cuts the same
+    assert min(q.dp for q in pts) >= 2.5
+    assert behind_the_face(raised_ends(pts, rays, top, reach, min_range_ft=2.5)).tolist() == [101]
 
 
 def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
