@@ -235,6 +235,19 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     return pts, ray, dist
 
 
+def _from_camera(points, rays: FloorRays):
+    """The located points (rig.scan Points) as arrays: (0-based column, scan
+    line, range error, (N, 3) offset from the camera in room axes, its
+    horizontal length)."""
+    c = np.array([p.loc1 for p in points], int) - 1
+    line = np.array([p.line for p in points], int)
+    dp = np.array([p.dp for p in points], float)
+    ep = np.array([p.ep for p in points], float)
+    cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
+    w = cam @ rays.R.T
+    return c, line, ep, w, np.hypot(w[:, 0], w[:, 2])
+
+
 def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,
            floor_y: float = FLOOR_Y) -> np.ndarray:
     """Mask of located points (rig.scan Points) the picture contradicts.  An
@@ -248,13 +261,7 @@ def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,
     n = len(points)
     if not n:
         return np.zeros(0, bool)
-    c = np.array([p.loc1 for p in points], int) - 1
-    line = np.array([p.line for p in points], float)
-    dp = np.array([p.dp for p in points], float)
-    ep = np.array([p.ep for p in points], float)
-    cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
-    w = cam @ rays.R.T                                    # from the camera, room axes
-    horiz = np.hypot(w[:, 0], w[:, 2])
+    _, _, ep, w, horiz = _from_camera(points, rays)
     behind = (horiz + ep + margin_ft) / np.maximum(horiz, 1e-9)
     q = np.stack([w[:, 0] * behind, np.full(n, floor_y - rays.origin[1]),
                   w[:, 2] * behind], 1)                   # the floor point behind, from the camera
@@ -335,13 +342,7 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     points = [p for p in points if p.dp >= min_range_ft]
     if not len(points):
         return reach
-    c = np.array([p.loc1 for p in points], int) - 1
-    line = np.array([p.line for p in points], int)
-    dp = np.array([p.dp for p in points], float)
-    ep = np.array([p.ep for p in points], float)
-    cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
-    w = cam @ rays.R.T
-    horiz = np.hypot(w[:, 0], w[:, 2])
+    c, line, ep, _, horiz = _from_camera(points, rays)
     r = np.clip(line, 1, ROWS - 2)
     share = np.full(COLS, np.inf)
     count = np.zeros(COLS, int)                   # raised points in their own column

@@ -544,18 +544,17 @@ class Perception:
             # by assumption only into unknown cells, never past a cell hit (this look too)
             # (ends, when any, are the assumed free ends: floor_eyes="add" or no floor eyes)
             ends_start = (fstart[assumed] if len(ends) else np.zeros(0)) if low else None
-            reach = floor_end(rays, top, self.floor_within,
-                              math.sqrt(max(float(pose_cov[2, 2]), 0.0))
-                              if pose_cov is not None else 0.0) \
+            heading_sd = math.sqrt(max(float(pose_cov[2, 2]), 0.0)) \
+                if pose_cov is not None else None
+            reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0) \
                 if top is not None and bounded else None
             if reach is not None and self.floor_end_check != "off" and depth is None:
                 # a located point in a floor run, nearer than its floor: the run went up a face
                 reach = raised_ends(scan_points, rays, top, reach, min_range_ft=MIN_RANGE_FT)
-            if reach is not None and self.proof_heading == "window" and pose_cov is not None:
+            if reach is not None and self.proof_heading == "window" and heading_sd is not None:
                 # the look lies along the estimated heading: only what every column
                 # within its sigmas shows is proven (rooms 6, 34, 49)
-                reach = within_heading(reach, math.sqrt(max(float(pose_cov[2, 2]), 0.0)),
-                                       self.heading_sigmas)
+                reach = within_heading(reach, heading_sd, self.heading_sigmas)
             if proof_top is not None:
                 # "bound-add": the floor in view proves its trace too, no farther
                 # than where the bound ends it (nowhere in a column showing no end)
