@@ -32,6 +32,7 @@ taut, and time).
     python bench/drive.py --rooms 100 --losses --sight-lines band --stand-in majority  # before the floor's grey is learned, only a majority grey stands in
     python bench/drive.py --rooms 100 --losses --look-around sweep --free-drift off --plan-walls plan  # the defaults before 2026-12-04
     python bench/drive.py --rooms 100 --losses --free-gaps fill   # one-cell gaps in free space filled
+    python bench/drive.py --lab --first 1980 --rooms 40   # the bundled lab, 40 odometry noise seeds
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features
@@ -207,11 +208,20 @@ def _add_tally(total, t):
 
 
 def seeded_tasks(args):
-    """(seed, room, start state, goal or None) for the seeded rooms the bench runs."""
+    """(seed, room, start state, goal or None) for the seeded rooms the bench runs;
+    under ``--lab`` the bundled lab and its default goal, the seed the odometry
+    noise's (the lab's one task under ``--rooms`` draws of the dead reckoning)."""
     from planner.planning import random_goal
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
-    from world.room import generate_room
+    from world.room import bundled_lab, generate_room
+    if getattr(args, "lab", False):
+        from rig.drive import DEFAULT_LAB_GOAL
+        room = bundled_lab()
+        s = room.start
+        for seed in range(args.first, args.first + args.rooms):
+            yield seed, room, State(s.x, s.z, s.heading_deg), DEFAULT_LAB_GOAL
+        return
     for seed in range(args.first, args.first + args.rooms):
         room = generate_room(seed)
         s = room.start
@@ -248,6 +258,10 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=20)
     ap.add_argument("--first", type=int, default=1, help="first room seed")
+    ap.add_argument("--lab", action="store_true",
+                    help="drive the bundled lab to its default goal instead, once per "
+                         "odometry noise seed --first .. --first + --rooms - 1 (rig drive "
+                         "--seed; its default is 1985)")
     ap.add_argument("--no-noise", action="store_true",
                     help="odometry noise off (a diagnostic: the estimate is the true pose, "
                          "so what fails is neither the dead reckoning's drift nor, with "
@@ -354,7 +368,7 @@ def main(argv=None) -> int:
     ratios = [r["ratio"] for r in ok if r["ratio"]]
     both = [r for r in rows if r["dissertation_ft"] and r["astar_ft"]]
     summary = {
-        "rooms": len(rows), "odometry_noise": not args.no_noise, "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
+        "rooms": len(rows), "lab": args.lab, "odometry_noise": not args.no_noise, "unknown": args.unknown, "search": args.search, "eyes": args.eyes,
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
