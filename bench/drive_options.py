@@ -29,8 +29,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 # Named options, each off by default, that were measured and not adopted under
-# the defaults of their day (docs/planner.md says where and why); last, the three
-# defaults of 2026-12-04 turned back one at a time and together.
+# the defaults of their day (docs/planner.md says where and why); last, the
+# defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -47,22 +47,24 @@ OPTIONS = [
     "--growth across",
     "--rejoin waypoint",
     "--map-extent fallback",
-    "--pose walls",
     "--sight-lines band",
     "--blank-carve always",
     "--learn-floor step-back",
     "--free-drift erode",
     "--free-gaps fill",
-    "--wall-points floor-ends --pose walls",
-    "--proof-heading window",
-    "--floor-end-check stereo",
-    "--proof-hits line",
-    "--pose walls --wall-points floor-ends --proof-heading window --floor-end-check stereo "
-    "--proof-hits line",
     "--look-around sweep",
     "--free-drift off",
     "--plan-walls plan",
     "--look-around sweep --free-drift off --plan-walls plan",
+    "--pose dead_reckoning",
+    "--wall-points edges",
+    "--proof-heading estimate",
+    "--floor-end-check off",
+    "--proof-hits trace",
+    "--hit-at axis",
+    "--min-range 2.5",
+    "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
+    "--proof-hits trace --hit-at axis --min-range 2.5",
 ]
 
 HERE = Path(__file__).resolve().parent

@@ -318,6 +318,7 @@ class Perception:
         self.blank_limit = "all"          # or "sides" (DriveConfig.blank_limit)
         self.sight_lines = "band"         # or "low", "low-all" (DriveConfig.sight_lines)
         self.stereo_margin = False        # DriveConfig.stereo_margin
+        self.min_range_ft = MIN_RANGE_FT  # DriveConfig.min_range_ft: nearer points left out
         self.stand_in = "tenth"           # or "majority" (DriveConfig.stand_in)
         self.seen_over = 0                # under "low": cells on sight lines not proven
         self.refute_hits = "off"          # or "under", "through" (DriveConfig.refute_hits)
@@ -503,7 +504,7 @@ class Perception:
             fs = floor_scan(scan_points, R, left, self.band, self.max_range_ft,
                             blank_ft=self.blank_ft, carve=self.carve, place=self.place,
                             blank_px=self.blank_px, blank_limit=self.blank_limit,
-                            stereo_margin=self.stereo_margin,
+                            stereo_margin=self.stereo_margin, min_range=self.min_range_ft,
                             low_y=FLOOR_Y - self.lowest_ft if self.sight_lines != "band"
                             else None, blind_low=self.sight_lines == "low-all")
         if len(fs.hits) or len(fs.free_ends):
@@ -550,7 +551,8 @@ class Perception:
                 if top is not None and bounded else None
             if reach is not None and self.floor_end_check != "off" and depth is None:
                 # a located point in a floor run, nearer than its floor: the run went up a face
-                reach = raised_ends(scan_points, rays, top, reach, min_range_ft=MIN_RANGE_FT)
+                reach = raised_ends(scan_points, rays, top, reach,
+                                    min_range_ft=self.min_range_ft)
             if reach is not None and self.proof_heading == "window" and heading_sd is not None:
                 # the look lies along the estimated heading: only what every column
                 # within its sigmas shows is proven (rooms 6, 34, 49)
@@ -726,7 +728,7 @@ class Perception:
         its place in 3-D.  Projected into a later look (its estimated pose),
         the claim falls on a picture column and line; where that look stands
         nearer to it than the look that located it (so it sees it more
-        sharply: ``MIN_RANGE_FT`` or more away, at least a cell nearer than
+        sharply: ``min_range_ft`` or more away, at least a cell nearer than
         the claim's own range) and locates two points or more within 2 columns and 4 lines of
         that pixel, each farther than the claim by both their error bounds
         (the claim's two sigma along the new sight line plus the point's
@@ -748,11 +750,11 @@ class Perception:
             col = c[:, 0] / z * FOCAL_128 + CX_128 + 0.5
             row = c[:, 1] / z * FOCAL_128 + CY_128 - 0.5
         xyz_c, _, line, loc1, ep = camera_points(scan_points)
-        ok = filter_points(xyz_c, ep, max_range=np.inf)   # ranged, bounded, any distance
+        ok = filter_points(xyz_c, ep, max_range=np.inf, min_range=self.min_range_ft)
         xyz_c, line, loc1, ep = xyz_c[ok], line[ok], loc1[ok], ep[ok]
         if not len(xyz_c):
             return 0
-        cand = (z >= MIN_RANGE_FT) & (z < self.seen_range[alive] - res) & (col >= 1) & \
+        cand = (z >= self.min_range_ft) & (z < self.seen_range[alive] - res) & (col >= 1) & \
             (col <= 128) & (row >= line.min() - 4) & (row <= line.max() + 4) & \
             (self.seen_look[alive] < self.look_no)
         if not cand.any():

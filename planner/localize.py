@@ -318,18 +318,19 @@ def depth_wall_points(range_left, pitch_deg: float, floor_y: float, step: int = 
     return pts, cov
 
 
-def rig_wall_points(points):
+def rig_wall_points(points, min_range: float | None = None):
     """Candidate wall points of the rig's eyes: the located points of the look
     (:func:`planner.perception.camera_points`, their A-20 covariances) the
     dissertation trusts (:func:`planner.perception.filter_points`: 2.5 to 12 ft, error
-    bound within a quarter of the range).  Every height: the poster and door edges,
+    bound within a quarter of the range; ``min_range`` ft instead of 2.5).  Every height: the poster and door edges,
     the wall's foot and the room's corners are on walls, the box edges are left to the
     gate.  Returns ((N, 3), (N, 3, 3))."""
     from .perception import camera_points, filter_points
     if not len(points):
         return np.zeros((0, 3)), np.zeros((0, 3, 3))
     xyz, cov, _, _, ep = camera_points(points)
-    keep = filter_points(xyz, ep)
+    keep = filter_points(xyz, ep) if min_range is None else \
+        filter_points(xyz, ep, min_range=min_range)
     return xyz[keep], cov[keep]
 
 

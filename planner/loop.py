@@ -259,7 +259,7 @@ class DriveConfig:
     growth: str = "covariance"            # "covariance": a hit grown by its whole covariance
                                           # (the dissertation's); "across": by its error
                                           # across the sight line only (across_sight_cov)
-    pose: str = "dead_reckoning"          # the camera estimate: "fused" (the symbolic
+    pose: str = "walls"                   # the camera estimate: "fused" (the symbolic
                                           # model's, model.mapping.Walker),
                                           # "dead_reckoning" (the odometry alone) or
                                           # "walls" (not 1985, a named option: each look's
@@ -293,7 +293,7 @@ class DriveConfig:
                                           # "drift": the features kept in the dead-reckoned
                                           # frame, an old feature's covariance grown by the
                                           # drift since it was last seen; "none"
-    hit_at: str = "axis"                  # where a look's range lands on the floor plane
+    hit_at: str = "point"                 # where a look's range lands on the floor plane
                                           # (perception.floor_scan's place): "axis": laid
                                           # along the pitched optical axis (short by up to
                                           # its cosine); "point": the located point's own
@@ -380,6 +380,13 @@ class DriveConfig:
                                           # frees its line only from the depth the right
                                           # camera sees it at (perception.stereo_depth:
                                           # f B / (c - 1); room 177's box at the left edge)
+    min_range_ft: float = 3.0             # located points nearer than this are left out of
+                                          # the floor scan, the wall fix and the floor end
+                                          # check (perception.filter_points): 2.5 ft (a
+                                          # disparity of 54 px) before 2026-12-05; 3.0 (45 px)
+                                          # since: from 2.5 to 3 ft 35 % of the 1985 matcher's
+                                          # points lie 0.5 ft or more in front of the truth
+                                          # (the lab's bookcase, a picket fence, by its goal)
     head: str = "fixed"                   # (not 1985; a named option) "fixed": the rig as
                                           # mounted; "pan-tilt": on a head (PAN, TILT;
                                           # VehicleProfile.head) that looks where the loop
@@ -408,7 +415,7 @@ class DriveConfig:
                                           # "erode" for moves, a pivot's cells checked on the
                                           # map before it (FloorMap.drift_kept; under "erode"
                                           # a vehicle beside a box "cannot turn")
-    wall_points: str = "edges"            # under pose="walls", what the fix uses: "edges" (the
+    wall_points: str = "floor-ends"       # under pose="walls", what the fix uses: "edges" (the
                                           # look's located points) or "floor-ends" (not 1985;
                                           # named): those and where the floor in view ends,
                                           # each second column (localize.floor_end_points)
@@ -417,21 +424,21 @@ class DriveConfig:
                                           # 1985; named): free (floormap.one_cell_gaps: no
                                           # box fits there that misses both; the floor in
                                           # view leaves such stripes, room 57)
-    proof_hits: str = "trace"             # where the floor in view carves (floor_eyes "carve",
+    proof_hits: str = "line"              # where the floor in view carves (floor_eyes "carve",
                                           # "add", "veto", "bound-add"), the proof of a
                                           # picture row: never past a cell any look has hit
                                           # on its trace (d (1 - h / H) to d; "trace"), or on
                                           # its whole line from the camera ("line", not 1985;
                                           # named): a box nearer than the picture's bottom row
                                           # with a face of the floor's grey (room 293)
-    floor_end_check: str = "off"          # under floor_eyes "bound"/"bound-add": "off", or
+    floor_end_check: str = "stereo"       # under floor_eyes "bound"/"bound-add": "off", or
                                           # "stereo" (not 1985; named): a located point in a
                                           # column's floor run, clearly nearer than the floor
                                           # its pixel would show, ends the column's floor there,
                                           # and three on one run top the whole edge
                                           # (appearance.raised_ends: a face or top of the
                                           # floor's grey, rooms 34, 278, 566)
-    proof_heading: str = "estimate"       # under floor_eyes "bound"/"bound-add", the look's
+    proof_heading: str = "window"         # under floor_eyes "bound"/"bound-add", the look's
                                           # floor ends laid down along: "estimate" (its
                                           # heading) or "window" (not 1985; named): each
                                           # column only as far as every column within
@@ -626,22 +633,12 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
                          "assumes the fixed rig's pitch; use pose 'dead_reckoning' or 'walls'")
-    if cfg.wall_points != "edges" and (cfg.pose != "walls" or cfg.eyes == "depth"):
-        raise ValueError(f"wall_points {cfg.wall_points!r} adds to the points the rig's eyes fix "
-                         "the estimate on under pose 'walls'; with pose "
-                         f"{cfg.pose!r} and eyes {cfg.eyes!r} nothing uses them")
-    bounded = cfg.floor_eyes in BOUNDING
-    for name, off in (("proof_heading", "estimate"), ("floor_end_check", "off")):
-        if getattr(cfg, name) != off and not bounded:
-            raise ValueError(f"{name} {getattr(cfg, name)!r} cuts where the floor in view ends, "
-                             f"under floor_eyes {' or '.join(map(repr, BOUNDING))}; with "
-                             f"floor_eyes {cfg.floor_eyes!r} nothing uses it")
-    if cfg.proof_hits != "trace" and cfg.floor_eyes in ("off", "bound"):
-        raise ValueError(f"proof_hits {cfg.proof_hits!r} stops the floor in view's proof; with "
-                         f"floor_eyes {cfg.floor_eyes!r} it proves nothing")
     if cfg.map_extent != "seen" and not cfg.known_walls:
         raise ValueError(f"map_extent {cfg.map_extent!r} needs known_walls: without the floor "
                          "plan the room's walls are not known")
+    if cfg.pose == "walls" and not cfg.known_walls:
+        raise ValueError("pose 'walls' fixes the estimate against the room's walls: it needs "
+                         "known_walls (the floor plan); use pose 'dead_reckoning'")
     if cfg.learn_floor != "off":
         if cfg.floor_eyes == "off":
             raise ValueError(f"learn_floor {cfg.learn_floor!r} learns the floor's grey for "
@@ -651,6 +648,10 @@ def _check_config(cfg: DriveConfig) -> None:
             raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
                              f"turn there ({reach:.2f} ft) must stay inside the clear spot "
                              f"(start_clear_ft {cfg.start_clear_ft:g} ft) and be more than 0")
+    if isinstance(cfg.min_range_ft, bool) or not isinstance(cfg.min_range_ft, (int, float)) \
+            or not 0 < cfg.min_range_ft < cfg.max_range_ft:
+        raise ValueError(f"min_range_ft must be a distance in feet above 0 and under "
+                         f"max_range_ft ({cfg.max_range_ft:g}), not {cfg.min_range_ft!r}")
     if not (isinstance(cfg.drift_sigmas, (int, float)) and 0 < cfg.drift_sigmas < 10):
         raise ValueError(f"drift_sigmas must be a number of standard deviations above 0 and "
                          f"under 10, not {cfg.drift_sigmas!r}")
@@ -694,6 +695,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.stand_in = cfg.stand_in
     model.refute_hits = cfg.refute_hits
     model.stereo_margin = cfg.stereo_margin
+    model.min_range_ft = cfg.min_range_ft
     if cfg.blank_sides == "two-looks":       # (without blank_px no side is cut off: inert)
         model.two_look_sides = TwoLookSides(*cfg.sides_apart)
     model.occupied = cfg.occupied
@@ -853,7 +855,7 @@ class Drive:
         if self.cfg.eyes == "depth":
             q, cq = depth_wall_points(look.range_left, pitch, FLOOR_Y)
         else:
-            q, cq = rig_wall_points(points)
+            q, cq = rig_wall_points(points, self.cfg.min_range_ft)
             if self.cfg.wall_points == "floor-ends":
                 q, cq = self._with_floor_ends(q, cq, look.left_bi, pitch)
         fix = fix_against_walls(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,

@@ -199,7 +199,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
                carve: str = "range", blank_alone: bool = True, place: str = "axis",
                blank_px: int | None = None, blank_limit: str = "all",
                low_y: float | None = None, blind_low: bool = False,
-               stereo_margin: bool = False) -> FloorScan:
+               stereo_margin: bool = False, min_range: float = MIN_RANGE_FT) -> FloorScan:
     """The look as a floor range scan: for every picture column the NEAREST
     range that at least ``min_votes`` of its located points (in the height
     band) agree on within their error bounds — a vertical boundary line shows
@@ -293,7 +293,11 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     it; a column whose start passes its end frees nothing).  Room 177: box 1
     at the left edge of looks 3 and 5, 3.4-5 ft away, its faces blank, its
     corner edges out of the right camera's view, carved free by the
-    blank-column assumption; the vehicle drove into it."""
+    blank-column assumption; the vehicle drove into it.
+
+    ``min_range`` (:func:`filter_points`): located points nearer than this are
+    left out (the loop passes ``DriveConfig.min_range_ft``: 3 ft since 2026-12-05,
+    where a third of the 1985 matcher's points lie in front of the truth)."""
     if carve not in CARVE:
         raise ValueError(f"carve must be one of {CARVE}, not {carve!r}")
     if place not in PLACES:
@@ -303,7 +307,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     R = np.asarray(R, float)
     origin = np.asarray(left_centre, float)
     xyz_c, cov_c, line, loc1, ep = camera_points(points)
-    keep = filter_points(xyz_c, ep, max_range)
+    keep = filter_points(xyz_c, ep, max_range, min_range=min_range)
     room = xyz_c @ R.T + origin
     keep &= (room[:, 1] >= band[0]) & (room[:, 1] <= band[1])
     xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]

@@ -304,6 +304,10 @@ def add_loop_options(p) -> None:
                         "which the right camera sees it too (f B / (column - 1): column 20 "
                         "from 7.1 ft): in the left picture's leftmost columns a near box is "
                         "out of the right camera's view, shows no edge, and would count blank")
+    p.add_argument("--min-range", type=float, default=C.min_range_ft, metavar="FT",
+                   help="located points nearer than FT are left out of the map and the wall "
+                        f"fix (default {C.min_range_ft:g}; 2.5 before 2026-12-05): from 2.5 to "
+                        "3 ft a third of the 1985 matcher's points are false matches")
     p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
                    help="what a sight line to a located point frees: 'low' (default; not "
                         "1985): only where its ray runs below the lowest obstacle's top (a box "
@@ -468,7 +472,7 @@ def loop_config(args, goal, fail):
                        sight_lines=args.sight_lines, stand_in=args.stand_in,
                        learn_floor=args.learn_floor,
                        refute_hits=args.refute_hits,
-                       stereo_margin=args.stereo_margin,
+                       stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

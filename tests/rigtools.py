@@ -269,3 +269,11 @@ def drive_config(monkeypatch, out, *options):
 # what it shows (a collision and the rule that prevents it, a fix's accuracy) stays the
 # drive it traced.
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan")
+
+# The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
+# the floor in view kept out of the boxes"): the dead-reckoned estimate, each range laid
+# along the pitched axis, located points trusted from 2.5 ft, the floor in view cut by none
+# of the three safety rules.
+DRIVE_BEFORE_2026_12_05 = dict(pose="dead_reckoning", wall_points="edges", hit_at="axis",
+                               min_range_ft=2.5, proof_heading="estimate",
+                               floor_end_check="off", proof_hits="trace")

@@ -173,14 +173,15 @@ def test_the_bundled_lab_on_oracle_edges_is_reached_with_the_disc_move():
     # it is reached.  (Under bound-add, the default since 2026-12-03, the floor in view
     # shows the last foot and the path reaches it without the disc move.)
     from rig.drive import DEFAULT_LAB_GOAL
-    from rigtools import DRIVE_BEFORE_2026_12_04
+    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05
     from world.odometry import OdometryNoise
     from world.room import bundled_lab
     room = bundled_lab()
     s = room.start
     res = run(room, State(s.x, s.z, s.heading_deg),
               DriveConfig(goal=DEFAULT_LAB_GOAL, eyes="truth", approach="disc",
-                          floor_eyes="bound", **DRIVE_BEFORE_2026_12_04),
+                          floor_eyes="bound", **DRIVE_BEFORE_2026_12_04,
+                          **DRIVE_BEFORE_2026_12_05),
               noise=OdometryNoise(seed=1985), keep_maps=False)
     assert res.reached, res.reason
     assert res.collisions == 0

@@ -301,8 +301,10 @@ def test_the_tiny_room_under_low_frees_no_floor_before_8_ft_and_stops_safely():
     # (2.2 ft below it) only 2.2 * 10 / 2.75 = 8 ft out.  So under low the first look frees
     # the line x = 0 nowhere between the start spot (free to 2.5 ft, grown to its cell) and
     # 8 ft, where band frees all of it; the drive then never proves the way free and stops,
-    # without a collision (the loop's tiny-room tests pin band for that reason)
+    # without a collision (the loop's tiny-room tests pin band for that reason); under the
+    # dead-reckoned estimate and the floor in view's rules before 2026-12-05, as traced
     from planner.loop import run
+    from rigtools import DRIVE_BEFORE_2026_12_05
     from planner.tiny import GOAL, tiny_room
     from world.odometry import OdometryNoise
     zs = np.arange(3.125, 8.0, 0.25)
@@ -310,7 +312,8 @@ def test_the_tiny_room_under_low_frees_no_floor_before_8_ft_and_stops_safely():
         fm = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",
                  sight_lines=lines, max_looks=1)).cycles[0].fmap
         assert [fm.state_at(0.1, z) == FREE for z in zs] == [free] * len(zs), lines
-    res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth"),
+    res = run(tiny_room(), State(0.0, 0.0, 0.0),
+              DriveConfig(goal=GOAL, eyes="truth", **DRIVE_BEFORE_2026_12_05),
               noise=OdometryNoise(seed=1), keep_maps=False)
     assert not res.reached and "without progress" in res.reason
     assert res.collisions == 0 and res.travelled_ft < 2.5

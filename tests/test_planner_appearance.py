@@ -299,8 +299,9 @@ def test_a_majority_stand_in_keeps_a_near_box_face_from_passing_for_floor():
 
     def free_share(stand_in, c0, c1):
         """Share of the floor points of rows 66-117, columns c0..c1 - 1 the look frees."""
-        m = _perception(DriveConfig(goal=(0.0, 9.0), stand_in=stand_in, sight_lines="band"),
-                        DEFAULT, Perception)
+        # (the blank columns laid along the pitched axis, as traced: hit_at "axis")
+        m = _perception(DriveConfig(goal=(0.0, 9.0), stand_in=stand_in, sight_lines="band",
+                                    hit_at="axis"), DEFAULT, Perception)
         m.update([], State(0.0, 0.0, 0.0), Pose, PITCH, None, None, pic)
         fm = m.floor_map([(0.0, 0.0), (0.0, 9.0)])
         xs, zs = rays.x[66:118, c0:c1].ravel(), rays.z[66:118, c0:c1].ravel()
@@ -354,7 +355,7 @@ def test_bound_keeps_the_blank_assumption_out_of_the_boxes_it_drove_into(seed, b
     from planner.floormap import FREE as MAP_FREE
     from planner.loop import DriveConfig, run
     from planner.planning import random_goal
-    from rigtools import DRIVE_BEFORE_2026_12_04
+    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
     from world.odometry import OdometryNoise
@@ -381,7 +382,8 @@ def test_bound_keeps_the_blank_assumption_out_of_the_boxes_it_drove_into(seed, b
                 return n
             model.update = counted
             return model
-        res = run(room, start, DriveConfig(goal=goal, floor_eyes=how, **DRIVE_BEFORE_2026_12_04),
+        res = run(room, start, DriveConfig(goal=goal, floor_eyes=how, **DRIVE_BEFORE_2026_12_04,
+                                           **DRIVE_BEFORE_2026_12_05),
                   noise=OdometryNoise(seed=seed), perception_factory=traced)
         freed[how] = (worst[0], res.collisions)
     assert freed["off"][0] > 5 and freed["off"][1] == 1    # the hazard, as traced
@@ -618,9 +620,10 @@ def test_a_striped_face_of_the_floors_grey_ends_no_floor_behind_it():
 
 def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     """``--proof-heading``, ``--floor-end-check`` and ``--proof-hits`` reach
-    DriveConfig (defaults ``estimate``, ``off``, ``trace``: the drive as before)
-    and the loop's map, bad values are refused, and the tiny room is driven to
-    its goal with all three without a collision."""
+    DriveConfig (defaults ``window``, ``stereo``, ``line`` since 2026-12-05;
+    ``estimate``, ``off``, ``trace``: the drive before) and the loop's map, bad
+    values are refused, where nothing uses them they change nothing, and the tiny
+    room is driven to its goal with all three without a collision."""
     from planner.loop import DriveConfig, _check_config, _perception, run
     from planner.evidence import Perception
     from planner.tiny import GOAL
@@ -629,23 +632,24 @@ def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     from vehicle.sim import State
     from world.odometry import OdometryNoise
     cfg = drive_config(monkeypatch, tmp_path)
-    assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("estimate", "off", "trace")
-    cfg = drive_config(monkeypatch, tmp_path, "--proof-heading", "window", "--floor-end-check",
-                       "stereo", "--proof-hits", "line", "--drift-sigmas", "1.5")
     assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("window", "stereo", "line")
-    m = _perception(cfg, DEFAULT, Perception)
+    cfg = drive_config(monkeypatch, tmp_path, "--proof-heading", "estimate", "--floor-end-check",
+                       "off", "--proof-hits", "trace", "--drift-sigmas", "1.5")
+    assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("estimate", "off", "trace")
+    m = _perception(drive_config(monkeypatch, tmp_path, "--drift-sigmas", "1.5"), DEFAULT,
+                    Perception)
     assert (m.proof_heading, m.heading_sigmas, m.floor_end_check, m.proof_hits) == \
         ("window", 1.5, "stereo", "line")
     for name, bad in (("proof_heading", "sigma"), ("floor_end_check", "on"),
                       ("proof_hits", "all")):
         with pytest.raises(ValueError, match=name):
             _check_config(DriveConfig(goal=GOAL, **{name: bad}))
-    # where nothing would use them, one clear error
-    for name, value, eyes in (("proof_heading", "window", "add"),
-                              ("floor_end_check", "stereo", "off"), ("proof_hits", "line", "bound")):
-        with pytest.raises(ValueError, match=f"{name} '{value}'.*nothing"):
-            _check_config(DriveConfig(goal=GOAL, floor_eyes=eyes, **{name: value}))
-    _check_config(DriveConfig(goal=GOAL, floor_eyes="carve", proof_hits="line"))
+    # without the floor in view nothing uses them: the same map either way
+    before = dict(proof_heading="estimate", floor_end_check="off", proof_hits="trace")
+    maps = [run(tiny_room(), State(0.0, 0.0, 0.0),
+                DriveConfig(goal=GOAL, eyes="truth", floor_eyes="off", max_looks=2, **how),
+                noise=OdometryNoise(seed=1)).cycles[-1].fmap.cells for how in ({}, before)]
+    assert np.array_equal(*maps)
     # (oracle edges and band sight lines, as the tiny room's other loop tests)
     res = run(tiny_room(), State(0.0, 0.0, 0.0),
               DriveConfig(goal=GOAL, eyes="truth", sight_lines="band", proof_heading="window",

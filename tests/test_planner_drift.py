@@ -248,7 +248,9 @@ def test_moves_goes_with_grown_walls(seed):
     room = generate_room(seed)
     start = State(room.start.x, room.start.z, room.start.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
-    res = {walls: run(room, start, DriveConfig(goal=goal, plan_walls=walls),
+    from rigtools import DRIVE_BEFORE_2026_12_05
+    res = {walls: run(room, start, DriveConfig(goal=goal, plan_walls=walls,
+                                               **DRIVE_BEFORE_2026_12_05),
                       noise=OdometryNoise(seed=seed), keep_maps=False)
            for walls in ("plan", "grown")}
     assert DriveConfig(goal=goal).free_drift == "moves"

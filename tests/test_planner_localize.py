@@ -165,8 +165,11 @@ def test_depth_points_leave_out_the_floor_and_keep_the_wall():
 
 def test_the_loop_knows_the_walls_estimate_and_allows_it_with_the_head():
     from planner.loop import POSES, DriveConfig, _check_config
-    assert "walls" in POSES and DriveConfig(goal=(0.0, 1.0)).pose == "dead_reckoning"
+    assert "walls" in POSES and DriveConfig(goal=(0.0, 1.0)).pose == "walls"   # since 2026-12-05
     _check_config(DriveConfig(goal=(0.0, 1.0), pose="walls", head="pan-tilt"))
+    with pytest.raises(ValueError, match="pose 'walls'.*known_walls"):
+        _check_config(DriveConfig(goal=(0.0, 1.0), known_walls=False))
+    _check_config(DriveConfig(goal=(0.0, 1.0), known_walls=False, pose="dead_reckoning"))
 
 
 def test_the_loop_fixed_against_the_walls_ends_nearer_the_truth_than_dead_reckoning():
@@ -200,9 +203,11 @@ def test_rig_drive_pose_walls_reaches_the_loop_with_the_head(tmp_path, monkeypat
     """``rig drive --pose walls`` sets ``DriveConfig.pose``, with ``--head pan-tilt`` too;
     an unknown estimate is one clear error naming it."""
     from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path).pose == "dead_reckoning"
+    assert drive_config(monkeypatch, tmp_path).pose == "walls"
     cfg = drive_config(monkeypatch, tmp_path, "--pose", "walls", "--head", "pan-tilt")
     assert (cfg.pose, cfg.head) == ("walls", "pan-tilt")
+    assert drive_config(monkeypatch, tmp_path, "--pose", "dead_reckoning").pose == \
+        "dead_reckoning"
     from rig.main import main
     with pytest.raises(SystemExit) as e:
         main(["drive", "--out", str(tmp_path), "--pose", "floorplan"])
@@ -273,23 +278,22 @@ def test_the_floor_ends_hold_the_heading_where_the_edges_cannot():
     give one and the heading stays within 2 deg of the truth at every look."""
     from planner.loop import WALL_POINTS, DriveConfig, run, _check_config
     from planner.planning import random_goal
+    from rigtools import DRIVE_BEFORE_2026_12_05
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
     from world.odometry import OdometryNoise
     from world.room import generate_room
-    assert WALL_POINTS == ("edges", "floor-ends") and DriveConfig.wall_points == "edges"
+    assert WALL_POINTS == ("edges", "floor-ends") and DriveConfig.wall_points == "floor-ends"
     with pytest.raises(ValueError, match="wall_points"):
         _check_config(DriveConfig(goal=(0.0, 1.0), wall_points="feet"))
-    for alone in (dict(), dict(pose="walls", eyes="depth")):          # nothing would use them
-        with pytest.raises(ValueError, match="wall_points 'floor-ends'"):
-            _check_config(DriveConfig(goal=(0.0, 1.0), wall_points="floor-ends", **alone))
-    _check_config(DriveConfig(goal=(0.0, 1.0), wall_points="floor-ends", pose="walls"))
+    # (the rest of the drive as traced, before 2026-12-05)
+    traced = {**DRIVE_BEFORE_2026_12_05, "pose": "walls"}
     room = generate_room(471)
     start = State(0.0, 0.0, 0.0)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(471))
 
     def drive(points):
-        res = run(room, start, DriveConfig(goal=goal, pose="walls", wall_points=points,
+        res = run(room, start, DriveConfig(goal=goal, **{**traced, "wall_points": points},
                                            max_looks=30),
                   noise=OdometryNoise(seed=471), keep_maps=False)
         off = [abs((c.estimate.heading_deg - c.true.heading_deg + 180.0) % 360.0 - 180.0)
@@ -304,6 +308,6 @@ def test_the_floor_ends_hold_the_heading_where_the_edges_cannot():
 
 def test_rig_drive_wall_points_reach_the_loop(tmp_path, monkeypatch):
     from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path).wall_points == "edges"
-    cfg = drive_config(monkeypatch, tmp_path, "--pose", "walls", "--wall-points", "floor-ends")
-    assert (cfg.pose, cfg.wall_points) == ("walls", "floor-ends")
+    assert drive_config(monkeypatch, tmp_path).wall_points == "floor-ends"
+    cfg = drive_config(monkeypatch, tmp_path, "--pose", "walls", "--wall-points", "edges")
+    assert (cfg.pose, cfg.wall_points) == ("walls", "edges")
