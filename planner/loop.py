@@ -15,13 +15,14 @@ the path as needed during the traversal".
   fused``) runs the walk's per-look step (:class:`model.mapping.Walker`) on the
   same scan: vertical edges and vertices into the symbolic model, matched to it
   from the odometry's prior, the driving method's fix fused with that prior by
-  their covariances; that pose places the look.  ``pose="dead_reckoning"``
-  places it at the dead-reckoned pose, unchanged.  ``pose="walls"`` (``rig drive
-  --pose walls``, not 1985, a named option, also with the head): the estimate
-  moved by the odometry since the last look, fixed against the floor plan's walls
-  by the look's own points (:func:`planner.localize.fix_against_walls`: each
-  point gated against its nearest wall, an iterated EKF with the odometry's prior;
-  the depth eyes' true ranges off the floor, or the rig's located points); after a
+  their covariances; that pose places the look.  ``pose="dead_reckoning"`` (the
+  default before 2026-12-05) places it at the dead-reckoned pose, unchanged.
+  ``pose="walls"`` (not 1985; the default since 2026-12-05, also with the head):
+  the estimate moved by the odometry since the last look, fixed against the floor
+  plan's walls by the look's own points (:func:`planner.localize.fix_against_walls`:
+  each point gated against its nearest wall, an iterated EKF with the odometry's
+  prior; the depth eyes' true ranges off the floor, or the rig's located points and,
+  under ``wall_points="floor-ends"``, where the floor in view ends); after a
   fix the dead-reckoned covariance (hits, the plan's wall growth) is the fix's and
   grows with the odometry again.  Every way the octree is
   built from the located points of every look (:class:`planner.evidence.Perception`);
@@ -261,9 +262,10 @@ class DriveConfig:
                                           # across the sight line only (across_sight_cov)
     pose: str = "walls"                   # the camera estimate: "fused" (the symbolic
                                           # model's, model.mapping.Walker),
-                                          # "dead_reckoning" (the odometry alone) or
-                                          # "walls" (not 1985, a named option: each look's
-                                          # points on the floor plan's walls fused with the
+                                          # "dead_reckoning" (the odometry alone; the
+                                          # default before 2026-12-05) or "walls" (not
+                                          # 1985; the default since: each look's points on
+                                          # the floor plan's walls fused with the
                                           # odometry's prior, planner.localize)
     pose_method: str = "robust"           # the walk's driving method under "fused"
     look_around: str = "evidence"         # the vehicle cannot move: "sweep" (the default
@@ -296,8 +298,9 @@ class DriveConfig:
     hit_at: str = "point"                 # where a look's range lands on the floor plane
                                           # (perception.floor_scan's place): "axis": laid
                                           # along the pitched optical axis (short by up to
-                                          # its cosine); "point": the located point's own
-                                          # horizontal position
+                                          # its cosine; the default before 2026-12-05);
+                                          # "point" (the default since): the located
+                                          # point's own horizontal position
     approach: str = "disc"                # the last move near the goal: "disc" (not 1985;
                                           # the default since 2026-12-02 01:20): where the
                                           # path's safe prefix drives nowhere within a step of
@@ -417,7 +420,8 @@ class DriveConfig:
                                           # a vehicle beside a box "cannot turn")
     wall_points: str = "floor-ends"       # under pose="walls", what the fix uses: "edges" (the
                                           # look's located points) or "floor-ends" (not 1985;
-                                          # named): those and where the floor in view ends,
+                                          # the default since 2026-12-05; the rig's eyes
+                                          # only): those and where the floor in view ends,
                                           # each second column (localize.floor_end_points)
     free_gaps: str = "keep"               # an UNKNOWN cell between two FREE ones across a row
                                           # or a column: "keep" (unknown) or "fill" (not
@@ -429,10 +433,12 @@ class DriveConfig:
                                           # picture row: never past a cell any look has hit
                                           # on its trace (d (1 - h / H) to d; "trace"), or on
                                           # its whole line from the camera ("line", not 1985;
-                                          # named): a box nearer than the picture's bottom row
+                                          # the default since 2026-12-05): a box nearer
+                                          # than the picture's bottom row
                                           # with a face of the floor's grey (room 293)
     floor_end_check: str = "stereo"       # under floor_eyes "bound"/"bound-add": "off", or
-                                          # "stereo" (not 1985; named): a located point in a
+                                          # "stereo" (not 1985; the default since
+                                          # 2026-12-05): a located point in a
                                           # column's floor run, clearly nearer than the floor
                                           # its pixel would show, ends the column's floor there,
                                           # and three on one run top the whole edge
@@ -440,7 +446,8 @@ class DriveConfig:
                                           # floor's grey, rooms 34, 278, 566)
     proof_heading: str = "window"         # under floor_eyes "bound"/"bound-add", the look's
                                           # floor ends laid down along: "estimate" (its
-                                          # heading) or "window" (not 1985; named): each
+                                          # heading) or "window" (not 1985; the default
+                                          # since 2026-12-05): each
                                           # column only as far as every column within
                                           # drift_sigmas of the heading's standard deviation
                                           # shows (appearance.within_heading; rooms 6, 34, 49)

@@ -181,9 +181,10 @@ def add_loop_options(p) -> None:
     p.add_argument("--pose", choices=POSES, default=C.pose,
                    help="the camera estimate that places each look: fused: the symbolic model's "
                         "(the walk's step: the robust fix on matched vertices fused with the "
-                        "odometry's prior); dead_reckoning: the odometry alone (default); "
-                        "walls (not 1985): each look's points on the floor plan's walls fused "
-                        "with the odometry's prior (planner.localize), also with --head")
+                        "odometry's prior); dead_reckoning: the odometry alone (the default "
+                        "before 2026-12-05); walls (not 1985; default): each look's points on "
+                        "the floor plan's walls fused with the odometry's prior "
+                        "(planner.localize), also with --head")
     p.add_argument("--pose-method", default=C.pose_method, choices=ESTIMATORS,
                    help="the fix fused under --pose fused (rig walk's --method; default robust)")
     p.add_argument("--margin", type=float, default=None, metavar="FT",
@@ -211,9 +212,10 @@ def add_loop_options(p) -> None:
                         "covariance: the dead-reckoned pose's whole covariance (default), the "
                         "drift since a feature was last seen, or none")
     p.add_argument("--hit-at", choices=PLACES, default=C.hit_at,
-                   help="where a look's range lands on the floor plane: along the pitched "
-                        "optical axis (default; short by up to the pitch's cosine) or at the "
-                        "located point's own horizontal position")
+                   help="where a look's range lands on the floor plane: 'axis': along the "
+                        "pitched optical axis (short by up to the pitch's cosine; the default "
+                        "before 2026-12-05) or 'point' (default): at the located point's own "
+                        "horizontal position")
     p.add_argument("--occupied", choices=OCCUPIEDS, default=C.occupied,
                    help="the map's occupied cells: every look's hits grown by that look's "
                         "covariance (default), or regenerated each cycle from the floor "
@@ -380,10 +382,10 @@ def add_loop_options(p) -> None:
                         "cells checked on the map before that; 'erode': shrunk for pivots too; "
                         "'off': as that look proved it")
     p.add_argument("--wall-points", choices=WALL_POINTS, default=C.wall_points,
-                   help="under --pose walls, what fixes the estimate against the plan's walls: "
-                        "'edges' (default): the look's located points; 'floor-ends' (not 1985): "
-                        "those and where the floor in view ends, a wall's foot along every "
-                        "blank wall")
+                   help="under --pose walls with the rig's eyes, what fixes the estimate "
+                        "against the plan's walls: 'edges': the look's located points; "
+                        "'floor-ends' (not 1985; default): those and where the floor in view "
+                        "ends, a wall's foot along every blank wall")
     p.add_argument("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
                    help="an unknown cell between two free ones across a row or a column: "
                         "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
@@ -391,20 +393,20 @@ def add_loop_options(p) -> None:
     p.add_argument("--proof-hits", choices=PROOF_HITS, default=C.proof_hits,
                    help="where the floor in view carves (--floor-eyes bound-add, carve, add, "
                         "veto), where a cell some look has hit stops the proof of a picture "
-                        "row: 'trace' (default): on the floor "
-                        "stretch an 0.8 ft obstacle would hide; 'line' (not 1985): anywhere on "
+                        "row: 'trace': on the floor "
+                        "stretch an 0.8 ft obstacle would hide; 'line' (not 1985; default): anywhere on "
                         "its line from the camera, so a box nearer than the picture's bottom "
                         "row with a face of the floor's grey proves nothing behind it")
     p.add_argument("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
-                   help="under --floor-eyes bound or bound-add: 'off' (default), or 'stereo' "
-                        "(not 1985): where the eyes locate a point in a column's floor run "
+                   help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
+                        "(not 1985; default): where the eyes locate a point in a column's floor run "
                         "clearly nearer than the floor there, the run went on up a face or top "
                         "of the floor's grey, and the column's floor ends at that point (three "
                         "such points on one edge cut all of it)")
     p.add_argument("--proof-heading", choices=PROOF_HEADINGS, default=C.proof_heading,
                    help="under --floor-eyes bound or bound-add, where each column's floor in "
-                        "view ends: 'estimate' (default): along the estimated heading; 'window' "
-                        "(not 1985): no farther than every column within --drift-sigmas of the "
+                        "view ends: 'estimate': along the estimated heading; 'window' "
+                        "(not 1985; default): no farther than every column within --drift-sigmas of the "
                         "heading's standard deviation shows, since the look may lie that far "
                         "round")
     p.add_argument("--drift-sigmas", type=float, default=C.drift_sigmas, metavar="S",
