@@ -372,7 +372,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "wall_points": args.wall_points, "proof_heading": args.proof_heading, "floor_end_check": args.floor_end_check, "proof_hits": args.proof_hits, "drift_sigmas": args.drift_sigmas, "min_range_ft": args.min_range, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "wall_points": args.wall_points, "proof_heading": args.proof_heading, "floor_end_check": args.floor_end_check, "proof_hits": args.proof_hits, "drift_sigmas": args.drift_sigmas, "min_range_ft": args.min_range, "wall_fix_sigmas": args.wall_fix_sigmas, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,

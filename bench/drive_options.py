@@ -63,6 +63,7 @@ OPTIONS = [
     "--proof-hits trace",
     "--hit-at axis",
     "--min-range 2.5",
+    "--wall-fix-sigmas 3",
     "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
     "--proof-hits trace --hit-at axis --min-range 2.5",
 ]

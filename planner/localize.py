@@ -48,6 +48,9 @@ ITERATIONS = 8                # iterated EKF steps per solve (it converges in 2-
 VOTE_FT = 0.15                # the consensus: a point agrees with a wall this near it
 VOTE_STEP_DEG = 0.5           # the consensus's heading step
 VOTE_SPAN_DEG = 20.0          # ... at most this far either side of the prior
+HEADING_SIGMAS = 2.0          # a fix's heading within this many of the prior's standard
+                              # deviations (3 before 2026-12-05: room 684's floor-grey
+                              # skirting turned it 4-6 deg, 2.4-3.3 sigma, look after look)
 CORNER_FT = 0.5               # a point this near a second wall is left out (which one is it on?)
 FLOOR_CLEAR_FT = 0.1          # depth pixels this near the floor plane are the floor
 
@@ -135,14 +138,14 @@ def _gate(state, P, a, b, C, bounds, gate: float, max_residual: float):
     return ok, wall
 
 
-def _window(P, max_residual: float):
+def _window(P, max_residual: float, heading_sigmas: float = HEADING_SIGMAS):
     """How far from the prior (x, z ft, heading rad) the consensus looks, and so how far a
     fix may lie: 3 sigma of the prior, x and z at most ``max_residual`` (never farther
     than a point may be from its wall: a box face stands twice that from the wall it
-    faces), the heading at most :data:`VOTE_SPAN_DEG`."""
+    faces), the heading ``heading_sigmas`` sigma, at most :data:`VOTE_SPAN_DEG`."""
     sd = np.sqrt(np.maximum(np.diag(P), 0.0))
     return (min(3 * sd[0], max_residual), min(3 * sd[1], max_residual),
-            min(3 * sd[2], math.radians(VOTE_SPAN_DEG)))
+            min(heading_sigmas * sd[2], math.radians(VOTE_SPAN_DEG)))
 
 
 def _mode(values, tol: float):
@@ -157,9 +160,10 @@ def _mode(values, tol: float):
 
 
 def consensus(prior, P, a, b, bounds, max_residual: float = MAX_RESIDUAL_FT,
-              tol: float = VOTE_FT, min_votes: int = MIN_POINTS):
+              tol: float = VOTE_FT, min_votes: int = MIN_POINTS,
+              heading_sigmas: float = HEADING_SIGMAS):
     """Where to start the association: the pose (x, z, heading rad) most points agree
-    lie on the walls.  For each heading within 3 sigma of the prior (at most
+    lie on the walls.  For each heading within ``heading_sigmas`` sigma of the prior (at most
     :data:`VOTE_SPAN_DEG`, steps of :data:`VOTE_STEP_DEG`) each point votes for the x that
     would put it on either side wall and the z on either end wall; within 3 sigma of the
     prior's x (z), at most ``max_residual``, the value with the most votes within ``tol``
@@ -171,7 +175,7 @@ def consensus(prior, P, a, b, bounds, max_residual: float = MAX_RESIDUAL_FT,
     (measured: the tiny room under five times the default noise).  Returns (state,
     votes)."""
     x0, x1, z0, z1 = bounds
-    wx, wz, span = _window(P, max_residual)
+    wx, wz, span = _window(P, max_residual, heading_sigmas)
     n = int(span // math.radians(VOTE_STEP_DEG))
     wx, wz = wx + tol, wz + tol
     best = (np.asarray(prior, float), -1)
@@ -230,14 +234,14 @@ def _solve(prior, P, a, b, C, bounds, wall, start=None):
     return s, (cov + cov.T) / 2
 
 
-def _within_prior(s, s0, P, max_residual: float) -> bool:
+def _within_prior(s, s0, P, max_residual: float, heading_sigmas: float = HEADING_SIGMAS) -> bool:
     """Whether the fix ``s`` lies where the consensus looked: each of x, z within 3 sigma
-    of the prior (at most ``max_residual``) plus :data:`VOTE_FT`, the heading within 3
-    sigma (at most :data:`VOTE_SPAN_DEG`) plus :data:`VOTE_STEP_DEG`.  A fix beyond is the
+    of the prior (at most ``max_residual``) plus :data:`VOTE_FT`, the heading within
+    ``heading_sigmas`` sigma (at most :data:`VOTE_SPAN_DEG`) plus :data:`VOTE_STEP_DEG`.  A fix beyond is the
     points' word against the prior's by more than the prior allows: a few false matches
     the gate took for a wall (measured: room 12, the 1985 eyes, a 14.6 deg jump against a
     prior of 1.8 deg), so no fix."""
-    wx, wz, wh = _window(P, max_residual)
+    wx, wz, wh = _window(P, max_residual, heading_sigmas)
     d = np.abs(np.asarray(s, float) - np.asarray(s0, float))
     d[2] = abs((d[2] + math.pi) % (2 * math.pi) - math.pi)
     return bool(d[0] <= wx + VOTE_FT and d[1] <= wz + VOTE_FT
@@ -247,7 +251,8 @@ def _within_prior(s, s0, P, max_residual: float) -> bool:
 def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float,
                       pan_deg: float = 0.0, gate: float = CHI2_1DOF_99,
                       max_residual: float = MAX_RESIDUAL_FT,
-                      min_points: int = MIN_POINTS) -> WallFix:
+                      min_points: int = MIN_POINTS,
+                      heading_sigmas: float = HEADING_SIGMAS) -> WallFix:
     """The body pose fused with one look's points on the floor plan's walls (the module
     docstring).
 
@@ -257,6 +262,9 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
     (x, z, heading rad) covariance; ``bounds`` (x0, x1, z0, z1) the walls; the rig is
     pitched ``pitch_deg`` (the profile's plus the head's tilt) and turned ``pan_deg``
     right of the body, about the vertical through the rig centre (both exact).
+
+    The consensus looks, and the fix may lie, ``heading_sigmas`` of the prior's heading
+    sigma round it (:data:`HEADING_SIGMAS`; x and z 3 sigma).
 
     Returns a :class:`WallFix`; with fewer than ``min_points`` points on the walls, or a
     singular problem, the prior unchanged (``fixed`` False)."""
@@ -270,7 +278,8 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
     a, b = lev[:, 0], lev[:, 2]
     s0 = np.array([x, z, math.radians(hdeg + pan_deg)])
     try:
-        sc, votes = consensus(s0, P, a, b, bounds, max_residual, min_votes=min_points)
+        sc, votes = consensus(s0, P, a, b, bounds, max_residual, min_votes=min_points,
+                              heading_sigmas=heading_sigmas)
         if votes < min_points:
             return none
         # gated at the consensus by its own resolution, the fix solved from the prior
@@ -289,7 +298,7 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
         return none
     if not np.all(np.isfinite(s2)) or not np.all(np.isfinite(P2)):
         return none
-    if not _within_prior(s2, s0, P, max_residual):
+    if not _within_prior(s2, s0, P, max_residual, heading_sigmas):
         return none
     heading = (math.degrees(s2[2]) - pan_deg + 180.0) % 360.0 - 180.0
     names = tuple(n for k, n in enumerate(("x0", "x1", "z0", "z1")) if np.any(wall[ok] == k))

@@ -383,6 +383,11 @@ class DriveConfig:
                                           # frees its line only from the depth the right
                                           # camera sees it at (perception.stereo_depth:
                                           # f B / (c - 1); room 177's box at the left edge)
+    wall_fix_sigmas: float = 2.0          # under pose="walls": how far from the prior's
+                                          # heading (its standard deviations) a fix may
+                                          # turn it (localize.HEADING_SIGMAS; 3 before
+                                          # 2026-12-05, when a floor-grey skirting turned
+                                          # room 684's heading 6 deg and it hit a box)
     min_range_ft: float = 3.0             # located points nearer than this are left out of
                                           # the floor scan, the wall fix and the floor end
                                           # check (perception.filter_points): 2.5 ft (a
@@ -655,6 +660,9 @@ def _check_config(cfg: DriveConfig) -> None:
             raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
                              f"turn there ({reach:.2f} ft) must stay inside the clear spot "
                              f"(start_clear_ft {cfg.start_clear_ft:g} ft) and be more than 0")
+    if not (isinstance(cfg.wall_fix_sigmas, (int, float)) and 0 < cfg.wall_fix_sigmas < 10):
+        raise ValueError(f"wall_fix_sigmas must be a number of standard deviations above 0 "
+                         f"and under 10, not {cfg.wall_fix_sigmas!r}")
     if isinstance(cfg.min_range_ft, bool) or not isinstance(cfg.min_range_ft, (int, float)) \
             or not 0 < cfg.min_range_ft < cfg.max_range_ft:
         raise ValueError(f"min_range_ft must be a distance in feet above 0 and under "
@@ -866,7 +874,8 @@ class Drive:
             if self.cfg.wall_points == "floor-ends":
                 q, cq = self._with_floor_ends(q, cq, look.left_bi, pitch)
         fix = fix_against_walls(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
-                                self.room.bounds, pitch, pan)
+                                self.room.bounds, pitch, pan,
+                                heading_sigmas=self.cfg.wall_fix_sigmas)
         if not fix.fixed:
             return prior
         self.wall_fixes += 1

@@ -386,6 +386,10 @@ def add_loop_options(p) -> None:
                         "against the plan's walls: 'edges': the look's located points; "
                         "'floor-ends' (not 1985; default): those and where the floor in view "
                         "ends, a wall's foot along every blank wall")
+    p.add_argument("--wall-fix-sigmas", type=float, default=C.wall_fix_sigmas, metavar="S",
+                   help="under --pose walls, how many standard deviations of the estimate's "
+                        f"heading a fix may turn it (default {C.wall_fix_sigmas:g}; 3 before "
+                        "2026-12-05: a skirting of the floor's grey turned it look after look)")
     p.add_argument("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
                    help="an unknown cell between two free ones across a row or a column: "
                         "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
@@ -475,6 +479,7 @@ def loop_config(args, goal, fail):
                        learn_floor=args.learn_floor,
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
+                       wall_fix_sigmas=args.wall_fix_sigmas,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

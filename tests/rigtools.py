@@ -275,5 +275,5 @@ DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls
 # along the pitched axis, located points trusted from 2.5 ft, the floor in view cut by none
 # of the three safety rules.
 DRIVE_BEFORE_2026_12_05 = dict(pose="dead_reckoning", wall_points="edges", hit_at="axis",
-                               min_range_ft=2.5, proof_heading="estimate",
+                               min_range_ft=2.5, wall_fix_sigmas=3.0, proof_heading="estimate",
                                floor_end_check="off", proof_hits="trace")

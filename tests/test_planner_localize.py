@@ -125,6 +125,49 @@ def test_a_prior_known_exactly_is_not_moved():
     assert not fix.fixed and (fix.x, fix.z, fix.heading_deg) == PRIOR
 
 
+def test_the_heading_may_turn_two_of_its_sigmas_and_no_more():
+    """Both walls seen from TRUE, the prior's heading 1.5 or 2.5 of its standard
+    deviations (2 deg) off: within 2 sigma (the default since 2026-12-05) the fix turns
+    it to the truth; beyond, the points' word against the prior's by more than the
+    window allows, no fix (the window's price: a true correction of 2.5 sigma is
+    refused too), which 3 sigma (the window before) would have made."""
+    from planner.localize import HEADING_SIGMAS
+    assert HEADING_SIGMAS == 2.0
+    q, c = look(np.vstack([right_wall(), back_wall()]))
+    cov = np.diag([0.1 ** 2, 0.1 ** 2, math.radians(2.0) ** 2])
+    for sigmas, fixed in ((1.5, True), (2.5, False)):
+        prior = (TRUE[0], TRUE[1], TRUE[2] + 2.0 * sigmas)
+        fix = fix_against_walls(q, c, prior, cov, BOUNDS, PITCH)
+        assert fix.fixed is fixed
+        assert abs(fix.heading_deg - (TRUE[2] if fixed else prior[2])) < 0.05
+        wide = fix_against_walls(q, c, prior, cov, BOUNDS, PITCH, heading_sigmas=3.0)
+        assert wide.fixed and abs(wide.heading_deg - TRUE[2]) < 0.05
+
+
+def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
+    """Room 684 (the 1985 eyes, the bench's goal and noise seed; the defaults of
+    2026-12-05): the floor's ends along its side walls, a skirting of the floor's grey,
+    lie 0.8-1 ft beyond the walls.  With the fix's heading allowed 3 sigma they turn it
+    4-6 deg at looks 3, 11 and 12, 17 deg off the truth by look 12, and the vehicle hits a
+    box at look 16 (the dead reckoning alone ends 0.1 ft off); within 2 sigma no
+    collision."""
+    from planner.loop import DriveConfig, run
+    from planner.planning import random_goal
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    from world.room import generate_room
+    room = generate_room(684)
+    start = State(room.start.x, room.start.z, room.start.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(684))
+    res = {k: run(room, start, DriveConfig(goal=goal, wall_fix_sigmas=k, max_looks=20),
+                  noise=OdometryNoise(seed=684), keep_maps=False) for k in (3.0, 2.0)}
+    assert res[3.0].collisions == 1 and "hit something" in res[3.0].reason
+    off = [abs(c.estimate.heading_deg - c.true.heading_deg) for c in res[3.0].cycles]
+    assert max(off) > 15.0
+    assert res[2.0].collisions == 0
+
+
 def test_a_look_with_the_head_panned_and_tilted_fixes_the_body():
     """The head turned 10 deg right and tilted 20 deg down: the look is the body turned as
     much (vehicle.sim.camera_pose); the fix returns the BODY's heading."""
@@ -178,25 +221,34 @@ def test_the_loop_fixed_against_the_walls_ends_nearer_the_truth_than_dead_reckon
     estimate ends 0.7 ft from the truth; fixed against the walls (the first look has
     nothing to fix: the start is known exactly) the estimate is within a fifth of a foot
     of the truth at every look, ends within a fraction of dead reckoning's error, and the
-    vehicle reaches the goal by the truth, without collision."""
+    vehicle reaches the goal by the truth, without collision.  (Traced with the fix's
+    heading allowed 3 sigma, the window before 2026-12-05; within 2 sigma, the default
+    since, the noisier odometry's larger turns are refused at 4 of 12 looks, the estimate
+    strays up to half a foot, and the goal is still reached by the truth: the window's
+    price.)"""
     from planner.loop import DriveConfig, run
     from planner.tiny import GOAL, tiny_room
     from rigtools import DRIVE_BEFORE_2026_12_04
     from vehicle.sim import State
     from world.odometry import OdometryNoise
 
-    def drive(pose):
+    def drive(pose, sigmas=3.0):
         return run(tiny_room(), State(0.0, 0.0, 0.0),
                    DriveConfig(goal=GOAL, eyes="depth", head="pan-tilt", pose=pose,
-                               **DRIVE_BEFORE_2026_12_04),
+                               wall_fix_sigmas=sigmas, **DRIVE_BEFORE_2026_12_04),
                    noise=OdometryNoise(0.1, 5.0, seed=3), keep_maps=False)
+
+    def errors(res):
+        return [math.hypot(c.estimate.x - c.true.x, c.estimate.z - c.true.z) for c in res.cycles]
     dead, walls = drive("dead_reckoning"), drive("walls")
     assert walls.reached and walls.collisions == 0
     assert walls.wall_fixes >= len(walls.cycles) - 1 and dead.wall_fixes is None
-    err = [math.hypot(c.estimate.x - c.true.x, c.estimate.z - c.true.z) for c in walls.cycles]
-    assert max(err) < 0.2
+    assert max(errors(walls)) < 0.2
     assert walls.final_true_error_ft <= 0.75
     assert dead.track_errors()[-1] > 3 * walls.track_errors()[-1]
+    narrow = drive("walls", 2.0)
+    assert narrow.reached and narrow.collisions == 0 and narrow.final_true_error_ft <= 0.75
+    assert narrow.wall_fixes < len(narrow.cycles) - 1 and max(errors(narrow)) > 0.2
 
 
 def test_rig_drive_pose_walls_reaches_the_loop_with_the_head(tmp_path, monkeypatch):
@@ -307,7 +359,13 @@ def test_the_floor_ends_hold_the_heading_where_the_edges_cannot():
 
 
 def test_rig_drive_wall_points_reach_the_loop(tmp_path, monkeypatch):
+    from planner.loop import DriveConfig, _check_config
     from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path).wall_fix_sigmas == 2.0
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-sigmas", "3").wall_fix_sigmas == 3.0
+    for bad in (0.0, -1.0, 12.0, "2"):
+        with pytest.raises(ValueError, match="wall_fix_sigmas"):
+            _check_config(DriveConfig(goal=(0.0, 1.0), wall_fix_sigmas=bad))
     assert drive_config(monkeypatch, tmp_path).wall_points == "floor-ends"
     cfg = drive_config(monkeypatch, tmp_path, "--pose", "walls", "--wall-points", "edges")
     assert (cfg.pose, cfg.wall_points) == ("walls", "edges")
