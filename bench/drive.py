@@ -32,7 +32,7 @@ taut, and time).
     python bench/drive.py --rooms 100 --losses --sight-lines band --stand-in majority  # before the floor's grey is learned, only a majority grey stands in
     python bench/drive.py --rooms 100 --losses --look-around sweep --free-drift off --plan-walls plan  # the defaults before 2026-12-04
     python bench/drive.py --rooms 100 --losses --free-gaps fill   # one-cell gaps in free space filled
-    python bench/drive.py --lab --first 1980 --rooms 40   # the bundled lab, 40 odometry noise seeds
+    python bench/drive.py --lab --first 1980 --rooms 20   # the bundled lab, 20 odometry noise seeds
 
 ``--occupied model`` draws the map's occupied cells from floor features fused look by look
 (planner.features); the summary then adds ``honest_2sigma``: the share of fused features

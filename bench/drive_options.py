@@ -65,7 +65,7 @@ OPTIONS = [
     "--min-range 2.5",
     "--wall-fix-sigmas 3",
     "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
-    "--proof-hits trace --hit-at axis --min-range 2.5",
+    "--proof-hits trace --hit-at axis --min-range 2.5 --wall-fix-sigmas 3",
 ]
 
 HERE = Path(__file__).resolve().parent

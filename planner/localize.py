@@ -163,8 +163,8 @@ def consensus(prior, P, a, b, bounds, max_residual: float = MAX_RESIDUAL_FT,
               tol: float = VOTE_FT, min_votes: int = MIN_POINTS,
               heading_sigmas: float = HEADING_SIGMAS):
     """Where to start the association: the pose (x, z, heading rad) most points agree
-    lie on the walls.  For each heading within ``heading_sigmas`` sigma of the prior (at most
-    :data:`VOTE_SPAN_DEG`, steps of :data:`VOTE_STEP_DEG`) each point votes for the x that
+    lie on the walls.  For each heading within ``heading_sigmas`` sigma of the prior (at
+    most :data:`VOTE_SPAN_DEG`, steps of :data:`VOTE_STEP_DEG`) each point votes for the x that
     would put it on either side wall and the z on either end wall; within 3 sigma of the
     prior's x (z), at most ``max_residual``, the value with the most votes within ``tol``
     wins, if it has ``min_votes`` (else the prior's x or z stands, and its votes do not
@@ -234,13 +234,14 @@ def _solve(prior, P, a, b, C, bounds, wall, start=None):
     return s, (cov + cov.T) / 2
 
 
-def _within_prior(s, s0, P, max_residual: float, heading_sigmas: float = HEADING_SIGMAS) -> bool:
+def _within_prior(s, s0, P, max_residual: float,
+                  heading_sigmas: float = HEADING_SIGMAS) -> bool:
     """Whether the fix ``s`` lies where the consensus looked: each of x, z within 3 sigma
     of the prior (at most ``max_residual``) plus :data:`VOTE_FT`, the heading within
-    ``heading_sigmas`` sigma (at most :data:`VOTE_SPAN_DEG`) plus :data:`VOTE_STEP_DEG`.  A fix beyond is the
-    points' word against the prior's by more than the prior allows: a few false matches
-    the gate took for a wall (measured: room 12, the 1985 eyes, a 14.6 deg jump against a
-    prior of 1.8 deg), so no fix."""
+    ``heading_sigmas`` sigma (at most :data:`VOTE_SPAN_DEG`) plus :data:`VOTE_STEP_DEG`.
+    A fix beyond is the points' word against the prior's by more than the prior allows: a
+    few false matches the gate took for a wall (measured: room 12, the 1985 eyes, a 14.6
+    deg jump against a prior of 1.8 deg), so no fix."""
     wx, wz, wh = _window(P, max_residual, heading_sigmas)
     d = np.abs(np.asarray(s, float) - np.asarray(s0, float))
     d[2] = abs((d[2] + math.pi) % (2 * math.pi) - math.pi)
@@ -331,9 +332,9 @@ def rig_wall_points(points, min_range: float | None = None):
     """Candidate wall points of the rig's eyes: the located points of the look
     (:func:`planner.perception.camera_points`, their A-20 covariances) the
     dissertation trusts (:func:`planner.perception.filter_points`: 2.5 to 12 ft, error
-    bound within a quarter of the range; ``min_range`` ft instead of 2.5).  Every height: the poster and door edges,
-    the wall's foot and the room's corners are on walls, the box edges are left to the
-    gate.  Returns ((N, 3), (N, 3, 3))."""
+    bound within a quarter of the range; ``min_range`` ft instead of 2.5).  Every height:
+    the poster and door edges, the wall's foot and the room's corners are on walls, the
+    box edges are left to the gate.  Returns ((N, 3), (N, 3, 3))."""
     from .perception import camera_points, filter_points
     if not len(points):
         return np.zeros((0, 3)), np.zeros((0, 3, 3))
