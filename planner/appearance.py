@@ -238,14 +238,12 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
 def _from_camera(points, rays: FloorRays):
     """The located points (rig.scan Points) as arrays: (0-based column, scan
     line, range error, (N, 3) offset from the camera in room axes, its
-    horizontal length)."""
-    c = np.array([p.loc1 for p in points], int) - 1
-    line = np.array([p.line for p in points], int)
-    dp = np.array([p.dp for p in points], float)
-    ep = np.array([p.ep for p in points], float)
-    cam = np.stack([(c + 0.5 - CX) * dp / FOCAL, (line + 0.5 - CY) * dp / FOCAL, dp], 1)
+    horizontal length); the camera's axes are
+    :func:`planner.perception.camera_points`'."""
+    from .perception import camera_points
+    cam, _, line, loc1, ep = camera_points(points)
     w = cam @ rays.R.T
-    return c, line, ep, w, np.hypot(w[:, 0], w[:, 2])
+    return loc1.astype(int) - 1, line, ep, w, np.hypot(w[:, 0], w[:, 2])
 
 
 def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,
@@ -336,8 +334,8 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     top's edge is, and all its ends are cut by the least share of their
     floor distance (room 566: a 0.99 ft box whose sides have the floor's
     grey).  Points nearer than ``min_range_ft`` (the loop passes the floor
-    scan's 2.5 ft, :data:`planner.perception.MIN_RANGE_FT`: most of them are
-    false matches) are not used."""
+    scan's, ``DriveConfig.min_range_ft``: nearer, many are false matches) are
+    not used."""
     reach = np.array(reach, float)
     points = [p for p in points if p.dp >= min_range_ft]
     if not len(points):

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from world.pose import BASELINE_FT
+from .perception import MIN_RANGE_FT
 
 CHI2_1DOF_99 = 6.635          # chi-square 99 % point, 1 degree of freedom
 MAX_RESIDUAL_FT = 0.9         # no point farther than this from its wall is on it (half the
@@ -328,19 +329,18 @@ def depth_wall_points(range_left, pitch_deg: float, floor_y: float, step: int = 
     return pts, cov
 
 
-def rig_wall_points(points, min_range: float | None = None):
+def rig_wall_points(points, min_range: float = MIN_RANGE_FT):
     """Candidate wall points of the rig's eyes: the located points of the look
     (:func:`planner.perception.camera_points`, their A-20 covariances) the
-    dissertation trusts (:func:`planner.perception.filter_points`: 2.5 to 12 ft, error
-    bound within a quarter of the range; ``min_range`` ft instead of 2.5).  Every height:
+    dissertation trusts (:func:`planner.perception.filter_points`: ``min_range``, 2.5 ft
+    unless given, to 12 ft, error bound within a quarter of the range).  Every height:
     the poster and door edges, the wall's foot and the room's corners are on walls, the
     box edges are left to the gate.  Returns ((N, 3), (N, 3, 3))."""
     from .perception import camera_points, filter_points
     if not len(points):
         return np.zeros((0, 3)), np.zeros((0, 3, 3))
     xyz, cov, _, _, ep = camera_points(points)
-    keep = filter_points(xyz, ep) if min_range is None else \
-        filter_points(xyz, ep, min_range=min_range)
+    keep = filter_points(xyz, ep, min_range=min_range)
     return xyz[keep], cov[keep]
 
 
