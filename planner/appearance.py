@@ -230,9 +230,7 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     uz = (rays.z[rr, cc] - o[2]) / d
     pts = np.column_stack([o[0] + dist * ux[ray], np.full(len(dist), o[1]),
                            o[2] + dist * uz[ray]])
-    if lead_in:
-        return pts, ray, dist, k >= 0
-    return pts, ray, dist
+    return pts, ray, dist, k >= 0
 
 
 def _from_camera(points, rays: FloorRays):

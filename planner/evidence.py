@@ -416,6 +416,12 @@ class Perception:
         (:func:`planner.appearance.nearest_greys`)."""
         return nearest_greys(picture, min_share=STAND_INS[self.stand_in])
 
+    def bounding_greys(self, picture) -> np.ndarray:
+        """The greys that end the floor in view: the learned ones
+        (:func:`planner.appearance.floor_greys`), else :meth:`stand_in_greys`."""
+        greys = floor_greys(self.floor_hist)
+        return self.stand_in_greys(picture) if greys is None else greys
+
     def update(self, scan_points, est: State, pose_cls, pitch_deg: float = 0.0,
                known: FloorMap | None = None, pose_cov=None, picture=None, depth=None) -> int:
         """One look into the model as a floor range scan
@@ -486,12 +492,11 @@ class Perception:
                 m = training_mask(rays, known, self.lowest_ft, self.max_range_ft,
                                   whole_trace=bounded)
                 self.floor_hist += np.bincount(pic[m].astype(int), minlength=16)[:16]
-            greys = floor_greys(self.floor_hist)
-            if greys is not None and self.floor_eyes == "bound-add":
-                # only the learned grey proves; the stand-in below only bounds
-                proof_top = floor_run(pic, greys)
-            if greys is None and bounded:
-                greys = self.stand_in_greys(pic)
+            learned = floor_greys(self.floor_hist)
+            if learned is not None and self.floor_eyes == "bound-add":
+                # only the learned grey proves; the stand-in only bounds
+                proof_top = floor_run(pic, learned)
+            greys = self.bounding_greys(pic) if bounded else learned
             if greys is not None:
                 top = floor_run(pic, greys, bridge=bounded)
                 if self.floor_eyes == "veto" and len(scan_points):
@@ -988,11 +993,9 @@ class Perception:
                             lead_in=self.proof_hits == "line")
         if proof is None:
             return 0
-        pts, ray = proof[0], proof[1]
+        pts, ray, _, proving = proof
         keys = cell_keys(pts, res)
-        keep = keep_before_hit(keys, ray, self.hit_keys)
-        if len(proof) == 4:               # proof_hits "line": the lead-in only stops a trace
-            keep &= proof[3]
+        keep = keep_before_hit(keys, ray, self.hit_keys) & proving
         keys = np.unique(keys[keep])
         if not len(keys):
             return 0
@@ -1129,7 +1132,6 @@ def within_walls(origin, ends, bounds, res: float) -> np.ndarray:
 
 def floor_stats(model: "Perception") -> dict:
     """What the floor in view did in one drive (planner.appearance)."""
-    from .appearance import floor_greys
     g = floor_greys(model.floor_hist)
     return {"floor_greys": [] if g is None else np.flatnonzero(g).tolist(),
             "floor_samples": int(model.floor_hist.sum()), "floor_cells": int(model.floor_cells),

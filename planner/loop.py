@@ -886,12 +886,8 @@ class Drive:
         """``q``, ``cq`` and the floor in view's ends (:func:`planner.localize.floor_end_points`)
         in the floor's learned greys, or, before they are learned, the bottom rows' (the
         stand-in of ``cfg.stand_in``): the fix's gate drops a box's foot."""
-        from .appearance import floor_greys
         from .localize import floor_end_points
-        greys = floor_greys(self.model.floor_hist)
-        if greys is None:
-            greys = self.model.stand_in_greys(picture)
-        fq, fc = floor_end_points(picture, greys, pitch, FLOOR_Y)
+        fq, fc = floor_end_points(picture, self.model.bounding_greys(picture), pitch, FLOOR_Y)
         return np.vstack([q, fq]), np.concatenate([cq, fc])
 
     def update_map(self, look, points, est: State, pan: float, tilt: float,

@@ -71,7 +71,8 @@ def test_proof_runs_from_the_near_limit_to_the_run_and_the_clip():
     top[64] = 60                                       # floor seen up to row 60 in one column
     res, h = 0.25, 0.8
     clip = np.full(128, 100.0)
-    pts, ray, dist = floor_proof(rays, top, clip, h, res)
+    pts, ray, dist, proving = floor_proof(rays, top, clip, h, res)
+    assert proving.all()                               # no lead-in: every sample proves
     # an obstacle h tall nearer than d (1 - h / H) would not hide the floor at
     # d: from the bottom row's d_b (1 - h / H) = 2.33 ft on (the near limit)
     d_b = rays.dist[119, 64]
@@ -80,7 +81,7 @@ def test_proof_runs_from_the_near_limit_to_the_run_and_the_clip():
     assert dist.max() >= rays.dist[60, 64] - res - res / 2
     # cut at the column's clip
     clip[64] = 4.0
-    _, _, dist = floor_proof(rays, top, clip, h, res)
+    _, _, dist, _ = floor_proof(rays, top, clip, h, res)
     assert dist.max() <= 4.0 - res + 1e-9
     # no run, no proof
     assert floor_proof(rays, np.full(128, ROWS), clip, h, res) is None
@@ -100,7 +101,7 @@ def test_a_lead_in_stops_a_proof_that_lies_past_a_hit_nearer_than_its_trace():
     top[64] = 60
     res, h = 0.25, 0.8
     clip = np.full(128, 100.0)
-    pts, ray, dist = floor_proof(rays, top, clip, h, res)
+    pts, ray, dist, _ = floor_proof(rays, top, clip, h, res)
     lpts, lray, ldist, proving = floor_proof(rays, top, clip, h, res, lead_in=True)
     assert ldist[proving] == pytest.approx(dist) and lray[proving].tolist() == ray.tolist()
     for k in np.unique(lray):             # each ray led in from its camera's foot
@@ -156,7 +157,7 @@ def test_the_floor_run_of_a_rendered_look_shows_only_floor():
     in_run = rows >= top[None, :]
     assert np.isin(look.surface_left[in_run], floor_q).all()
     rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
-    pts, _, _ = floor_proof(rays, top, np.full(128, 12.0), 0.8, 0.25)
+    pts, _, _, _ = floor_proof(rays, top, np.full(128, 12.0), 0.8, 0.25)
     (bx0, bx1), _, (bz0, bz1) = BOX
     inside_box = (pts[:, 0] > bx0) & (pts[:, 0] < bx1) & (pts[:, 2] > bz0) & (pts[:, 2] < bz1)
     assert not inside_box.any()
