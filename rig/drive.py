@@ -155,6 +155,31 @@ def cmd_drive(args) -> int:
     return 0 if res.reached else 3
 
 
+# The closed loop's options as `--help` shows them, in the order of a cycle; every
+# rule was measured (docs/planner.md), and each help says which value is the default.
+LOOP_OPTION_GROUPS = (
+    ("the eyes", "what the loop sees with",
+     ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--stereo-margin")),
+    ("the camera estimate", "where the loop believes the vehicle stands",
+     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--feature-pose",
+      "--drift-sigmas")),
+    ("the map: what is occupied", "where a look's located points and the floor plan block",
+     ("--hit-at", "--growth", "--occupied", "--expire-uncertain", "--refute-hits",
+      "--plan-walls", "--cell-ft")),
+    ("the map: what is free", "what a look proves free, and what is assumed free",
+     ("--floor-eyes", "--sight-lines", "--blank-ft", "--blank-carve", "--carve", "--blank-px",
+      "--blank-limit", "--blank-sides", "--sides-apart", "--stand-in", "--learn-floor",
+      "--proof-hits", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
+      "--track-free")),
+    ("the path", "the search over the floor map",
+     ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
+      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
+    ("the motion", "what the vehicle may do with the path",
+     ("--pivot", "--approach", "--look-ahead", "--look-around", "--progress", "--reverse",
+      "--max-looks")),
+)
+
+
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
@@ -164,260 +189,268 @@ def add_loop_options(p) -> None:
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
-    p.add_argument("--unknown", choices=("free", "blocked"), default=C.unknown,
-                   help="plan through never-seen space as free (default) or blocked; the vehicle "
-                        "never drives into it either way")
-    p.add_argument("--search", choices=("dissertation", "astar"), default=C.search,
-                   help="the dissertation's hierarchical search (default) or A*")
-    p.add_argument("--eyes", choices=EYES, default=C.eyes,
-                   help="rig: the matcher's ranges (default); truth: the true range at the "
-                        "same edge pixels (an oracle: the planner without the matcher's errors); "
-                        "depth: the true range at every pixel, a dense range finder (a "
-                        "diagnostic oracle: the planner without the eyes' limits)")
-    p.add_argument("--match", choices=MATCHES, default=C.match,
-                   help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
-                        "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
-                        "the best available; on the in-process rig, several times slower)")
-    p.add_argument("--pose", choices=POSES, default=C.pose,
-                   help="the camera estimate that places each look: fused: the symbolic model's "
-                        "(the walk's step: the robust fix on matched vertices fused with the "
-                        "odometry's prior); dead_reckoning: the odometry alone (the default "
-                        "before 2026-12-05); walls (not 1985; default): each look's points on "
-                        "the floor plan's walls fused with the odometry's prior "
-                        "(planner.localize), also with --head")
-    p.add_argument("--pose-method", default=C.pose_method, choices=ESTIMATORS,
-                   help="the fix fused under --pose fused (rig walk's --method; default robust)")
-    p.add_argument("--margin", type=float, default=None, metavar="FT",
-                   help="the vehicle profile's planning margin (default: the profile's)")
-    p.add_argument("--pivot", choices=PIVOTS, default=C.pivot,
-                   help="what a pivot in place needs seen free: disc: the whole circle of the "
-                        "footprint's half diagonal, whatever the angle (default); margin: that "
-                        "circle grown by the planning margin against the estimate's error; "
-                        "swept: the cells the footprint, grown by the margin, sweeps through "
-                        "the angle; small-swept: a turn up to 5 deg by its sweep, a larger one "
-                        "by the disc")
-    p.add_argument("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
-                   default=C.clearance_at,
-                   help="where in a passable cell the vehicle's centre may be: anywhere (the "
-                        "dissertation's cross-section test, default; a cell's clearance by a "
-                        "lower bound, centre distance less a cell diagonal), its centre, every "
-                        "position then tested by its exact distance to the blocked cells, or "
-                        "anywhere-exact: anywhere, by the exact distance between the squares")
-    p.add_argument("--growth", choices=("covariance", "across"), default=C.growth,
-                   help="a located hit grown by its whole covariance (the dissertation's, "
-                        "default) or by its error across the sight line only")
-    p.add_argument("--feature-pose", choices=FEATURE_POSES,
-                   default=C.feature_pose,
-                   help="with --occupied model: the pose error in each observation's "
-                        "covariance: the dead-reckoned pose's whole covariance (default), the "
-                        "drift since a feature was last seen, or none")
-    p.add_argument("--hit-at", choices=PLACES, default=C.hit_at,
-                   help="where a look's range lands on the floor plane: 'axis': along the "
-                        "pitched optical axis (short by up to the pitch's cosine; the default "
-                        "before 2026-12-05) or 'point' (default): at the located point's own "
-                        "horizontal position")
-    p.add_argument("--occupied", choices=OCCUPIEDS, default=C.occupied,
-                   help="the map's occupied cells: every look's hits grown by that look's "
-                        "covariance (default), or regenerated each cycle from the floor "
-                        "features fused look by look (Chapter IV's octree regenerated from "
-                        "the symbolic model)")
-    p.add_argument("--approach", choices=APPROACHES, default=C.approach,
-                   help="the last move near the goal: disc (default since 2026-12-02; not "
-                        "1985): where the path's safe prefix drives nowhere, the straight move "
-                        "the same safety rules allow that ends nearest the goal inside its "
-                        "tolerance less 0.1 ft; path: the path's safe prefix only (before)")
-    p.add_argument("--goal-region", choices=GOALS, default=C.goal_region,
-                   help="what the planner plans to: the goal point (default; refused when the "
-                        "map puts an obstacle within the vehicle's radius of it) or the "
-                        "standable cell nearest it inside the goal tolerance (0.75 ft)")
-    p.add_argument("--floor-eyes", choices=FLOOR_EYES, default=C.floor_eyes,
-                   help="what the picture shows of the floor (not 1985; planner.appearance): "
-                        "bound-add (default since 2026-12-03): bound, and once the floor's grey "
-                        "is learned its proof carved, no farther than where bound ends its "
-                        "column; bound (the default 2026-12-02): nothing carved, each line the "
-                        "blank-column assumption carves ends where its column's floor in view "
-                        "ends (none where the floor's grey runs to the picture's top or past the "
-                        "plan's walls); off: the assumption unbounded, as before; carve: once "
-                        "the floor's grey is learned, each column's floor in view carved free in "
-                        "place of the assumption; add: carved beside it; veto: carve, and leave "
-                        "out located points the floor in view contradicts")
-    p.add_argument("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
-                   help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
-                        "free) after N later looks had it in view and located nothing there "
-                        "(not 1985; default 0: off, it stays until sight lines clear it)")
-    p.add_argument("--cell-ft", type=float, default=None, metavar="FT",
-                   help="the octree's finest cell: the fewest levels over the 32 ft volume of "
-                        "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
-                        "depth 8)")
-    p.add_argument("--look-around", choices=LOOK_AROUNDS, default=C.look_around,
-                   help="when the vehicle cannot move: 'evidence' (default since 2026-12-04): look "
-                        "at where the path lacks evidence, from a place a look shows it; 'sweep': "
-                        "face the path and sweep")
-    p.add_argument("--progress", choices=PROGRESSES, default=C.progress,
-                   help="what resets the count of looks without progress: any motion (default), "
-                        "or a shorter way left than ever or new free space seen")
-    p.add_argument("--uncertain", choices=UNCERTAIN_PLANS, default=C.uncertain,
-                   help="no path avoids the uncertain cells (hit by one look): head for the "
-                        "reachable cell nearest the goal (default), or plan through them and look")
-    p.add_argument("--reverse", choices=("off", "on"), default="off",
-                   help="the vehicle may BACK straight over space seen free (default off)")
-    p.add_argument("--track-free", choices=TRACK_FREES, default=C.track_free,
-                   help="free where the vehicle stood: its footprint at each pose (default), or "
-                        "the footprint swept by every move and pivot, shrunk by the margin")
-    p.add_argument("--blank-ft", type=float, default=C.blank_ft, metavar="FT",
-                   help="picture columns outside everything the look located count free this "
-                        "far (default 8; 0: off, then blank walls stop the vehicle)")
-    p.add_argument("--blank-carve", choices=("unknown", "always"), default=C.blank_carve,
-                   help="how that assumption carves: 'unknown' (default): only cells no look has "
-                        "seen, never past a cell any look hit, only past a near zone seen free; "
-                        "'always': as a seen sight line (collides in room 40)")
-    p.add_argument("--carve", choices=("error", "range"), default=C.carve,
-                   help="columns between two edges free up to the near end of the edges' error "
-                        "bound (default) or up to their range")
-    p.add_argument("--blank-px", type=int, default=C.blank_px if C.blank_px is not None else -1,
-                   metavar="N",
-                   help="that assumption carves only picture columns at most N columns beside a "
-                        "located one (-1, the default since 2026-12-03: the whole blank run, "
-                        "its lines ended by the floor in view; 16 before, since room 45's "
-                        "collision under the rules of 2026-12-01)")
-    p.add_argument("--blank-limit", choices=BLANK_LIMITS, default=C.blank_limit,
-                   help="where --blank-px applies: 'all' (default): beside the outermost located "
-                        "columns and inside wide gaps between two; 'sides': only beside the "
-                        "outermost ones, wide gaps carved whole")
-    p.add_argument("--blank-sides", choices=BLANK_SIDES, default=C.blank_sides,
-                   help="the side columns --blank-px cuts off (beside the outermost located "
-                        "one, out to the picture's edge): 'two-looks' (default): a cell carved "
-                        "once two looks --sides-apart apart both had it in such a blank "
-                        "column; 'cut': never carved (with --blank-px -1, the default, no "
-                        "column is cut off and this does nothing)")
-    p.add_argument("--sides-apart", type=float, nargs=2, default=C.sides_apart,
-                   metavar=("FT", "DEG"),
-                   help="for --blank-sides two-looks: the two looks at least FT apart or "
-                        f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
-                        f"{C.sides_apart[1]:g} deg)")
-    p.add_argument("--refute-hits", choices=("off", "under", "through"), default=C.refute_hits,
-                   help="'under' (not 1985): a hit cell a later sight line passes under (below "
-                        "the hit's lowest located point, to a surface beyond) shows unknown, "
-                        "never free; 'through' (not 1985): a hit a later, nearer look sees "
-                        "through (two located points farther at its pixel) is refuted, a cell "
-                        "all of whose hits are refuted shows unknown; 'off' (default)")
-    p.add_argument("--stereo-margin", action="store_true", default=C.stereo_margin,
-                   help="(not 1985) a picture column frees the floor only from the depth at "
-                        "which the right camera sees it too (f B / (column - 1): column 20 "
-                        "from 7.1 ft): in the left picture's leftmost columns a near box is "
-                        "out of the right camera's view, shows no edge, and would count blank")
-    p.add_argument("--min-range", type=float, default=C.min_range_ft, metavar="FT",
-                   help="located points nearer than FT are left out of the map and the wall "
-                        f"fix (default {C.min_range_ft:g}; 2.5 before 2026-12-05): from 2.5 to "
-                        "3 ft a third of the 1985 matcher's points are false matches")
-    p.add_argument("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
-                   help="what a sight line to a located point frees: 'low' (default; not "
-                        "1985): only where its ray runs below the lowest obstacle's top (a box "
-                        "lower than the ray may hide under it: the 1985 eyes do not locate box "
-                        "tops); 'band' (the default before 2026-12-01): the whole height band "
-                        "up to it; 'low-all': 'low', "
-                        "and a look that located nothing frees only the far part of its "
-                        "blank view (from 0.8 of --blank-ft)")
-    p.add_argument("--stand-in", choices=STAND_INS, default=C.stand_in,
-                   help="under --floor-eyes bound or bound-add, what stands for the floor's "
-                        "grey until the map has shown enough floor free: the greys of the "
-                        "picture's bottom 4 rows, 'tenth' (default): each grey with a tenth "
-                        "of them; 'majority' "
-                        "(not 1985): only a grey with more than half (none: the look assumes "
-                        "nothing), so a box face near the vehicle does not pass for floor")
-    p.add_argument("--learn-floor", choices=LEARN_FLOORS, default=C.learn_floor,
-                   help="with --floor-eyes, where the floor's grey is first learned: 'off' "
-                        "(default): from floor the map shows free, once it shows any; "
-                        "'step-back' (not 1985): before the first look the vehicle steps "
-                        f"{C.learn_back_ft:g} ft back inside the clear spot it was set down in "
-                        "(a vehicle that does not reverse turns about, drives and turns back), "
-                        "so its first look's bottom rows show floor the clear spot vouches for")
-    p.add_argument("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
-                   help="before a move, find the first never-seen cell on the planned path's "
-                        "swept band; while it is still far enough to show, cut the move there, "
-                        "pivot until it is in view and look (not 1985; default on since "
-                        "2026-12-01; --no-look-ahead: off, as before)")
-    p.add_argument("--seen-cost", type=float, default=C.seen_cost, metavar="W",
-                   help="plan paths that keep to what was in view: A* where a cell within the "
-                        "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
-                        "(not the dissertation's search; default 0: off)")
-    p.add_argument("--head", choices=HEADS, default=C.head,
-                   help="the rig's mount: 'fixed' (the default, pitched 25 deg down) or "
-                        "'pan-tilt': on a head that pans +-90 deg and tilts 0..-55 deg "
-                        "(PAN, TILT commands) and looks where the fixed rig pivots the "
-                        "vehicle only to look: at the first never-seen cell of its way, "
-                        "tilted down to show it, into its pivot circle, round; 'assist': "
-                        "the fixed rig's cycle unchanged, the head's look added only where it "
-                        "would stop or pivot only to look (not 1985; neither with --pose fused)")
-    p.add_argument("--assist-pivot-ft", type=float, default=C.assist_pivot_ft, metavar="FT",
-                   help="under --head assist: a pivot may not sweep a cell free only by a "
-                        "blank-column assumption no look nearer than FT made (default "
-                        f"{C.assist_pivot_ft:g} ft, twice the nearest distance a look shows; "
-                        "0: off, as before 2026-12-02, when room 45 pivoted into a box)")
-    p.add_argument("--rejoin", choices=REJOINS, default=C.rejoin,
-                   help="where a kept path resumes: 'leg' (the default since 2026-12-01: at "
-                        "the end of the leg nearest the vehicle) or 'waypoint' (at the waypoint "
-                        "nearest it, which can send it back to a corner it has just passed)")
-    p.add_argument("--blind-zone", choices=BLIND_ZONES, default=C.blind_zone,
-                   help="plan round never-seen cells nearer than a look can show, when some "
-                        "path avoids them: 'short' (the default since 2026-12-01: only when at "
-                        "most the kept-path allowance longer), 'any', or 'off' (as before)")
-    p.add_argument("--map-extent", choices=MAP_EXTENTS, default=C.map_extent,
-                   help="what the floor map the path is searched on covers: 'seen' (default): "
-                        "every hit so far, the estimate and the goal, 2 ft round, its border "
-                        "blocking the search; 'walls' (not 1985): the room's floor plan as "
-                        "well, so a way through never-seen space by the walls is planned "
-                        "instead of a drive toward the reachable cell nearest the goal; "
-                        "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
-                        "whose seen map has no path to the goal")
-    p.add_argument("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
-                   help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
-                        "since 2026-12-04): two standard deviations of the estimate's position "
-                        "nearer, since the map is placed by the estimate and the plan by the "
-                        "room's truth; 'plan': where the plan has them")
-    p.add_argument("--free-drift", choices=FREE_DRIFTS, default=C.free_drift,
-                   help="an older look's free space on the map: 'moves' (not 1985; default "
-                        "since 2026-12-04): for moves its edges beside a hit shrunk by two "
-                        "standard deviations of the odometry's drift since that look, a pivot's "
-                        "cells checked on the map before that; 'erode': shrunk for pivots too; "
-                        "'off': as that look proved it")
-    p.add_argument("--wall-points", choices=WALL_POINTS, default=C.wall_points,
-                   help="under --pose walls with the rig's eyes, what fixes the estimate "
-                        "against the plan's walls: 'edges': the look's located points; "
-                        "'floor-ends' (not 1985; default): those and where the floor in view "
-                        "ends, a wall's foot along every blank wall")
-    p.add_argument("--wall-fix-sigmas", type=float, default=C.wall_fix_sigmas, metavar="S",
-                   help="under --pose walls, how many standard deviations of the estimate's "
-                        f"heading a fix may turn it (default {C.wall_fix_sigmas:g}; 3 before "
-                        "2026-12-05: a skirting of the floor's grey turned it look after look)")
-    p.add_argument("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
-                   help="an unknown cell between two free ones across a row or a column: "
-                        "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
-                        "that misses both; the floor in view leaves such stripes")
-    p.add_argument("--proof-hits", choices=PROOF_HITS, default=C.proof_hits,
-                   help="where the floor in view carves (--floor-eyes bound-add, carve, add, "
-                        "veto), where a cell some look has hit stops the proof of a picture "
-                        "row: 'trace': on the floor "
-                        "stretch an 0.8 ft obstacle would hide; 'line' (not 1985; default): anywhere on "
-                        "its line from the camera, so a box nearer than the picture's bottom "
-                        "row with a face of the floor's grey proves nothing behind it")
-    p.add_argument("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
-                   help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
-                        "(not 1985; default): where the eyes locate a point in a column's floor run "
-                        "clearly nearer than the floor there, the run went on up a face or top "
-                        "of the floor's grey, and the column's floor ends at that point (three "
-                        "such points on one edge cut all of it)")
-    p.add_argument("--proof-heading", choices=PROOF_HEADINGS, default=C.proof_heading,
-                   help="under --floor-eyes bound or bound-add, where each column's floor in "
-                        "view ends: 'estimate': along the estimated heading; 'window' "
-                        "(not 1985; default): no farther than every column within --drift-sigmas of the "
-                        "heading's standard deviation shows, since the look may lie that far "
-                        "round")
-    p.add_argument("--drift-sigmas", type=float, default=C.drift_sigmas, metavar="S",
-                   help="under --free-drift erode or moves: how many standard deviations of the drift "
-                        "an older look's free edge beside a hit gives up; under --proof-heading "
-                        "window, of the heading (default 2)")
-    p.add_argument("--max-looks", type=int, default=C.max_looks, metavar="N")
+    group_of = {}
+    for title, what, flags in LOOP_OPTION_GROUPS:
+        g = p.add_argument_group(title, what)
+        group_of.update(dict.fromkeys(flags, g))
+
+    def opt(flag, **kw):
+        group_of[flag].add_argument(flag, **kw)
+
+    opt("--unknown", choices=("free", "blocked"), default=C.unknown,
+        help="plan through never-seen space as free (default) or blocked; the vehicle "
+             "never drives into it either way")
+    opt("--search", choices=("dissertation", "astar"), default=C.search,
+        help="the dissertation's hierarchical search (default) or A*")
+    opt("--eyes", choices=EYES, default=C.eyes,
+        help="rig: the matcher's ranges (default); truth: the true range at the "
+             "same edge pixels (an oracle: the planner without the matcher's errors); "
+             "depth: the true range at every pixel, a dense range finder (a "
+             "diagnostic oracle: the planner without the eyes' limits)")
+    opt("--match", choices=MATCHES, default=C.match,
+        help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
+             "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
+             "the best available; on the in-process rig, several times slower)")
+    opt("--pose", choices=POSES, default=C.pose,
+        help="the camera estimate that places each look: fused: the symbolic model's "
+             "(the walk's step: the robust fix on matched vertices fused with the "
+             "odometry's prior); dead_reckoning: the odometry alone (the default "
+             "before 2026-12-05); walls (not 1985; default): each look's points on "
+             "the floor plan's walls fused with the odometry's prior "
+             "(planner.localize), also with --head")
+    opt("--pose-method", default=C.pose_method, choices=ESTIMATORS,
+        help="the fix fused under --pose fused (rig walk's --method; default robust)")
+    opt("--margin", type=float, default=None, metavar="FT",
+        help="the vehicle profile's planning margin (default: the profile's)")
+    opt("--pivot", choices=PIVOTS, default=C.pivot,
+        help="what a pivot in place needs seen free: disc: the whole circle of the "
+             "footprint's half diagonal, whatever the angle (default); margin: that "
+             "circle grown by the planning margin against the estimate's error; "
+             "swept: the cells the footprint, grown by the margin, sweeps through "
+             "the angle; small-swept: a turn up to 5 deg by its sweep, a larger one "
+             "by the disc")
+    opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
+        default=C.clearance_at,
+        help="where in a passable cell the vehicle's centre may be: anywhere (the "
+             "dissertation's cross-section test, default; a cell's clearance by a "
+             "lower bound, centre distance less a cell diagonal), its centre, every "
+             "position then tested by its exact distance to the blocked cells, or "
+             "anywhere-exact: anywhere, by the exact distance between the squares")
+    opt("--growth", choices=("covariance", "across"), default=C.growth,
+        help="a located hit grown by its whole covariance (the dissertation's, "
+             "default) or by its error across the sight line only")
+    opt("--feature-pose", choices=FEATURE_POSES,
+        default=C.feature_pose,
+        help="with --occupied model: the pose error in each observation's "
+             "covariance: the dead-reckoned pose's whole covariance (default), the "
+             "drift since a feature was last seen, or none")
+    opt("--hit-at", choices=PLACES, default=C.hit_at,
+        help="where a look's range lands on the floor plane: 'axis': along the "
+             "pitched optical axis (short by up to the pitch's cosine; the default "
+             "before 2026-12-05) or 'point' (default): at the located point's own "
+             "horizontal position")
+    opt("--occupied", choices=OCCUPIEDS, default=C.occupied,
+        help="the map's occupied cells: every look's hits grown by that look's "
+             "covariance (default), or regenerated each cycle from the floor "
+             "features fused look by look (Chapter IV's octree regenerated from "
+             "the symbolic model)")
+    opt("--approach", choices=APPROACHES, default=C.approach,
+        help="the last move near the goal: disc (default since 2026-12-02; not "
+             "1985): where the path's safe prefix drives nowhere, the straight move "
+             "the same safety rules allow that ends nearest the goal inside its "
+             "tolerance less 0.1 ft; path: the path's safe prefix only (before)")
+    opt("--goal-region", choices=GOALS, default=C.goal_region,
+        help="what the planner plans to: the goal point (default; refused when the "
+             "map puts an obstacle within the vehicle's radius of it) or the "
+             "standable cell nearest it inside the goal tolerance (0.75 ft)")
+    opt("--floor-eyes", choices=FLOOR_EYES, default=C.floor_eyes,
+        help="what the picture shows of the floor (not 1985; planner.appearance): "
+             "bound-add (default since 2026-12-03): bound, and once the floor's grey "
+             "is learned its proof carved, no farther than where bound ends its "
+             "column; bound (the default 2026-12-02): nothing carved, each line the "
+             "blank-column assumption carves ends where its column's floor in view "
+             "ends (none where the floor's grey runs to the picture's top or past the "
+             "plan's walls); off: the assumption unbounded, as before; carve: once "
+             "the floor's grey is learned, each column's floor in view carved free in "
+             "place of the assumption; add: carved beside it; veto: carve, and leave "
+             "out located points the floor in view contradicts")
+    opt("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
+        help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
+             "free) after N later looks had it in view and located nothing there "
+             "(not 1985; default 0: off, it stays until sight lines clear it)")
+    opt("--cell-ft", type=float, default=None, metavar="FT",
+        help="the octree's finest cell: the fewest levels over the 32 ft volume of "
+             "interest whose cell is no larger (default: depth 7, 0.25 ft; 0.125 is "
+             "depth 8)")
+    opt("--look-around", choices=LOOK_AROUNDS, default=C.look_around,
+        help="when the vehicle cannot move: 'evidence' (default since 2026-12-04): look "
+             "at where the path lacks evidence, from a place a look shows it; 'sweep': "
+             "face the path and sweep")
+    opt("--progress", choices=PROGRESSES, default=C.progress,
+        help="what resets the count of looks without progress: any motion (default), "
+             "or a shorter way left than ever or new free space seen")
+    opt("--uncertain", choices=UNCERTAIN_PLANS, default=C.uncertain,
+        help="no path avoids the uncertain cells (hit by one look): head for the "
+             "reachable cell nearest the goal (default), or plan through them and look")
+    opt("--reverse", choices=("off", "on"), default="off",
+        help="the vehicle may BACK straight over space seen free (default off)")
+    opt("--track-free", choices=TRACK_FREES, default=C.track_free,
+        help="free where the vehicle stood: its footprint at each pose (default), or "
+             "the footprint swept by every move and pivot, shrunk by the margin")
+    opt("--blank-ft", type=float, default=C.blank_ft, metavar="FT",
+        help="picture columns outside everything the look located count free this "
+             "far (default 8; 0: off, then blank walls stop the vehicle)")
+    opt("--blank-carve", choices=("unknown", "always"), default=C.blank_carve,
+        help="how that assumption carves: 'unknown' (default): only cells no look has "
+             "seen, never past a cell any look hit, only past a near zone seen free; "
+             "'always': as a seen sight line (collides in room 40)")
+    opt("--carve", choices=("error", "range"), default=C.carve,
+        help="columns between two edges free up to the near end of the edges' error "
+             "bound (default) or up to their range")
+    opt("--blank-px", type=int, default=C.blank_px if C.blank_px is not None else -1,
+        metavar="N",
+        help="that assumption carves only picture columns at most N columns beside a "
+             "located one (-1, the default since 2026-12-03: the whole blank run, "
+             "its lines ended by the floor in view; 16 before, since room 45's "
+             "collision under the rules of 2026-12-01)")
+    opt("--blank-limit", choices=BLANK_LIMITS, default=C.blank_limit,
+        help="where --blank-px applies: 'all' (default): beside the outermost located "
+             "columns and inside wide gaps between two; 'sides': only beside the "
+             "outermost ones, wide gaps carved whole")
+    opt("--blank-sides", choices=BLANK_SIDES, default=C.blank_sides,
+        help="the side columns --blank-px cuts off (beside the outermost located "
+             "one, out to the picture's edge): 'two-looks' (default): a cell carved "
+             "once two looks --sides-apart apart both had it in such a blank "
+             "column; 'cut': never carved (with --blank-px -1, the default, no "
+             "column is cut off and this does nothing)")
+    opt("--sides-apart", type=float, nargs=2, default=C.sides_apart,
+        metavar=("FT", "DEG"),
+        help="for --blank-sides two-looks: the two looks at least FT apart or "
+             f"turned DEG from each other (default {C.sides_apart[0]:g} ft, "
+             f"{C.sides_apart[1]:g} deg)")
+    opt("--refute-hits", choices=("off", "under", "through"), default=C.refute_hits,
+        help="'under' (not 1985): a hit cell a later sight line passes under (below "
+             "the hit's lowest located point, to a surface beyond) shows unknown, "
+             "never free; 'through' (not 1985): a hit a later, nearer look sees "
+             "through (two located points farther at its pixel) is refuted, a cell "
+             "all of whose hits are refuted shows unknown; 'off' (default)")
+    opt("--stereo-margin", action="store_true", default=C.stereo_margin,
+        help="(not 1985) a picture column frees the floor only from the depth at "
+             "which the right camera sees it too (f B / (column - 1): column 20 "
+             "from 7.1 ft): in the left picture's leftmost columns a near box is "
+             "out of the right camera's view, shows no edge, and would count blank")
+    opt("--min-range", type=float, default=C.min_range_ft, metavar="FT",
+        help="located points nearer than FT are left out of the map and the wall "
+             f"fix (default {C.min_range_ft:g}; 2.5 before 2026-12-05): from 2.5 to "
+             "3 ft a third of the 1985 matcher's points are false matches")
+    opt("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
+        help="what a sight line to a located point frees: 'low' (default; not "
+             "1985): only where its ray runs below the lowest obstacle's top (a box "
+             "lower than the ray may hide under it: the 1985 eyes do not locate box "
+             "tops); 'band' (the default before 2026-12-01): the whole height band "
+             "up to it; 'low-all': 'low', "
+             "and a look that located nothing frees only the far part of its "
+             "blank view (from 0.8 of --blank-ft)")
+    opt("--stand-in", choices=STAND_INS, default=C.stand_in,
+        help="under --floor-eyes bound or bound-add, what stands for the floor's "
+             "grey until the map has shown enough floor free: the greys of the "
+             "picture's bottom 4 rows, 'tenth' (default): each grey with a tenth "
+             "of them; 'majority' "
+             "(not 1985): only a grey with more than half (none: the look assumes "
+             "nothing), so a box face near the vehicle does not pass for floor")
+    opt("--learn-floor", choices=LEARN_FLOORS, default=C.learn_floor,
+        help="with --floor-eyes, where the floor's grey is first learned: 'off' "
+             "(default): from floor the map shows free, once it shows any; "
+             "'step-back' (not 1985): before the first look the vehicle steps "
+             f"{C.learn_back_ft:g} ft back inside the clear spot it was set down in "
+             "(a vehicle that does not reverse turns about, drives and turns back), "
+             "so its first look's bottom rows show floor the clear spot vouches for")
+    opt("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
+        help="before a move, find the first never-seen cell on the planned path's "
+             "swept band; while it is still far enough to show, cut the move there, "
+             "pivot until it is in view and look (not 1985; default on since "
+             "2026-12-01; --no-look-ahead: off, as before)")
+    opt("--seen-cost", type=float, default=C.seen_cost, metavar="W",
+        help="plan paths that keep to what was in view: A* where a cell within the "
+             "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
+             "(not the dissertation's search; default 0: off)")
+    opt("--head", choices=HEADS, default=C.head,
+        help="the rig's mount: 'fixed' (the default, pitched 25 deg down) or "
+             "'pan-tilt': on a head that pans +-90 deg and tilts 0..-55 deg "
+             "(PAN, TILT commands) and looks where the fixed rig pivots the "
+             "vehicle only to look: at the first never-seen cell of its way, "
+             "tilted down to show it, into its pivot circle, round; 'assist': "
+             "the fixed rig's cycle unchanged, the head's look added only where it "
+             "would stop or pivot only to look (not 1985; neither with --pose fused)")
+    opt("--assist-pivot-ft", type=float, default=C.assist_pivot_ft, metavar="FT",
+        help="under --head assist: a pivot may not sweep a cell free only by a "
+             "blank-column assumption no look nearer than FT made (default "
+             f"{C.assist_pivot_ft:g} ft, twice the nearest distance a look shows; "
+             "0: off, as before 2026-12-02, when room 45 pivoted into a box)")
+    opt("--rejoin", choices=REJOINS, default=C.rejoin,
+        help="where a kept path resumes: 'leg' (the default since 2026-12-01: at "
+             "the end of the leg nearest the vehicle) or 'waypoint' (at the waypoint "
+             "nearest it, which can send it back to a corner it has just passed)")
+    opt("--blind-zone", choices=BLIND_ZONES, default=C.blind_zone,
+        help="plan round never-seen cells nearer than a look can show, when some "
+             "path avoids them: 'short' (the default since 2026-12-01: only when at "
+             "most the kept-path allowance longer), 'any', or 'off' (as before)")
+    opt("--map-extent", choices=MAP_EXTENTS, default=C.map_extent,
+        help="what the floor map the path is searched on covers: 'seen' (default): "
+             "every hit so far, the estimate and the goal, 2 ft round, its border "
+             "blocking the search; 'walls' (not 1985): the room's floor plan as "
+             "well, so a way through never-seen space by the walls is planned "
+             "instead of a drive toward the reachable cell nearest the goal; "
+             "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
+             "whose seen map has no path to the goal")
+    opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
+        help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
+             "since 2026-12-04): two standard deviations of the estimate's position "
+             "nearer, since the map is placed by the estimate and the plan by the "
+             "room's truth; 'plan': where the plan has them")
+    opt("--free-drift", choices=FREE_DRIFTS, default=C.free_drift,
+        help="an older look's free space on the map: 'moves' (not 1985; default "
+             "since 2026-12-04): for moves its edges beside a hit shrunk by two "
+             "standard deviations of the odometry's drift since that look, a pivot's "
+             "cells checked on the map before that; 'erode': shrunk for pivots too; "
+             "'off': as that look proved it")
+    opt("--wall-points", choices=WALL_POINTS, default=C.wall_points,
+        help="under --pose walls with the rig's eyes, what fixes the estimate "
+             "against the plan's walls: 'edges': the look's located points; "
+             "'floor-ends' (not 1985; default): those and where the floor in view "
+             "ends, a wall's foot along every blank wall")
+    opt("--wall-fix-sigmas", type=float, default=C.wall_fix_sigmas, metavar="S",
+        help="under --pose walls, how many standard deviations of the estimate's "
+             f"heading a fix may turn it (default {C.wall_fix_sigmas:g}; 3 before "
+             "2026-12-05: a skirting of the floor's grey turned it look after look)")
+    opt("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
+        help="an unknown cell between two free ones across a row or a column: "
+             "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
+             "that misses both; the floor in view leaves such stripes")
+    opt("--proof-hits", choices=PROOF_HITS, default=C.proof_hits,
+        help="where the floor in view carves (--floor-eyes bound-add, carve, add, "
+             "veto), where a cell some look has hit stops the proof of a picture "
+             "row: 'trace': on the floor "
+             "stretch an 0.8 ft obstacle would hide; 'line' (not 1985; default): anywhere on "
+             "its line from the camera, so a box nearer than the picture's bottom "
+             "row with a face of the floor's grey proves nothing behind it")
+    opt("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
+        help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
+             "(not 1985; default): where the eyes locate a point in a column's floor run "
+             "clearly nearer than the floor there, the run went on up a face or top "
+             "of the floor's grey, and the column's floor ends at that point (three "
+             "such points on one edge cut all of it)")
+    opt("--proof-heading", choices=PROOF_HEADINGS, default=C.proof_heading,
+        help="under --floor-eyes bound or bound-add, where each column's floor in "
+             "view ends: 'estimate': along the estimated heading; 'window' "
+             "(not 1985; default): no farther than every column within --drift-sigmas of the "
+             "heading's standard deviation shows, since the look may lie that far "
+             "round")
+    opt("--drift-sigmas", type=float, default=C.drift_sigmas, metavar="S",
+        help="under --free-drift erode or moves: how many standard deviations of the drift "
+             "an older look's free edge beside a hit gives up; under --proof-heading "
+             "window, of the heading (default 2)")
+    opt("--max-looks", type=int, default=C.max_looks, metavar="N")
 
 
 def first_look_note(cycles, slow_s: float = 1.0) -> str:
@@ -502,7 +535,9 @@ def add_parser(sub) -> None:
                                    "true pose), scan, model, octree, plan, execute the next "
                                    "command segment, repeat until the estimate is within 0.75 "
                                    "ft of the goal.  Exit 0 when reached, 3 when not, 130 on "
-                                   "Ctrl-C.")
+                                   "Ctrl-C.  The first options say where and with what "
+                                   "noise; the groups after them are the loop's rules, each "
+                                   "measured in docs/planner.md, its help naming the default.")
     d.add_argument("--room", type=int, metavar="SEED",
                    help="a generated room (default: the bundled lab)")
     d.add_argument("--start", metavar="X,Z[,HEADING]", help="start (ft, deg; default the room's)")
@@ -510,7 +545,8 @@ def add_parser(sub) -> None:
                    help=f"goal (ft; default {DEFAULT_LAB_GOAL} in the lab, a random reachable "
                         f"one in a generated room)")
     add_loop_options(d)
-    d.add_argument("--seed", type=int, default=1985, help="odometry noise seed")
+    d.add_argument("--seed", type=int, default=1985,
+                   help="odometry noise seed (default 1985; bench/drive.py uses the room's)")
     d.add_argument("--no-noise", action="store_true", help="odometry noise off")
     d.add_argument("--out", default="out", help="where the pictures go (default ./out)")
     d.add_argument("--json", metavar="FILE", help="write the result as JSON")

@@ -344,3 +344,23 @@ def test_first_look_note_names_a_slow_first_scan_only(monkeypatch):
     assert "24.7 s" in note and "compiled" in note
     monkeypatch.setattr(jit, "ENABLED", False)
     assert first_look_note([Cycle(scan_s=24.7), Cycle(scan_s=0.001)]) == ""
+
+
+def test_drive_help_shows_each_loop_rule_once_in_its_group():
+    """`rig drive --help`: the task options first, then the loop's rules in the
+    groups of rig.drive.LOOP_OPTION_GROUPS, every rule in exactly one."""
+    import argparse
+    from rig.drive import LOOP_OPTION_GROUPS, add_loop_options
+    p = argparse.ArgumentParser()
+    add_loop_options(p)
+    loop_flags = [a.option_strings[0] for a in p._actions if a.option_strings != ["-h", "--help"]]
+    grouped = [f for _, _, flags in LOOP_OPTION_GROUPS for f in flags]
+    assert sorted(grouped) == sorted(set(grouped)) == sorted(loop_flags)
+    titles = [g.title for g in p._action_groups]
+    assert titles[-len(LOOP_OPTION_GROUPS):] == [t for t, _, _ in LOOP_OPTION_GROUPS]
+    for g in p._action_groups[-len(LOOP_OPTION_GROUPS):]:
+        flags = dict((t, f) for t, _, f in LOOP_OPTION_GROUPS)[g.title]
+        assert sorted(a.option_strings[0] for a in g._group_actions) == sorted(flags)
+    text = p.format_help()
+    text = text[text.index("\n\n"):]                 # past the usage lines
+    assert text.index("the eyes:") < text.index("--min-range FT") < text.index("the motion:")
