@@ -86,9 +86,10 @@ obstacle on the map, cannot turn, ...).
 pixel, and ``--no-noise`` turns the odometry noise off: together they leave the planner
 and the loop alone to fail.
 
-``--match improved`` scans each look with the improved stereo matcher (package
-``matching``, on the in-process rig) instead of the 1985 eyes; ``scan_ms_per_cycle``
-is the scan's own share of the time.
+Each look is scanned with the improved stereo matcher (package ``matching``, on
+the in-process rig; the drive's default since 2026-12-05); ``--match 1985`` scans
+it with the 1985 eyes instead; ``scan_ms_per_cycle`` is the scan's own share of
+the time.
 
 Numbers go into docs/planner.md with the command that made them.
 """

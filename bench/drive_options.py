@@ -30,7 +30,8 @@ from pathlib import Path
 
 # Named options, each off by default, that were measured and not adopted under
 # the defaults of their day (docs/planner.md says where and why); last, the
-# defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together.
+# defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
+# the 1985 matcher (the improved one is the default since 2026-12-05).
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -66,6 +67,7 @@ OPTIONS = [
     "--wall-fix-sigmas 3",
     "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
     "--proof-hits trace --hit-at axis --min-range 2.5 --wall-fix-sigmas 3",
+    "--match 1985",
 ]
 
 HERE = Path(__file__).resolve().parent

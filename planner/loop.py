@@ -202,9 +202,12 @@ class DriveConfig:
     trust_view: bool = False              # drive into never-seen cells of the view just looked at
     known_walls: bool = True              # the room's walls as a floor plan (furniture unknown)
     start_clear_ft: float = 2.5           # the vehicle is set down this far from anything
-    match: str = "1985"                   # the rig's stereo matcher: "1985" (the eyes, bit
-                                          # for bit) or "improved" (package matching, on the
-                                          # in-process rig: several times slower; scan_look)
+    match: str = "improved"               # the rig's stereo matcher: "1985" (the eyes, bit
+                                          # for bit; the default before 2026-12-05 04:30) or
+                                          # "improved" (not 1985; the default since: package
+                                          # matching's verdict per edge on the in-process
+                                          # rig, an edge without a right match left out;
+                                          # about 3 times the eyes' scan; scan_look)
     eyes: str = "rig"                     # "rig": the matcher's ranges; "truth": the
                                           # true range at the same edge pixels (an oracle
                                           # that separates the planner from the matcher);
@@ -592,7 +595,7 @@ def scan_look(left, right, lines, match: str = "1985"):
     ``lines``.  ``"1985"``: the eyes (the compiled frame scan, the same result
     as the reference rig, bit for bit).  ``"improved"`` (not 1985): the
     in-process reference rig with a fresh improved matcher (its default
-    constraints: order, lr, neighbours, region, readmit), as ``rig walk
+    constraints: order, lr, neighbours, region, confirm), as ``rig walk
     --match improved``; its line results carry the verdicts
     (``matching.mode.located_points`` gives each point's confidence).  The
     neighbours constraint asks NSTAR for lines IY-1 and IY+1 as well, so a

@@ -208,9 +208,10 @@ def add_loop_options(p) -> None:
              "depth: the true range at every pixel, a dense range finder (a "
              "diagnostic oracle: the planner without the eyes' limits)")
     opt("--match", choices=MATCHES, default=C.match,
-        help="the rig's stereo matcher: 1985 (the eyes, default: ESTAR's own match "
-             "lists) or improved (not 1985: a verdict per edge, 'no match' instead of "
-             "the best available; on the in-process rig, several times slower)")
+        help="the rig's stereo matcher: improved (not 1985; default since 2026-12-05: a "
+             "verdict per edge, 'no match' instead of the best available; on the "
+             "in-process rig, about 3 times the eyes' scan) or 1985 (the eyes: ESTAR's "
+             "own match lists, bit for bit; the default before)")
     opt("--pose", choices=POSES, default=C.pose,
         help="the camera estimate that places each look: fused: the symbolic model's "
              "(the walk's step: the robust fix on matched vertices fused with the "

@@ -31,12 +31,12 @@ def _in_front(points, look, by_ft=0.5) -> int:
     return sum(p.dp < t.dp - by_ft for p, t in zip(points, true))
 
 
-def test_the_default_scan_is_the_1985_eyes_bit_for_bit():
+def test_the_1985_scan_is_the_eyes_bit_for_bit():
     from rig.scan import scan_pair
     look = _tiny_look()
     lines = DriveConfig(goal=GOAL).lines
-    assert DriveConfig(goal=GOAL).match == "1985"
-    a = scan_look(look.left_bi, look.right_bi, lines)
+    assert DriveConfig(goal=GOAL).match == "improved"        # the drive's default since 2026-12-05
+    a = scan_look(look.left_bi, look.right_bi, lines, "1985")
     b = scan_pair(look.left_bi, look.right_bi, lines)            # the reference rig, 1985
     assert a.points == b.points and len(a.points) > 100
 
@@ -83,8 +83,8 @@ def test_the_loop_on_the_improved_matcher_reaches_the_tiny_room_goal():
 
 def test_rig_drive_match_reaches_the_loop(tmp_path, monkeypatch):
     from rig.main import main
-    assert drive_config(monkeypatch, tmp_path, "--match", "improved").match == "improved"
-    assert drive_config(monkeypatch, tmp_path).match == "1985"
+    assert drive_config(monkeypatch, tmp_path, "--match", "1985").match == "1985"
+    assert drive_config(monkeypatch, tmp_path).match == "improved"
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--match", "sgbm"])
 
