@@ -31,7 +31,8 @@ from pathlib import Path
 # Named options, each off by default, that were measured and not adopted under
 # the defaults of their day (docs/planner.md says where and why); last, the
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
-# the 1985 matcher (the improved one is the default since 2026-12-05).
+# the 1985 matcher and one-cell gaps kept unknown (the improved matcher and the fill
+# are the defaults since 2026-12-05).
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -52,7 +53,6 @@ OPTIONS = [
     "--blank-carve always",
     "--learn-floor step-back",
     "--free-drift erode",
-    "--free-gaps fill",
     "--look-around sweep",
     "--free-drift off",
     "--plan-walls plan",
@@ -68,6 +68,7 @@ OPTIONS = [
     "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
     "--proof-hits trace --hit-at axis --min-range 2.5 --wall-fix-sigmas 3",
     "--match 1985",
+    "--free-gaps keep",
 ]
 
 HERE = Path(__file__).resolve().parent

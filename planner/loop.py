@@ -431,11 +431,12 @@ class DriveConfig:
                                           # the default since 2026-12-05; the rig's eyes
                                           # only): those and where the floor in view ends,
                                           # each second column (localize.floor_end_points)
-    free_gaps: str = "keep"               # an UNKNOWN cell between two FREE ones across a row
-                                          # or a column: "keep" (unknown) or "fill" (not
-                                          # 1985; named): free (floormap.one_cell_gaps: no
-                                          # box fits there that misses both; the floor in
-                                          # view leaves such stripes, room 57)
+    free_gaps: str = "fill"               # an UNKNOWN cell between two FREE ones across a row
+                                          # or a column: "fill" (not 1985; the default since
+                                          # 2026-12-05 05:10, with the improved matcher):
+                                          # free (floormap.one_cell_gaps: no box fits there
+                                          # that misses both; the floor in view leaves such
+                                          # stripes, room 57); "keep" (unknown; before)
     proof_hits: str = "line"              # where the floor in view carves (floor_eyes "carve",
                                           # "add", "veto", "bound-add"), the proof of a
                                           # picture row: never past a cell any look has hit

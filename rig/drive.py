@@ -426,8 +426,9 @@ def add_loop_options(p) -> None:
              "2026-12-05: a skirting of the floor's grey turned it look after look)")
     opt("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
         help="an unknown cell between two free ones across a row or a column: "
-             "'keep' it unknown, or 'fill' it free (not 1985): no box fits in it "
-             "that misses both; the floor in view leaves such stripes")
+             "'fill' it free (not 1985; default since 2026-12-05): no box fits in it "
+             "that misses both, and the floor in view leaves such stripes; or 'keep' it "
+             "unknown (before)")
     opt("--proof-hits", choices=PROOF_HITS, default=C.proof_hits,
         help="where the floor in view carves (--floor-eyes bound-add, carve, add, "
              "veto), where a cell some look has hit stops the proof of a picture "

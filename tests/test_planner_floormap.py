@@ -76,7 +76,7 @@ def test_filling_goes_on_while_a_filled_cell_closes_the_next_gap():
 
 
 def test_free_gaps_reach_the_loop_and_fill_its_map(monkeypatch, tmp_path):
-    """``rig drive --free-gaps fill`` reaches DriveConfig (default ``keep``), a bad value
+    """``rig drive --free-gaps keep`` reaches DriveConfig (default ``fill`` since 2026-12-05), a bad value
     is refused, and under ``fill`` the loop's drawn map has no one-cell gap left (it
     drives the tiny room to its goal on oracle edges without a collision)."""
     import pytest
@@ -86,9 +86,9 @@ def test_free_gaps_reach_the_loop_and_fill_its_map(monkeypatch, tmp_path):
     from rigtools import drive_config
     from vehicle.sim import State
     from world.odometry import OdometryNoise
-    assert DriveConfig.free_gaps == "keep"
-    assert drive_config(monkeypatch, tmp_path).free_gaps == "keep"
-    assert drive_config(monkeypatch, tmp_path, "--free-gaps", "fill").free_gaps == "fill"
+    assert DriveConfig.free_gaps == "fill"
+    assert drive_config(monkeypatch, tmp_path).free_gaps == "fill"
+    assert drive_config(monkeypatch, tmp_path, "--free-gaps", "keep").free_gaps == "keep"
     with pytest.raises(ValueError, match="free_gaps"):
         _check_config(DriveConfig(goal=GOAL, free_gaps="close"))
     res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",

@@ -146,14 +146,14 @@ def test_the_heading_may_turn_two_of_its_sigmas_and_no_more():
 
 def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
     """Room 684 (the 1985 eyes, the bench's goal and noise seed; the defaults of
-    2026-12-05 with the 1985 matcher, as traced): the floor's ends along its side walls, a skirting of the floor's grey,
-    lie 0.8-1 ft beyond the walls.  With the fix's heading allowed 3 sigma they turn it
+    2026-12-05 01:35, as traced): the floor's ends along its side walls, a skirting of
+    the floor's grey, lie 0.8-1 ft beyond the walls.  With the fix's heading allowed 3 sigma they turn it
     4-6 deg at looks 3, 11 and 12, 17 deg off the truth by look 12, and the vehicle hits a
     box at look 16 (the dead reckoning alone ends 0.1 ft off); within 2 sigma no
     collision."""
     from planner.loop import DriveConfig, run
     from planner.planning import random_goal
-    from rigtools import DRIVE_1985_MATCHER
+    from rigtools import DRIVE_BEFORE_2026_12_05_0430
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
     from world.odometry import OdometryNoise
@@ -162,7 +162,7 @@ def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
     start = State(room.start.x, room.start.z, room.start.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(684))
     res = {k: run(room, start, DriveConfig(goal=goal, wall_fix_sigmas=k, max_looks=20,
-                                           **DRIVE_1985_MATCHER),
+                                           **DRIVE_BEFORE_2026_12_05_0430),
                   noise=OdometryNoise(seed=684), keep_maps=False) for k in (3.0, 2.0)}
     assert res[3.0].collisions == 1 and "hit something" in res[3.0].reason
     off = [abs(c.estimate.heading_deg - c.true.heading_deg) for c in res[3.0].cycles]
