@@ -207,7 +207,8 @@ class DriveConfig:
                                           # "improved" (not 1985; the default since: package
                                           # matching's verdict per edge on the in-process
                                           # rig, an edge without a right match left out;
-                                          # about 3 times the eyes' scan; scan_look)
+                                          # its scan 75 ms a look against the eyes' 2;
+                                          # scan_look)
     eyes: str = "rig"                     # "rig": the matcher's ranges; "truth": the
                                           # true range at the same edge pixels (an oracle
                                           # that separates the planner from the matcher);

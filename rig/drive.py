@@ -210,7 +210,7 @@ def add_loop_options(p) -> None:
     opt("--match", choices=MATCHES, default=C.match,
         help="the rig's stereo matcher: improved (not 1985; default since 2026-12-05: a "
              "verdict per edge, 'no match' instead of the best available; on the "
-             "in-process rig, about 3 times the eyes' scan) or 1985 (the eyes: ESTAR's "
+             "in-process rig, a scan of about 75 ms against the eyes' 2) or 1985 (the eyes: ESTAR's "
              "own match lists, bit for bit; the default before)")
     opt("--pose", choices=POSES, default=C.pose,
         help="the camera estimate that places each look: fused: the symbolic model's "
