@@ -272,13 +272,13 @@ DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls
 
 # The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
 # the floor in view kept out of the boxes" and "The improved matcher"): the 1985 matcher,
-# one-cell gaps of free space kept unknown, the dead-reckoned estimate, each range laid along the pitched axis, located points
-# trusted from 2.5 ft, the floor in view cut by none of the three safety rules.
+# one-cell gaps of free space kept unknown, the dead-reckoned estimate, each range laid
+# along the pitched axis, located points trusted from 2.5 ft, the floor in view cut by
+# none of the three safety rules.
 DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckoning",
-                               wall_points="edges",
-                               hit_at="axis", min_range_ft=2.5, wall_fix_sigmas=3.0,
-                               proof_heading="estimate", floor_end_check="off",
-                               proof_hits="trace")
+                               wall_points="edges", hit_at="axis", min_range_ft=2.5,
+                               wall_fix_sigmas=3.0, proof_heading="estimate",
+                               floor_end_check="off", proof_hits="trace")
 # The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985)
 # and in the one-cell gaps of free space (kept unknown).
 DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep")

@@ -76,8 +76,8 @@ def test_filling_goes_on_while_a_filled_cell_closes_the_next_gap():
 
 
 def test_free_gaps_reach_the_loop_and_fill_its_map(monkeypatch, tmp_path):
-    """``rig drive --free-gaps keep`` reaches DriveConfig (default ``fill`` since 2026-12-05), a bad value
-    is refused, and under ``fill`` the loop's drawn map has no one-cell gap left (it
+    """``rig drive --free-gaps keep`` reaches DriveConfig (default ``fill`` since
+    2026-12-05), a bad value is refused, and under ``fill`` the loop's drawn map has no one-cell gap left (it
     drives the tiny room to its goal on oracle edges without a collision)."""
     import pytest
 
