@@ -100,7 +100,6 @@ import argparse
 import json
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -451,7 +450,8 @@ def main(argv=None) -> int:
     for k, v in summary.items():
         print(f"{k:40s} {v if not isinstance(v, float) else round(v, 3)}")
     if args.out:
-        Path(args.out).write_text(json.dumps({"summary": summary, "rooms": rows}, indent=1) + "\n")
+        from rig.scan import write_atomic
+        write_atomic(args.out, json.dumps({"summary": summary, "rooms": rows}, indent=1) + "\n")
     return 0
 
 

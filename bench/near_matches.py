@@ -40,14 +40,6 @@ def false_by_range(points, true_range, bands=BANDS_FT):
     return n.astype(int), bad.astype(int)
 
 
-def _true_ranges(points, look):
-    out = []
-    for p in points:
-        c = p.loc1 - 1
-        out.append(float(look.range_left[p.line, max(c - 1, 0):min(c + 2, 128)].min()))
-    return out
-
-
 def _poses(room):
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
@@ -68,7 +60,8 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.rooms < 0:
         ap.error(f"--rooms must be 0 or more, not {args.rooms}")
-    from planner.loop import DriveConfig, scan_look
+    from planner.loop import DriveConfig, scan_look, true_range_points
+    from rig.scan import write_atomic
     from vehicle.profile import DEFAULT
     from vehicle.sim import camera_pose
     from world.render import render_look
@@ -81,7 +74,7 @@ def main(argv=None) -> int:
         for state in _poses(room):
             look = render_look(room, camera_pose(state, 0.0, 0.0, DEFAULT))
             points = scan_look(look.left_bi, look.right_bi, lines, "1985").points
-            a, b = false_by_range(points, _true_ranges(points, look))
+            a, b = false_by_range(points, [t.dp for t in true_range_points(points, look)])
             n += a
             bad += b
             looks += 1
@@ -95,8 +88,8 @@ def main(argv=None) -> int:
         print(f"{BANDS_FT[k]:4.1f}-{BANDS_FT[k + 1]:4.1f} {n[k]:>7d} {bad[k]:>6d} "
               f"{'-' if share is None else f'{100 * share:5.1f}%':>6}")
     if args.out:
-        with open(args.out, "w") as f:
-            json.dump({"looks": looks, "rooms": args.rooms, "bands": rows}, f, indent=1)
+        write_atomic(args.out, json.dumps({"looks": looks, "rooms": args.rooms, "bands": rows},
+                                          indent=1) + "\n")
     return 0
 
 

@@ -137,6 +137,7 @@ from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_
 from .drift import Odometry, erode_by_drift
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
+from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
@@ -387,7 +388,7 @@ class DriveConfig:
                                           # frees its line only from the depth the right
                                           # camera sees it at (perception.stereo_depth:
                                           # f B / (c - 1); room 177's box at the left edge)
-    wall_fix_sigmas: float = 2.0          # under pose="walls": how far from the prior's
+    wall_fix_sigmas: float = HEADING_SIGMAS   # under pose="walls": how far from the prior's
                                           # heading (its standard deviations) a fix may
                                           # turn it (localize.HEADING_SIGMAS; 3 before
                                           # 2026-12-05, when a floor-grey skirting turned
@@ -665,16 +666,15 @@ def _check_config(cfg: DriveConfig) -> None:
             raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
                              f"turn there ({reach:.2f} ft) must stay inside the clear spot "
                              f"(start_clear_ft {cfg.start_clear_ft:g} ft) and be more than 0")
-    if not (isinstance(cfg.wall_fix_sigmas, (int, float)) and 0 < cfg.wall_fix_sigmas < 10):
-        raise ValueError(f"wall_fix_sigmas must be a number of standard deviations above 0 "
-                         f"and under 10, not {cfg.wall_fix_sigmas!r}")
     if isinstance(cfg.min_range_ft, bool) or not isinstance(cfg.min_range_ft, (int, float)) \
             or not 0 < cfg.min_range_ft < cfg.max_range_ft:
         raise ValueError(f"min_range_ft must be a distance in feet above 0 and under "
                          f"max_range_ft ({cfg.max_range_ft:g}), not {cfg.min_range_ft!r}")
-    if not (isinstance(cfg.drift_sigmas, (int, float)) and 0 < cfg.drift_sigmas < 10):
-        raise ValueError(f"drift_sigmas must be a number of standard deviations above 0 and "
-                         f"under 10, not {cfg.drift_sigmas!r}")
+    for name in ("wall_fix_sigmas", "drift_sigmas"):
+        sigmas = getattr(cfg, name)
+        if not (isinstance(sigmas, (int, float)) and 0 < sigmas < 10):
+            raise ValueError(f"{name} must be a number of standard deviations above 0 and "
+                             f"under 10, not {sigmas!r}")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
