@@ -315,6 +315,7 @@ def main(argv=None) -> int:
                # the room to spare the task leaves in the true room (planner.planning.task_slack)
                "slack_ft": task_slack(room, (start.x, start.z), goal, DEFAULT, voi.resolution),
                "work_ms_per_cycle": res.work_ms_per_cycle,
+               "work_ms_per_look": res.work_ms_per_look,
                "scan_ms_per_cycle": res.scan_ms_per_cycle,
                "ms_per_cycle_with_look": 1e3 * res.seconds_per_cycle,
                "octree_bytes": res.octree_bytes, "final_true_error_ft": res.final_true_error_ft,
@@ -392,6 +393,7 @@ def main(argv=None) -> int:
         "ratio_max": float(np.max(ratios)) if ratios else None,
         "looks_per_metre": looks / trav_m if trav_m else None,
         "work_ms_per_cycle_median": float(np.median([r["work_ms_per_cycle"] for r in rows])),
+        "work_ms_per_look_median": float(np.median([r["work_ms_per_look"] for r in rows])),
         "scan_ms_per_cycle_median": float(np.median([r["scan_ms_per_cycle"] for r in rows])),
         "ms_per_cycle_with_look_median": float(np.median([r["ms_per_cycle_with_look"]
                                                           for r in rows])),

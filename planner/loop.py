@@ -494,8 +494,10 @@ class Cycle:
     path_left_ft: float | None
     command: str
     note: str
-    render_s: float
-    work_s: float               # scan + model + octree + plan (the look's rendering excluded)
+    render_s: float             # the rendering of the cycle's looks (with the head's, under assist)
+    work_s: float               # scan + model + octree + plan of the cycle's looks (their
+                                # rendering excluded; under assist the head's look and the
+                                # decision taken again with it are counted too)
     path: list = field(default_factory=list)
     fmap: FloorMap | None = None
     scan_s: float = 0.0         # the rig's scan alone (part of work_s): the matcher's cost
@@ -548,6 +550,11 @@ class DriveResult:
         return 1e3 * float(np.mean([c.work_s for c in self.cycles])) if self.cycles else 0.0
 
     @property
+    def work_ms_per_look(self) -> float:
+        """``work_ms_per_cycle`` per look: the same without a head's added looks."""
+        return 1e3 * float(sum(c.work_s for c in self.cycles)) / self.looks if self.looks else 0.0
+
+    @property
     def scan_ms_per_cycle(self) -> float:
         return 1e3 * float(np.mean([c.scan_s for c in self.cycles])) if self.cycles else 0.0
 
@@ -564,6 +571,7 @@ class DriveResult:
             else round(self.optimal_grid_ft, 3),
             "seconds_per_cycle": round(self.seconds_per_cycle, 4),
             "work_ms_per_cycle": round(self.work_ms_per_cycle, 2),
+            "work_ms_per_look": round(self.work_ms_per_look, 2),
             "render_ms_per_cycle": round(self.render_ms_per_cycle, 2),
             "scan_ms_per_cycle": round(self.scan_ms_per_cycle, 2), "match": self.match,
             "seconds": round(self.seconds, 3), "octree_bytes": self.octree_bytes,
@@ -1136,12 +1144,16 @@ class Drive:
         if assist:
             saved = self._decision_state()
             pan = tilt = 0.0
+        # summed over the cycle's looks (under assist the head's look decides it again)
+        render_s = work_s = scan_s = 0.0
         while True:
             t0 = time.perf_counter()
             tp = veh.true
             if not assist:
                 pan, tilt = veh.pan_deg, veh.tilt_deg
-            look, scan, points, t1, scan_s = self.look(look_no, extra_looks, pan, tilt)
+            look, scan, points, t1, look_scan_s = self.look(look_no, extra_looks, pan, tilt)
+            render_s += t1 - t0
+            scan_s += look_scan_s
             est = self.estimate(look, scan, points, pan, tilt)
             fm = self.update_map(look, points, est, pan, tilt,
                                  self.head or bool(assist and extra_looks))
@@ -1158,6 +1170,7 @@ class Drive:
                     tilt = next((c.angle_deg for c in aim if isinstance(c, Tilt)), 0.0)
                     self._restore_decision(saved)
                     extra_looks, assist_note = 1, got[1].replace(" (head at", " (assist: head at")
+                    work_s += time.perf_counter() - t1
                     continue
             break
         seg, note = d.commands, d.note
@@ -1166,12 +1179,12 @@ class Drive:
         if self.head:
             seg = head_commands(seg, est, fm, d.path, self.prof, self.cfg, veh.pan_deg,
                                 veh.tilt_deg, self.aimed)
-        t2 = time.perf_counter()
+        work_s += time.perf_counter() - t1
         ok, moved = self.act(seg, est)
         self.count_progress(moved, d.left_ft, fm)
         cyc = Cycle(look_no, tp, est, len(self.model.points),
                     int(self.model.tree.getNumLeafNodes()), d.left_ft, format_commands(seg), note,
-                    t1 - t0, t2 - t1, list(d.path), fm if self.keep_maps else None, scan_s,
+                    render_s, work_s, list(d.path), fm if self.keep_maps else None, scan_s,
                     len(veh.true_track), extra_looks)
         return cyc, ok
 

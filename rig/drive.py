@@ -135,9 +135,11 @@ def cmd_drive(args) -> int:
               f"travelled, {res.seconds:.1f} s)")
     opt = "-" if res.optimal_ft is None else f"{res.optimal_ft:.1f} ft"
     first = first_look_note(res.cycles)
+    per_look = (f"; {res.work_ms_per_look:.0f} ms per look, the head's looks counted"
+                if res.looks > len(res.cycles) else "")
     print(f"true optimum {opt}; collisions {res.collisions}; {res.work_ms_per_cycle:.0f} ms per "
           f"cycle without the look's rendering (the scan {res.scan_ms_per_cycle:.0f} ms of it"
-          f"{first}), {1e3 * res.seconds_per_cycle:.0f} ms with it; "
+          f"{first}{per_look}), {1e3 * res.seconds_per_cycle:.0f} ms with it; "
           f"octree {res.octree_bytes / 1024:.0f} KiB; true distance to goal "
           f"{res.final_true_error_ft:.2f} ft; estimate off the truth by "
           f"{res.track_errors()[-1]:.2f} ft at the end (dead reckoning "

@@ -131,11 +131,11 @@ def test_a_look_the_head_turned_assumes_nothing_of_its_blank_columns():
     assert head_blank_ft(8.0, PAN_TILT, 20.0, 0.0) is None
     assert head_blank_ft(8.0, PAN_TILT, 0.0, -10.0) is None
     assert head_blank_ft(None, PAN_TILT, 0.0, 0.0) is None
-    # bounded by the floor in view (floor_eyes="bound"): turned as straight, no farther
-    # than the floor the tilted picture shows
+    # bounded by the floor in view (floor_eyes="bound"): panned as straight; tilted,
+    # still nothing (a column of a near box's face shows no floor's end: room 237)
     assert head_blank_ft(8.0, PAN_TILT, 20.0, 0.0, bounded=True) == 8.0
-    assert head_blank_ft(8.0, PAN_TILT, 0.0, -55.0, bounded=True) == \
-        pytest.approx(far_floor_ft(PAN_TILT, -55.0))
+    assert head_blank_ft(8.0, PAN_TILT, 0.0, -55.0, bounded=True) is None
+    assert head_blank_ft(8.0, PAN_TILT, 24.0, -29.0, bounded=True) is None
     assert head_blank_ft(None, PAN_TILT, 20.0, 0.0, bounded=True) is None
 
 
@@ -332,6 +332,29 @@ def test_assist_adds_the_heads_look_where_the_fixed_rig_pivots_only_to_look():
     assert res.looks == len(res.cycles) + sum(c.head_looks for c in res.cycles)
     assert res.reached and res.collisions == 0
     assert not any("PAN" in c or "TILT" in c for c in _commands(res))
+
+
+def test_assist_times_both_looks_of_a_cycle(monkeypatch):
+    """A cycle the head's look is added to scans twice: its scan and work times hold
+    both looks (they once held only the second), and the time per look counts both."""
+    import time
+    import planner.loop as loop
+    real = loop.scan_look
+
+    def slow_scan(*args, **kw):                 # each scan takes at least 0.2 s
+        time.sleep(0.2)
+        return real(*args, **kw)
+
+    monkeypatch.setattr(loop, "scan_look", slow_scan)
+    res = run(tiny_room(), State(0.0, 0.0, 60.0), DriveConfig(goal=GOAL, eyes="depth",
+                                                              head="assist", max_looks=2))
+    first = res.cycles[0]
+    assert first.head_looks == 1
+    assert first.scan_s >= 0.4 and first.work_s >= first.scan_s
+    assert all(c.scan_s >= 0.2 * (1 + c.head_looks) for c in res.cycles)
+    total = sum(c.work_s for c in res.cycles)
+    assert res.work_ms_per_look == pytest.approx(1e3 * total / res.looks)
+    assert res.looks == len(res.cycles) + 1
 
 
 def test_assist_refuses_the_fused_estimate():
