@@ -112,8 +112,8 @@ def cmd_drive(args) -> int:
     out.mkdir(parents=True, exist_ok=True)
     print(f"rig drive: {room.name}, start ({start.x:g}, {start.z:g}) heading "
           f"{start.heading_deg:g} deg, goal ({goal[0]:g}, {goal[1]:g}), unknown space "
-          f"{args.unknown}, search {args.search}, eyes {args.eyes}, stereo matcher {args.match}, pose {args.pose}, odometry noise "
-          f"{'off' if noise is None else 'on'}")
+          f"{args.unknown}, search {args.search}, eyes {args.eyes}, stereo matcher {args.match}, "
+          f"head {args.head}, pose {args.pose}, odometry noise {'off' if noise is None else 'on'}")
     if cfg.learn_floor == "step-back":
         print(f"before the first look: {cfg.learn_back_ft:g} ft back inside the clear spot, "
               "to learn the floor's grey (--learn-floor step-back)")
@@ -378,13 +378,14 @@ def add_loop_options(p) -> None:
              "vehicle's pivot circle of a never-seen cell costs 1 + W per ft "
              "(not the dissertation's search; default 0: off)")
     opt("--head", choices=HEADS, default=C.head,
-        help="the rig's mount: 'fixed' (the default, pitched 25 deg down) or "
-             "'pan-tilt': on a head that pans +-90 deg and tilts 0..-55 deg "
-             "(PAN, TILT commands) and looks where the fixed rig pivots the "
-             "vehicle only to look: at the first never-seen cell of its way, "
-             "tilted down to show it, into its pivot circle, round; 'assist': "
-             "the fixed rig's cycle unchanged, the head's look added only where it "
-             "would stop or pivot only to look (not 1985; neither with --pose fused)")
+        help="the rig's mount: 'fixed' (the default, pitched 25 deg down); "
+             "'assist' (not 1985): the fixed rig's cycle unchanged, a head's look added "
+             "only where it would stop or pivot only to look, aimed at what its way "
+             "lacks; 'pan-tilt' (not 1985): on a head that pans +-90 deg and tilts "
+             "0..-55 deg (PAN, TILT commands) and looks where the fixed rig pivots the "
+             "vehicle only to look: at the first never-seen cell of its way, tilted "
+             "down to show it, into its pivot circle, round (only 'fixed' with --pose "
+             "fused)")
     opt("--assist-pivot-ft", type=float, default=C.assist_pivot_ft, metavar="FT",
         help="under --head assist: a pivot may not sweep a cell free only by a "
              "blank-column assumption no look nearer than FT made (default "
@@ -454,7 +455,9 @@ def add_loop_options(p) -> None:
         help="under --free-drift erode or moves: how many standard deviations of the drift "
              "an older look's free edge beside a hit gives up; under --proof-heading "
              "window, of the heading (default 2)")
-    opt("--max-looks", type=int, default=C.max_looks, metavar="N")
+    opt("--max-looks", type=int, default=C.max_looks, metavar="N",
+        help=f"stop after N cycles, each one look of the fixed rig (default {C.max_looks}; "
+             "under --head assist a cycle's added look of the head comes on top)")
 
 
 def first_look_note(cycles, slow_s: float = 1.0) -> str:
@@ -489,9 +492,9 @@ def loop_config(args, goal, fail):
         fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
     if not 0 <= args.seen_cost < 1e6:
         fail(f"--seen-cost {args.seen_cost!r}: an extra cost per ft, 0 (off) or more")
-    if args.head == "pan-tilt" and args.pose == "fused":
-        fail("--head pan-tilt with --pose fused: the walk's camera estimate assumes the fixed "
-             "rig; use --pose dead_reckoning or --pose walls")
+    if args.head != "fixed" and args.pose == "fused":
+        fail(f"--pose fused with --head {args.head}: the walk's camera estimate assumes the "
+             "fixed rig; use --head fixed with it, or --pose dead_reckoning or --pose walls")
     if not (math.isfinite(args.assist_pivot_ft) and 0 <= args.assist_pivot_ft <= 50):
         fail(f"--assist-pivot-ft {args.assist_pivot_ft!r}: a distance in feet, 0 (off) to 50")
     if args.margin is not None and not 0 <= args.margin < 10:

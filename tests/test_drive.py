@@ -83,6 +83,11 @@ def test_ctrl_c_stops_cleanly_with_what_it_has():
     assert not res.reached
     assert res.reason == "stopped by Ctrl-C after 2 looks"
     assert len(res.cycles) == 2 and res.as_json()["looks"] == 2
+    # with the assisting head the looks counted are the head's too
+    res = run(room, State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth", head="assist"),
+              on_cycle=interrupt)
+    assert len(res.cycles) == 2 and res.looks == 2 + sum(c.head_looks for c in res.cycles)
+    assert res.reason == f"stopped by Ctrl-C after {res.looks} looks"
 
 
 def _pt(line, loc1, dp, ep=0.05):
@@ -155,7 +160,7 @@ def test_rig_drive_command_json_and_bad_goal(tmp_path, capsys):
     assert (out / "drive-map.png").stat().st_size > 0
     from PIL import Image
     with Image.open(out / "drive.gif") as gif:
-        assert gif.n_frames == data["looks"]
+        assert gif.n_frames == len(data["cycles"])      # a frame a cycle (the head's looks in it)
     with pytest.raises(SystemExit, match=r"the goal \(0, 4\) ft is inside an obstacle"):
         main(["drive", "--goal", "0,4", "--out", str(out)])
     with pytest.raises(SystemExit, match=r"--goal 'x,4' must be 2 numbers"):

@@ -255,6 +255,13 @@ def test_the_loop_refuses_an_unknown_head_and_the_fused_estimate_with_a_head():
                                                            pose="fused"))
 
 
+@pytest.mark.parametrize("head", ["pan-tilt", "assist"])
+def test_rig_drive_refuses_the_fused_estimate_with_either_head(tmp_path, head):
+    from rig.main import main
+    with pytest.raises(SystemExit, match=f"--pose fused with --head {head}: .*--head fixed"):
+        main(["drive", "--head", head, "--pose", "fused", "--out", str(tmp_path)])
+
+
 def test_the_loop_with_the_head_reaches_the_tiny_rooms_goal_driving_with_the_head_ahead():
     """Depth eyes (the planner's own share), the vehicle set down facing 60 deg off the
     goal: the head looks before the body turns; no collision; every body motion is made
