@@ -382,6 +382,7 @@ def main(argv=None) -> int:
         "occupied": args.occupied, "hit_at": args.hit_at,
         "feature_pose": args.feature_pose, "goal_region": args.goal_region, "approach": args.approach,
         "floor_eyes": args.floor_eyes, "expire_uncertain": args.expire_uncertain,
+        "min_pivot_deg": args.min_pivot_deg,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,
         "success_rate": len(ok) / len(rows),
         # the loop stops on its estimate; by the truth the vehicle may still be farther out

@@ -31,8 +31,9 @@ from pathlib import Path
 # Named options, each off by default, that were measured and not adopted under
 # the defaults of their day (docs/planner.md says where and why); last, the
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
-# the 1985 matcher and one-cell gaps kept unknown (the improved matcher and the fill
-# are the defaults since 2026-12-05); the two heads.
+# the 1985 matcher, one-cell gaps kept unknown and every turn a pivot (the improved
+# matcher, the fill and the smallest turns unchecked are the defaults since 2026-12-05);
+# the two heads.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -69,6 +70,7 @@ OPTIONS = [
     "--proof-hits trace --hit-at axis --min-range 2.5 --wall-fix-sigmas 3",
     "--match 1985",
     "--free-gaps keep",
+    "--min-pivot-deg 0",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -257,6 +257,13 @@ class DriveConfig:
                                           # through the angle (_pivot_seen_free); "small-swept":
                                           # a turn up to SMALL_TURN_DEG (5) by its sweep, a
                                           # larger one by the disc (motion._pivot_ok)
+    min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this
+                                          # needs no pivot circle seen free (not 1985; the
+                                          # default since 2026-12-05 08:00; 0: every turn
+                                          # checked, before): 1 deg moves the footprint's
+                                          # corners 0.011 ft, inside the 0.15 ft planning
+                                          # margin, and the path's own alignments (0.1 deg
+                                          # in the bundled lab) stopped drives "cannot turn"
     clearance_at: str = "anywhere"        # "anywhere": the dissertation's, the cross section
                                           # passes anywhere in a passable cell; "centre":
                                           # a cell's centre has the radius and every
@@ -687,6 +694,9 @@ def _check_config(cfg: DriveConfig) -> None:
         if not (isinstance(sigmas, (int, float)) and 0 < sigmas < 10):
             raise ValueError(f"{name} must be a number of standard deviations above 0 and "
                              f"under 10, not {sigmas!r}")
+    if not (isinstance(cfg.min_pivot_deg, (int, float)) and 0 <= cfg.min_pivot_deg <= 5):
+        raise ValueError(f"min_pivot_deg must be a turn of 0 (every turn a pivot) to 5 deg, "
+                         f"not {cfg.min_pivot_deg!r}")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(
@@ -1007,13 +1017,15 @@ class Drive:
             seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                               prof.width_ft / 2 + prof.margin_ft,
                               prof.length_ft / 2 + prof.margin_ft,
-                              pivot_r, pivot_sweep, pan if head else None)
+                              pivot_r, pivot_sweep, pan if head else None,
+                              min_pivot_deg=cfg.min_pivot_deg)
             left = path_length(pts)
             if cfg.look_ahead and not head and _moves(seg):
                 # its pivot is the look: no sweep instead
                 seg, note, fetching = _take(
                     looked_ahead(seg, est, fm, pts, self.near_ft, safe, seen, seen_eyes, prof,
-                                 pivot_sweep, self.ahead_cells, pivot_r), seg, note, fetching)
+                                 pivot_sweep, self.ahead_cells, pivot_r, cfg.min_pivot_deg),
+                    seg, note, fetching)
             if cfg.approach == "disc" and not _moves(seg) \
                     and math.hypot(est.x - goal[0], est.z - goal[1]) <= \
                     cfg.tolerance_ft + prof.step_ft:

@@ -322,7 +322,7 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
 def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
                  seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
                  nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None,
-                 looked_deg: float | None = None):
+                 looked_deg: float | None = None, min_pivot_deg: float = 0.0):
     """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
     would come nearer than its radius to an occupied or uncertain cell
     (``safe``), or where its swept width (``half_width`` each side) would
@@ -332,7 +332,9 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     within ``pivot_ft`` (the footprint's half diagonal) seen free, or, given
     ``pivot_sweep`` (a named option: the footprint and the margin,
     ``DriveConfig.pivot="swept"``), every cell that footprint grown by the margin
-    sweeps through the turn (:func:`_pivot_seen_free`).  After turns of more
+    sweeps through the turn (:func:`_pivot_seen_free`); a turn smaller than
+    ``min_pivot_deg`` needs neither (``DriveConfig.min_pivot_deg``: it moves
+    the footprint's corners less than the planning margin).  After turns of more
     than ``EYES_TURN_DEG`` in all it stops before the next forward move, to
     look the new way first; ``looked_deg`` (a head's pan at the look just
     taken, ``DriveConfig.head``) lets the move on when the turns' net angle
@@ -345,7 +347,8 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     fm = safe.fmap
     for c in next_segment(cmds, step):
         if isinstance(c, Turn):
-            if not _pivot_ok(fm, x, z, h, c.angle_deg, pivot_ft, pivot_sweep):
+            if abs(c.angle_deg) >= min_pivot_deg and \
+                    not _pivot_ok(fm, x, z, h, c.angle_deg, pivot_ft, pivot_sweep):
                 break                     # its circle (or sweep) reaches space not seen free
             out.append(c)
             h = wrap(h + c.angle_deg)
@@ -522,7 +525,8 @@ def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft:
     cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
     seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
                        prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
-                       pivot_radius_ft(prof, cfg.pivot == "margin"))
+                       pivot_radius_ft(prof, cfg.pivot == "margin"),
+                       min_pivot_deg=cfg.min_pivot_deg)
     if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
         return None
     return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
@@ -619,7 +623,8 @@ def look_ahead(seg, est: State, cell, near_ft: float, cell_ft: float):
 
 
 def looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen, seen_eyes,
-                  prof: VehicleProfile, pivot_sweep, done: set, pivot_ft: float | None = None):
+                  prof: VehicleProfile, pivot_sweep, done: set, pivot_ft: float | None = None,
+                  min_pivot_deg: float = 0.0):
     """(commands, note) of ``DriveConfig.look_ahead`` for this cycle's safe
     ``seg``, or None to drive ``seg`` as it is: the first never-seen cell on
     the swept band of the path's next step + ``near_ft`` (+ two cells), not
@@ -635,7 +640,8 @@ def looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen,
         return None
     ok = safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
                       prof.length_ft / 2 + prof.margin_ft,
-                      pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
+                      pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep,
+                      min_pivot_deg=min_pivot_deg)
     if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):
         return None                       # its pivot (or move) breaks the safety rules
     done.add(fm.index(*cell))

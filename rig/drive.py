@@ -177,7 +177,7 @@ LOOP_OPTION_GROUPS = (
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
-     ("--pivot", "--approach", "--look-ahead", "--look-around", "--progress", "--reverse",
+     ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress", "--reverse",
       "--max-looks")),
 )
 
@@ -386,6 +386,11 @@ def add_loop_options(p) -> None:
              "vehicle only to look: at the first never-seen cell of its way, tilted "
              "down to show it, into its pivot circle, round (only 'fixed' with --pose "
              "fused)")
+    opt("--min-pivot-deg", type=float, default=C.min_pivot_deg, metavar="DEG",
+        help="a turn of the path's commands smaller than DEG needs no pivot circle seen "
+             f"free: it moves the footprint's corners less than the planning margin "
+             f"(not 1985; default {C.min_pivot_deg:g} since 2026-12-05; 0: every turn "
+             "checked, before, when a 0.1 deg alignment stopped the lab 'cannot turn')")
     opt("--assist-pivot-ft", type=float, default=C.assist_pivot_ft, metavar="FT",
         help="under --head assist: a pivot may not sweep a cell free only by a "
              "blank-column assumption no look nearer than FT made (default "
@@ -488,6 +493,8 @@ def loop_config(args, goal, fail):
     if not all(v > 0 for v in args.sides_apart):
         fail(f"--sides-apart {args.sides_apart[0]!r} {args.sides_apart[1]!r}: a distance in feet "
              f"and a turn in degrees, both positive")
+    if not 0 <= args.min_pivot_deg <= 5:
+        fail(f"--min-pivot-deg {args.min_pivot_deg!r}: a turn of 0 (every turn a pivot) to 5 deg")
     if args.expire_uncertain < 0:
         fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
     if not 0 <= args.seen_cost < 1e6:
@@ -512,6 +519,7 @@ def loop_config(args, goal, fail):
                        uncertain=args.uncertain, track_free=args.track_free,
                        goal_region=args.goal_region, approach=args.approach, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,
+                       min_pivot_deg=args.min_pivot_deg,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,
                        blank_px=args.blank_px if args.blank_px >= 0 else None,
                        blank_limit=args.blank_limit, blank_sides=args.blank_sides,

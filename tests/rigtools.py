@@ -278,7 +278,7 @@ DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls
 DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckoning",
                                wall_points="edges", hit_at="axis", min_range_ft=2.5,
                                wall_fix_sigmas=3.0, proof_heading="estimate",
-                               floor_end_check="off", proof_hits="trace")
-# The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985)
-# and in the one-cell gaps of free space (kept unknown).
-DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep")
+                               floor_end_check="off", proof_hits="trace", min_pivot_deg=0.0)
+# The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985),
+# in the one-cell gaps of free space (kept unknown) and in every turn being a pivot.
+DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_deg=0.0)

@@ -64,6 +64,37 @@ def test_a_pivot_needs_the_margin_seen_free_too():
     assert pivot_allowed(fm, est, -40.0, DEFAULT, (DEFAULT.footprint, DEFAULT.margin_ft))
 
 
+def test_a_turn_under_min_pivot_deg_needs_no_pivot_circle():
+    # the pivot circle (0.64 ft) holds a never-seen cell 0.5 ft to the right of the
+    # vehicle; the swept band ahead is seen free.  A 0.1 deg alignment (the bundled
+    # lab's, seed 0) moves the footprint's far corner 0.64 * 0.1 * pi / 180 = 0.0011 ft:
+    # under min_pivot_deg 1 it passes; as a pivot (0, before) the move is refused
+    fm = free_map()
+    fm.cells[fm.index(0.6, -0.1)] = UNKNOWN
+    est = State(0.0, 0.0, 0.0)
+    safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    cmds = [Turn(0.1), Forward(1.5)]
+    r = DEFAULT.radius_ft
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, HALF, NOSE, r) == []
+    assert safe_prefix(cmds, est, safe, seen, 1.5, None, HALF, NOSE, r,
+                       min_pivot_deg=1.0) == cmds
+    # a turn of 1 deg or more is a pivot still
+    assert safe_prefix([Turn(1.0), Forward(1.5)], est, safe, seen, 1.5, None, HALF, NOSE, r,
+                       min_pivot_deg=1.0) == []
+    assert safe_prefix([Turn(-0.99), Forward(1.5)], est, safe, seen, 1.5, None, HALF, NOSE,
+                       r, min_pivot_deg=1.0) == [Turn(-0.99), Forward(1.5)]
+
+
+def test_min_pivot_deg_reaches_the_loop_by_its_flag_and_is_checked(tmp_path):
+    from rig.main import main
+    with pytest.raises(ValueError, match="min_pivot_deg"):
+        run(None, State(0.0, 0.0, 0.0), DriveConfig(goal=(0.0, 1.0), min_pivot_deg=-1.0))
+    with pytest.raises(SystemExit, match="--min-pivot-deg 9.0: a turn of 0"):
+        main(["drive", "--min-pivot-deg", "9", "--out", str(tmp_path)])
+    assert DriveConfig(goal=(0.0, 1.0)).min_pivot_deg == 1.0
+
+
 def test_a_small_turn_needs_only_its_sweep_under_small_swept():
     # the vehicle at (-0.06, 0) facing +z; a never-seen cell x 0.5..0.75, z
     # 0..0.25, its nearest point (0.5, 0) 0.56 ft away: inside the 0.64 ft
