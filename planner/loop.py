@@ -158,6 +158,7 @@ MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 FLOOR_EYES = ("off", "carve", "add", "bound", "bound-add", "veto")   # planner.appearance in the loop (Perception.update)
+MAX_MIN_PIVOT_DEG = 5.0               # the largest DriveConfig.min_pivot_deg either check accepts
 HIT = "stopped: the vehicle hit something (true footprint against the room)"   # run's reason
 LEARN_FLOORS = ("off", "step-back")   # DriveConfig.learn_floor: a first look at the clear spot's floor
 STAND_INS = tuple(STAND_IN_SHARES)    # DriveConfig.stand_in: the bottom rows' greys for the floor's
@@ -694,9 +695,10 @@ def _check_config(cfg: DriveConfig) -> None:
         if not (isinstance(sigmas, (int, float)) and 0 < sigmas < 10):
             raise ValueError(f"{name} must be a number of standard deviations above 0 and "
                              f"under 10, not {sigmas!r}")
-    if not (isinstance(cfg.min_pivot_deg, (int, float)) and 0 <= cfg.min_pivot_deg <= 5):
-        raise ValueError(f"min_pivot_deg must be a turn of 0 (every turn a pivot) to 5 deg, "
-                         f"not {cfg.min_pivot_deg!r}")
+    if not (isinstance(cfg.min_pivot_deg, (int, float))
+            and 0 <= cfg.min_pivot_deg <= MAX_MIN_PIVOT_DEG):
+        raise ValueError(f"min_pivot_deg must be a turn of 0 (every turn a pivot) to "
+                         f"{MAX_MIN_PIVOT_DEG:g} deg, not {cfg.min_pivot_deg!r}")
     if cfg.blank_px is not None and cfg.blank_px < 0:
         raise ValueError(f"blank_px must be 0 or more columns, not {cfg.blank_px!r}")
     if not isinstance(cfg.expire_uncertain, (int, np.integer)) or isinstance(

@@ -481,7 +481,7 @@ def first_look_note(cycles, slow_s: float = 1.0) -> str:
 def loop_config(args, goal, fail):
     """The :class:`planner.loop.DriveConfig` of :func:`add_loop_options`'s
     arguments; ``fail(message)`` reports a bad value (and does not return)."""
-    from planner.loop import DriveConfig, _check_config
+    from planner.loop import MAX_MIN_PIVOT_DEG, DriveConfig, _check_config
     from planner.octree import VolumeOfInterest
     from vehicle.profile import DEFAULT
     voi = DriveConfig.voi
@@ -493,8 +493,9 @@ def loop_config(args, goal, fail):
     if not all(v > 0 for v in args.sides_apart):
         fail(f"--sides-apart {args.sides_apart[0]!r} {args.sides_apart[1]!r}: a distance in feet "
              f"and a turn in degrees, both positive")
-    if not 0 <= args.min_pivot_deg <= 5:
-        fail(f"--min-pivot-deg {args.min_pivot_deg!r}: a turn of 0 (every turn a pivot) to 5 deg")
+    if not 0 <= args.min_pivot_deg <= MAX_MIN_PIVOT_DEG:
+        fail(f"--min-pivot-deg {args.min_pivot_deg!r}: a turn of 0 (every turn a pivot) to "
+             f"{MAX_MIN_PIVOT_DEG:g} deg")
     if args.expire_uncertain < 0:
         fail(f"--expire-uncertain: {args.expire_uncertain} looks; give 0 (off) or more")
     if not 0 <= args.seen_cost < 1e6:
