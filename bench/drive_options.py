@@ -31,9 +31,10 @@ from pathlib import Path
 # Named options, each off by default, that were measured and not adopted under
 # the defaults of their day (docs/planner.md says where and why); last, the
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
-# the 1985 matcher, one-cell gaps kept unknown and every turn a pivot (the improved
-# matcher, the fill and the smallest turns unchecked are the defaults since 2026-12-05);
-# the two heads.
+# the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
+# learn the floor and the fix's window never widened (the improved matcher, the fill,
+# the smallest turns unchecked, the step back and the widening are the defaults since
+# 2026-12-05); the two heads.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -52,7 +53,6 @@ OPTIONS = [
     "--map-extent fallback",
     "--sight-lines band",
     "--blank-carve always",
-    "--learn-floor step-back",
     "--free-drift erode",
     "--look-around sweep",
     "--free-drift off",
@@ -71,6 +71,8 @@ OPTIONS = [
     "--match 1985",
     "--free-gaps keep",
     "--min-pivot-deg 0",
+    "--learn-floor off",
+    "--wall-fix-widen 0",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -371,14 +371,19 @@ class DriveConfig:
                                           # "low-all": "low", and a look that located nothing
                                           # frees only the far part of its blank view (as if
                                           # a surface at blank_ft showed to the band's bottom)
-    learn_floor: str = "off"              # (not 1985; a named option, for floor_eyes) "step-back":
-                                          # before the first look the vehicle steps learn_back_ft
-                                          # back inside the clear spot it was set down in (BACK
-                                          # where its profile reverses, else TURN 180, FORWARD,
-                                          # TURN -180), so the first look's bottom rows show floor
-                                          # the clear spot vouches for and the floor's grey is
-                                          # learned from it (Drive.step_back); measured,
-                                          # rejected: fewer rooms (docs/planner.md)
+    learn_floor: str = "step-back"        # (not 1985; for floor_eyes) "step-back" (the default
+                                          # since 2026-12-05 09:30): before the first look the
+                                          # vehicle steps learn_back_ft back inside the clear
+                                          # spot it was set down in (BACK where its profile
+                                          # reverses, else TURN 180, FORWARD, TURN -180), so the
+                                          # first look's bottom rows show floor the clear spot
+                                          # vouches for and the floor's grey is learned from it
+                                          # (Drive.step_back; without it the grey was never
+                                          # learned in 154 rooms of 890, and none was reached);
+                                          # "off" (before): learned once the map shows floor
+                                          # free.  Only where a look reads the floor's grey
+                                          # (steps_back: not under floor_eyes "off", nor
+                                          # with the depth eyes under a bounding one)
     learn_back_ft: float = 1.25           # (1.0 ft leaves 249 training pixels, 1.25 ft 427)
     stand_in: str = "tenth"               # (not 1985; under floor_eyes in BOUNDING) what stands for
                                           # the floor's grey until it is learned: "tenth" (every
@@ -402,6 +407,13 @@ class DriveConfig:
                                           # turn it (localize.HEADING_SIGMAS; 3 before
                                           # 2026-12-05, when a floor-grey skirting turned
                                           # room 684's heading 6 deg and it hit a box)
+    wall_fix_widen: float = 1.0           # (not 1985; the default since 2026-12-05 09:30; 0:
+                                          # as before) the fix's window grows by this many
+                                          # sigmas for each look in a row without a fix: a
+                                          # prior off by more than wall_fix_sigmas (an
+                                          # odometry tail, room 175: 5.3 deg in two commands
+                                          # against 1.4 sigma) is found again at the next look
+                                          # instead of drifting on until a wrong fix
     min_range_ft: float = 3.0             # located points nearer than this are left out of
                                           # the floor scan, the wall fix and the floor end
                                           # check (perception.filter_points): 2.5 ft (a
@@ -678,9 +690,6 @@ def _check_config(cfg: DriveConfig) -> None:
         raise ValueError("pose 'walls' fixes the estimate against the room's walls: it needs "
                          "known_walls (the floor plan); use pose 'dead_reckoning'")
     if cfg.learn_floor != "off":
-        if cfg.floor_eyes == "off":
-            raise ValueError(f"learn_floor {cfg.learn_floor!r} learns the floor's grey for "
-                             "floor_eyes; with floor_eyes 'off' nothing uses it")
         reach = cfg.learn_back_ft + cfg.profile.radius_ft
         if not 0 < cfg.learn_back_ft or reach > cfg.start_clear_ft:
             raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
@@ -695,6 +704,10 @@ def _check_config(cfg: DriveConfig) -> None:
         if not (isinstance(sigmas, (int, float)) and 0 < sigmas < 10):
             raise ValueError(f"{name} must be a number of standard deviations above 0 and "
                              f"under 10, not {sigmas!r}")
+    if isinstance(cfg.wall_fix_widen, bool) or not isinstance(cfg.wall_fix_widen, (int, float)) \
+            or not 0 <= cfg.wall_fix_widen < 10:
+        raise ValueError(f"wall_fix_widen must be a number of standard deviations from 0 (off) "
+                         f"to under 10, not {cfg.wall_fix_widen!r}")
     if not (isinstance(cfg.min_pivot_deg, (int, float))
             and 0 <= cfg.min_pivot_deg <= MAX_MIN_PIVOT_DEG):
         raise ValueError(f"min_pivot_deg must be a turn of 0 (every turn a pivot) to "
@@ -809,6 +822,7 @@ class Drive:
         self.walker = None
         self.walls = cfg.pose == "walls"      # the estimate fixed against the plan's walls
         self.wall_fixes = 0
+        self.looks_unfixed = 0                # looks in a row without a wall fix (wall_fix_widen)
         self.drift_eroded = 0                 # free_drift "erode", "moves": what the last map gave up
         if cfg.pose == "fused":
             from model.mapping import WalkConfig, Walker
@@ -904,9 +918,12 @@ class Drive:
                 q, cq = self._with_floor_ends(q, cq, look.left_bi, pitch)
         fix = fix_against_walls(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
                                 self.room.bounds, pitch, pan,
-                                heading_sigmas=self.cfg.wall_fix_sigmas)
+                                heading_sigmas=self.cfg.wall_fix_sigmas
+                                + self.cfg.wall_fix_widen * self.looks_unfixed)
         if not fix.fixed:
+            self.looks_unfixed += 1
             return prior
+        self.looks_unfixed = 0
         self.wall_fixes += 1
         self.dead_cov = fix.cov
         return State(fix.x, fix.z, fix.heading_deg)
@@ -1222,6 +1239,15 @@ class Drive:
                            self.drift_eroded if cfg.free_drift != "off" else None)
 
 
+def steps_back(cfg: DriveConfig) -> bool:
+    """Whether the drive steps back before its first look (``learn_floor="step-back"``):
+    only where a look reads the floor's grey, so never under ``floor_eyes="off"``, nor
+    with the depth eyes under a bounding ``floor_eyes`` (they assume nothing, and
+    :meth:`Perception.update` reads no picture for them)."""
+    return cfg.learn_floor == "step-back" and cfg.floor_eyes != "off" and \
+        not (cfg.eyes == "depth" and cfg.floor_eyes in BOUNDING)
+
+
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,
         perception_factory=Perception) -> DriveResult:
     """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room): cycle
@@ -1238,7 +1264,7 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     t_start = time.perf_counter()
     reached, reason = False, ""
     try:
-        if cfg.learn_floor == "step-back" and not drive.step_back()[1]:
+        if steps_back(cfg) and not drive.step_back()[1]:
             return drive.result(False, HIT, time.perf_counter() - t_start)
         for look_no in range(1, cfg.max_looks + 1):
             if drive.at_goal():

@@ -66,7 +66,7 @@ def frames_of(result, room):
 
 
 def cmd_drive(args) -> int:
-    from planner.loop import run
+    from planner.loop import run, steps_back
     from rig.pictures import save_png
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
@@ -107,6 +107,11 @@ def cmd_drive(args) -> int:
     def fail(message):
         raise SystemExit(f"rig drive: {message}")
     cfg = loop_config(args, goal, fail)
+    back = cfg.learn_back_ft + cfg.profile.radius_ft
+    if steps_back(cfg) and room.clearance(start.x, start.z) < back:
+        fail(f"the start ({start.x:g}, {start.z:g}) ft is {room.clearance(start.x, start.z):.2f} "
+             f"ft from an obstacle or wall; the step back that learns the floor's grey "
+             f"needs {back:.2f} ft all round (--learn-floor off: no step back)")
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -114,9 +119,9 @@ def cmd_drive(args) -> int:
           f"{start.heading_deg:g} deg, goal ({goal[0]:g}, {goal[1]:g}), unknown space "
           f"{args.unknown}, search {args.search}, eyes {args.eyes}, stereo matcher {args.match}, "
           f"head {args.head}, pose {args.pose}, odometry noise {'off' if noise is None else 'on'}")
-    if cfg.learn_floor == "step-back":
+    if steps_back(cfg):
         print(f"before the first look: {cfg.learn_back_ft:g} ft back inside the clear spot, "
-              "to learn the floor's grey (--learn-floor step-back)")
+              "to learn the floor's grey (--learn-floor off: not)")
 
     def line(c):
         left = "-" if c.path_left_ft is None else f"{c.path_left_ft:5.1f} ft"
@@ -163,8 +168,8 @@ LOOP_OPTION_GROUPS = (
     ("the eyes", "what the loop sees with",
      ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
-     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--feature-pose",
-      "--drift-sigmas")),
+     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen",
+      "--feature-pose", "--drift-sigmas")),
     ("the map: what is occupied", "where a look's located points and the floor plan block",
      ("--hit-at", "--growth", "--occupied", "--expire-uncertain", "--refute-hits",
       "--plan-walls", "--cell-ft")),
@@ -362,12 +367,13 @@ def add_loop_options(p) -> None:
              "(not 1985): only a grey with more than half (none: the look assumes "
              "nothing), so a box face near the vehicle does not pass for floor")
     opt("--learn-floor", choices=LEARN_FLOORS, default=C.learn_floor,
-        help="with --floor-eyes, where the floor's grey is first learned: 'off' "
-             "(default): from floor the map shows free, once it shows any; "
-             "'step-back' (not 1985): before the first look the vehicle steps "
-             f"{C.learn_back_ft:g} ft back inside the clear spot it was set down in "
-             "(a vehicle that does not reverse turns about, drives and turns back), "
-             "so its first look's bottom rows show floor the clear spot vouches for")
+        help="with --floor-eyes, where the floor's grey is first learned: "
+             "'step-back' (not 1985; default since 2026-12-05): before the first look "
+             f"the vehicle steps {C.learn_back_ft:g} ft back inside the clear spot it was "
+             "set down in (a vehicle that does not reverse turns about, drives and turns "
+             "back), so its first look's bottom rows show floor the clear spot vouches "
+             "for (not under --floor-eyes off, nor with --eyes depth, which read no "
+             "picture); 'off' (before): from floor the map shows free, once it shows any")
     opt("--look-ahead", action=argparse.BooleanOptionalAction, default=C.look_ahead,
         help="before a move, find the first never-seen cell on the planned path's "
              "swept band; while it is still far enough to show, cut the move there, "
@@ -432,6 +438,11 @@ def add_loop_options(p) -> None:
         help="under --pose walls, how many standard deviations of the estimate's "
              f"heading a fix may turn it (default {C.wall_fix_sigmas:g}; 3 before "
              "2026-12-05: a skirting of the floor's grey turned it look after look)")
+    opt("--wall-fix-widen", type=float, default=C.wall_fix_widen, metavar="S",
+        help="under --pose walls, the standard deviations the fix's heading window "
+             "grows by for each look in a row without a fix (not 1985; default "
+             f"{C.wall_fix_widen:g}; 0: as before 2026-12-05): a heading the odometry "
+             "threw out of the window is found again at the next look")
     opt("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
         help="an unknown cell between two free ones across a row or a column: "
              "'fill' it free (not 1985; default since 2026-12-05): no box fits in it "
@@ -528,7 +539,7 @@ def loop_config(args, goal, fail):
                        learn_floor=args.learn_floor,
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
-                       wall_fix_sigmas=args.wall_fix_sigmas,
+                       wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
@@ -539,7 +550,7 @@ def loop_config(args, goal, fail):
                        wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:
-        _check_config(cfg)          # what no one option refuses (learn_floor without floor_eyes)
+        _check_config(cfg)          # what no one option refuses (its combinations)
     except ValueError as exc:
         fail(str(exc))
     return cfg

@@ -180,8 +180,8 @@ def test_the_bundled_lab_on_oracle_edges_is_reached_with_the_disc_move():
     s = room.start
     res = run(room, State(s.x, s.z, s.heading_deg),
               DriveConfig(goal=DEFAULT_LAB_GOAL, eyes="truth", approach="disc",
-                          floor_eyes="bound", **DRIVE_BEFORE_2026_12_04,
-                          **DRIVE_BEFORE_2026_12_05),
+                          floor_eyes="bound", **{**DRIVE_BEFORE_2026_12_04,
+                             **DRIVE_BEFORE_2026_12_05}),
               noise=OdometryNoise(seed=1985), keep_maps=False)
     assert res.reached, res.reason
     assert res.collisions == 0

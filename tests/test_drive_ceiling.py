@@ -18,6 +18,7 @@ from planner.search import astar, clearance_map, path_length
 from vehicle.commands import Forward, Turn
 from vehicle.profile import DEFAULT
 from vehicle.sim import State
+from rigtools import STEP_BACK_FT
 
 HALF = DEFAULT.width_ft / 2 + DEFAULT.margin_ft     # 0.55 ft: the swept band's half width
 NOSE = DEFAULT.length_ft / 2 + DEFAULT.margin_ft    # 0.65 ft
@@ -237,7 +238,7 @@ def test_the_loop_drives_the_tiny_room_with_seen_cost():
               keep_maps=False)
     assert res.reached, res.reason
     assert res.collisions == 0
-    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    assert res.travelled_ft <= 1.3 * res.optimal_ft + STEP_BACK_FT   # (rigtools)
 
 
 def test_rig_drive_and_the_bench_take_seen_cost(monkeypatch, tmp_path):

@@ -18,6 +18,7 @@ from planner.search import clearance_map
 from planner.trajectory import polyline
 from vehicle.profile import DEFAULT
 from vehicle.sim import State
+from rigtools import STEP_BACK_FT
 
 R = DEFAULT.planning_radius_ft
 NEAR = near_visible_ft(DEFAULT, 0.8)            # 2.33 ft: nearer, a look shows nothing
@@ -180,7 +181,7 @@ def test_the_evidence_options_drive_the_tiny_room_without_collision():
     res = run(tiny_room(), State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0
-    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    assert res.travelled_ft <= 1.3 * res.optimal_ft + STEP_BACK_FT   # (rigtools)
     with pytest.raises(ValueError, match="unknown look_around 'spin'"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, look_around="spin"))
 

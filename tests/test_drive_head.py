@@ -388,8 +388,8 @@ def test_assist_in_room_7_does_not_drive_into_the_wall_its_drift_moved():
     start = State(s.x, s.z, s.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(7))
     res = run(room, start, DriveConfig(goal=goal, head="assist", assist_pivot_ft=None,
-                                       floor_eyes="off", **DRIVE_BEFORE_2026_12_04,
-                                       **DRIVE_BEFORE_2026_12_05),
+                                       floor_eyes="off", **{**DRIVE_BEFORE_2026_12_04,
+                                          **DRIVE_BEFORE_2026_12_05}),
               noise=OdometryNoise(seed=7), keep_maps=False)
     assert res.collisions == 0 and "hit something" not in res.reason
     assert res.travelled_ft > 15.0          # it went as far as where it used to collide
@@ -414,8 +414,8 @@ def test_assist_in_room_45_pivots_only_on_cells_a_look_proved_near_enough():
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(45))
     runs = {(ft, fe): run(room, start, DriveConfig(goal=goal, head="assist", eyes="truth",
                                                    assist_pivot_ft=ft, floor_eyes=fe,
-                                                   **DRIVE_BEFORE_2026_12_04,
-                                                   **DRIVE_BEFORE_2026_12_05),
+                                                   **{**DRIVE_BEFORE_2026_12_04,
+                                                      **DRIVE_BEFORE_2026_12_05}),
                           noise=OdometryNoise(seed=45), keep_maps=False)
             for ft, fe in ((None, "off"), (4.64, "off"), (None, "bound"))}
     assert runs[None, "off"].collisions == 1 and "hit something" in runs[None, "off"].reason

@@ -18,6 +18,7 @@ from vehicle.commands import Forward, Turn
 from vehicle.profile import DEFAULT
 from vehicle.sim import State
 from planner.trajectory import heading_to, wrap
+from rigtools import STEP_BACK_FT
 
 NEAR = 2.3                     # near_visible_ft of the default profile, rounded
 HALF = DEFAULT.width_ft / 2 + DEFAULT.margin_ft     # 0.55 ft: the swept band's half width
@@ -158,7 +159,7 @@ def test_the_loop_drives_the_tiny_room_looking_ahead(eyes):
               keep_maps=False)
     assert res.reached, res.reason
     assert res.collisions == 0
-    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    assert res.travelled_ft <= 1.3 * res.optimal_ft + STEP_BACK_FT   # (rigtools)
 
 
 def test_rig_drive_and_the_bench_take_look_ahead(monkeypatch, tmp_path):

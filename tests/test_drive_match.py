@@ -13,7 +13,7 @@ from planner.loop import DriveConfig, run, scan_look, true_range_points
 from planner.tiny import GOAL, tiny_room
 from vehicle.sim import State
 from world.odometry import OdometryNoise
-from rigtools import drive_config
+from rigtools import STEP_BACK_FT, drive_config
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -75,7 +75,7 @@ def test_the_loop_on_the_improved_matcher_reaches_the_tiny_room_goal():
               noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0
-    assert res.travelled_ft <= 1.3 * res.optimal_ft
+    assert res.travelled_ft <= 1.3 * res.optimal_ft + STEP_BACK_FT   # (rigtools)
     data = res.as_json()
     assert data["match"] == "improved"
     assert all(0 < c["scan_ms"] <= c["work_ms"] for c in data["cycles"])

@@ -302,21 +302,31 @@ def test_the_tiny_room_under_low_frees_no_floor_before_8_ft_and_stops_safely():
     # the line x = 0 nowhere between the start spot (free to 2.5 ft, grown to its cell) and
     # 8 ft, where band frees all of it; the drive then never proves the way free and stops,
     # without a collision (the loop's tiny-room tests pin band for that reason); under the
-    # dead-reckoned estimate and the floor in view's rules before 2026-12-05, as traced
+    # dead-reckoned estimate and the floor in view's rules before 2026-12-05, as traced.
+    # Without the step back that learns the floor's grey (learn_floor "off", before
+    # 2026-12-05 09:30) the floor in view proves nothing either: the same first look.
+    # With it (the default since) that look's floor proof frees the whole line, as the
+    # room's truth has it (the box stands at x 1.2-2.6), and the defaults, the rig's own
+    # eyes, reach the goal; without it they stop as above.
     from planner.loop import run
     from rigtools import DRIVE_BEFORE_2026_12_05
     from planner.tiny import GOAL, tiny_room
     from world.odometry import OdometryNoise
     zs = np.arange(3.125, 8.0, 0.25)
-    for lines, free in (("band", True), ("low", False)):
+    for lines, learn, free in (("band", "off", True), ("low", "off", False),
+                               ("low", "step-back", True)):
         fm = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",
-                 sight_lines=lines, max_looks=1)).cycles[0].fmap
-        assert [fm.state_at(0.1, z) == FREE for z in zs] == [free] * len(zs), lines
+                 sight_lines=lines, learn_floor=learn, max_looks=1)).cycles[0].fmap
+        assert [fm.state_at(0.1, z) == FREE for z in zs] == [free] * len(zs), (lines, learn)
     res = run(tiny_room(), State(0.0, 0.0, 0.0),
               DriveConfig(goal=GOAL, eyes="truth", **DRIVE_BEFORE_2026_12_05),
               noise=OdometryNoise(seed=1), keep_maps=False)
     assert not res.reached and "without progress" in res.reason
     assert res.collisions == 0 and res.travelled_ft < 2.5
+    for learn, reached in (("off", False), ("step-back", True)):
+        res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, learn_floor=learn),
+                  noise=OdometryNoise(seed=1), keep_maps=False)
+        assert res.reached == reached and res.collisions == 0, (learn, res.reason)
 
 
 # --- refute_hits="under": a hit cell a later sight line passes under -------------------

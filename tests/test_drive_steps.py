@@ -35,7 +35,6 @@ def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
     (dict(expire_uncertain=True), "expire_uncertain must be a whole number"),
     (dict(head="assist", pose="fused"), "head 'assist' with pose 'fused'"),
     (dict(head="pan-tilt", pose="fused"), "head 'pan-tilt' with pose 'fused'"),
-    (dict(learn_floor="step-back", floor_eyes="off"), "with floor_eyes 'off' nothing uses it"),
     # 2.0 ft back and the turn's 0.64 ft circle there leave the 2.5 ft clear spot
     (dict(learn_floor="step-back", learn_back_ft=2.0), r"\(2\.64 ft\) must stay inside"),
     (dict(learn_floor="step-back", learn_back_ft=0.0), "must stay inside"),
@@ -123,16 +122,33 @@ def test_the_step_back_is_in_the_commands_of_a_forward_only_vehicle():
     assert d.veh.travelled_ft == pytest.approx(1.25)
 
 
-def test_rig_drive_passes_learn_floor_and_refuses_it_without_floor_eyes(tmp_path, monkeypatch,
-                                                                       capsys):
+def test_rig_drive_passes_learn_floor_and_steps_back_only_where_a_look_reads_the_floor(
+        tmp_path, monkeypatch):
+    from planner.loop import steps_back
+    from rigtools import drive_config
+    cfg = drive_config(monkeypatch, tmp_path)
+    assert cfg.learn_floor == "step-back" and steps_back(cfg)       # since 2026-12-05
+    assert not steps_back(drive_config(monkeypatch, tmp_path, "--learn-floor", "off"))
+    # nothing would learn from it: without the floor eyes, or with the depth eyes under
+    # the bounding floor eyes (they read no picture); the depth eyes' "carve" reads one
+    assert not steps_back(drive_config(monkeypatch, tmp_path, "--floor-eyes", "off"))
+    assert not steps_back(drive_config(monkeypatch, tmp_path, "--eyes", "depth"))
+    assert steps_back(drive_config(monkeypatch, tmp_path, "--eyes", "depth",
+                                   "--floor-eyes", "carve"))
+    assert steps_back(drive_config(monkeypatch, tmp_path, "--eyes", "truth"))
+
+
+def test_rig_drive_refuses_a_start_too_near_something_for_the_step_back(tmp_path, monkeypatch):
+    """The bundled lab's front wall is at z -5: a start at (0, -3.2) is 1.8 ft from it,
+    enough for the vehicle (0.79 ft) but not for the step back (1.25 ft and the turn's
+    0.64 ft circle there): one clear error naming the start and the way round it."""
     from rig.main import main
     from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path).learn_floor == "off"
-    assert drive_config(monkeypatch, tmp_path, "--learn-floor", "step-back").learn_floor == \
-        "step-back"
     with pytest.raises(SystemExit) as exc:
-        main(["drive", "--out", str(tmp_path), "--learn-floor", "step-back",
-              "--floor-eyes", "off"])
-    assert "with floor_eyes 'off' nothing uses it" in str(exc.value.code) + \
-        capsys.readouterr().err
-    assert not (tmp_path / "drive.json").exists()
+        main(["drive", "--out", str(tmp_path), "--start", "0,-3.2"])
+    assert str(exc.value.code) == (
+        "rig drive: the start (0, -3.2) ft is 1.80 ft from an obstacle or wall; the step back "
+        "that learns the floor's grey needs 1.89 ft all round (--learn-floor off: no step back)")
+    assert not list(tmp_path.iterdir())
+    cfg = drive_config(monkeypatch, tmp_path, "--start", "0,-3.2", "--learn-floor", "off")
+    assert cfg.learn_floor == "off"

@@ -383,8 +383,8 @@ def test_bound_keeps_the_blank_assumption_out_of_the_boxes_it_drove_into(seed, b
                 return n
             model.update = counted
             return model
-        res = run(room, start, DriveConfig(goal=goal, floor_eyes=how, **DRIVE_BEFORE_2026_12_04,
-                                           **DRIVE_BEFORE_2026_12_05),
+        res = run(room, start, DriveConfig(goal=goal, floor_eyes=how, **{**DRIVE_BEFORE_2026_12_04,
+                                              **DRIVE_BEFORE_2026_12_05}),
                   noise=OdometryNoise(seed=seed), perception_factory=traced)
         freed[how] = (worst[0], res.collisions)
     assert freed["off"][0] > 5 and freed["off"][1] == 1    # the hazard, as traced

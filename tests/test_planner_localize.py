@@ -253,6 +253,43 @@ def test_the_loop_fixed_against_the_walls_ends_nearer_the_truth_than_dead_reckon
     assert narrow.wall_fixes < len(narrow.cycles) - 1 and max(errors(narrow)) > 0.2
 
 
+def test_a_look_without_a_fix_widens_the_next_fixs_window():
+    """``wall_fix_widen``: the tiny room as above (depth eyes, the head, odometry five
+    times noisier, seed 3), the fix's window 2 sigma.  The first move throws the heading
+    15 deg off, beyond the window: kept at 2 sigma the estimate stays that far off for
+    the next two looks and again for three after a later move, 12 looks in all; widened
+    by a sigma per look without a fix, it is found again at the second look after each
+    throw, and the goal is reached in fewer looks.  Out of range is refused by name."""
+    from planner.loop import DriveConfig, run, _check_config
+    from planner.tiny import GOAL, tiny_room
+    from rigtools import DRIVE_BEFORE_2026_12_04
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    assert DriveConfig.wall_fix_widen == 1.0
+
+    def drive(widen):
+        res = run(tiny_room(), State(0.0, 0.0, 0.0),
+                  DriveConfig(goal=GOAL, eyes="depth", head="pan-tilt", pose="walls",
+                              wall_fix_sigmas=2.0,
+                              **{**DRIVE_BEFORE_2026_12_04, "wall_fix_widen": widen}),
+                  noise=OdometryNoise(0.1, 5.0, seed=3), keep_maps=False)
+        off = [abs((c.estimate.heading_deg - c.true.heading_deg + 180.0) % 360.0 - 180.0)
+               for c in res.cycles]
+        longest = run_ = 0
+        for o in off:
+            run_ = run_ + 1 if o > 5.0 else 0
+            longest = max(longest, run_)
+        return res, longest
+    kept, kept_run = drive(0.0)
+    widened, widened_run = drive(1.0)
+    assert kept.reached and widened.reached and kept.collisions == widened.collisions == 0
+    assert kept_run >= 3 and widened_run <= 2
+    assert len(widened.cycles) < len(kept.cycles)
+    for bad in (-1.0, 10.0, True, "1"):
+        with pytest.raises(ValueError, match="wall_fix_widen"):
+            _check_config(DriveConfig(goal=GOAL, wall_fix_widen=bad))
+
+
 def test_rig_drive_pose_walls_reaches_the_loop_with_the_head(tmp_path, monkeypatch):
     """``rig drive --pose walls`` sets ``DriveConfig.pose``, with ``--head pan-tilt`` too;
     an unknown estimate is one clear error naming it."""
@@ -365,6 +402,8 @@ def test_rig_drive_wall_points_reach_the_loop(tmp_path, monkeypatch):
     from rigtools import drive_config
     assert drive_config(monkeypatch, tmp_path).wall_fix_sigmas == 2.0
     assert drive_config(monkeypatch, tmp_path, "--wall-fix-sigmas", "3").wall_fix_sigmas == 3.0
+    assert drive_config(monkeypatch, tmp_path).wall_fix_widen == 1.0
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-widen", "0").wall_fix_widen == 0.0
     for bad in (0.0, -1.0, 12.0, "2"):
         with pytest.raises(ValueError, match="wall_fix_sigmas"):
             _check_config(DriveConfig(goal=(0.0, 1.0), wall_fix_sigmas=bad))
