@@ -32,9 +32,9 @@ from pathlib import Path
 # the defaults of their day (docs/planner.md says where and why); last, the
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
 # the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
-# learn the floor and the fix's window never widened (the improved matcher, the fill,
-# the smallest turns unchecked, the step back and the widening are the defaults since
-# 2026-12-05); the two heads.
+# learn the floor, the fix's window never widened and the pivot's disc (the improved
+# matcher, the fill, the smallest turns unchecked, the step back, the widening and the
+# swept pivot are the defaults since 2026-12-05); the two heads.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -73,6 +73,7 @@ OPTIONS = [
     "--min-pivot-deg 0",
     "--learn-floor off",
     "--wall-fix-widen 0",
+    "--pivot disc",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -249,13 +249,18 @@ class DriveConfig:
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
-    pivot: str = "disc"                   # what a pivot in place needs seen free: "disc":
-                                          # its whole circle (the footprint's half
-                                          # diagonal), whatever the angle; "margin": that
+    pivot: str = "swept"                  # what a pivot in place needs seen free: "disc"
+                                          # (the default before 2026-12-05 09:30): its whole
+                                          # circle (the footprint's half diagonal), whatever
+                                          # the angle, without the margin forward moves keep
+                                          # (room 774: cells of a box's face of the floor's
+                                          # grey shown free, 0.13 ft deep, inside the circle;
+                                          # a 70 deg pivot hit the box); "margin": that
                                           # circle grown by the planning margin against the
                                           # estimate's error (motion.pivot_radius_ft); "swept":
                                           # the cells the footprint, grown by the margin, sweeps
-                                          # through the angle (_pivot_seen_free); "small-swept":
+                                          # through the angle (_pivot_seen_free; the default
+                                          # since 2026-12-05 09:30); "small-swept":
                                           # a turn up to SMALL_TURN_DEG (5) by its sweep, a
                                           # larger one by the disc (motion._pivot_ok)
     min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this

@@ -232,11 +232,11 @@ def add_loop_options(p) -> None:
         help="the vehicle profile's planning margin (default: the profile's)")
     opt("--pivot", choices=PIVOTS, default=C.pivot,
         help="what a pivot in place needs seen free: disc: the whole circle of the "
-             "footprint's half diagonal, whatever the angle (default); margin: that "
-             "circle grown by the planning margin against the estimate's error; "
-             "swept: the cells the footprint, grown by the margin, sweeps through "
-             "the angle; small-swept: a turn up to 5 deg by its sweep, a larger one "
-             "by the disc")
+             "footprint's half diagonal, whatever the angle (the default before "
+             "2026-12-05); margin: that circle grown by the planning margin against the "
+             "estimate's error; swept (default): the cells the footprint, grown by the "
+             "margin, sweeps through the angle; small-swept: a turn up to 5 deg by its "
+             "sweep, a larger one by the disc")
     opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
         default=C.clearance_at,
         help="where in a passable cell the vehicle's centre may be: anywhere (the "

@@ -139,10 +139,36 @@ def test_room_35_turns_into_its_box_no_longer_with_the_margin():
     assert "hit something" not in res.reason
 
 
+def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
+    # the defaults, odometry noise seed 774 (bench/drive.py's room 774): look 4 showed
+    # four cells free 0.13 ft inside the box x -1.76..-0.88, z 5.12..6.0 (its front face
+    # has the floor's grey, 5); at look 9 the estimate is 0.04 ft and 1 deg off and the
+    # box 0.47 ft from the vehicle's centre, inside the 0.64 ft circle a pivot sweeps:
+    # pivot="disc" asks that circle seen free (it was, on those cells) and the pivot
+    # "turning to look", TURN -70, hits the box; pivot="swept" (the default since
+    # 2026-12-05 09:30) grows the footprint by the planning margin, as forward moves
+    # are, and the cells past the wrong ones were never seen: no such pivot.  The
+    # world's exact geometry counts it.
+    from planner.planning import random_goal
+    from world.odometry import OdometryNoise
+    from world.room import generate_room
+    room = generate_room(774)
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(774))
+    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12),
+                  noise=OdometryNoise(seed=774), keep_maps=False) for p in ("disc", "swept")}
+    assert DriveConfig.pivot == "swept"
+    assert res["disc"].collisions == 1 and "hit something" in res["disc"].reason
+    assert res["disc"].cycles[-1].command == "TURN -70"
+    assert res["swept"].collisions == 0 and "hit something" not in res["swept"].reason
+
+
 def test_rig_drive_and_the_bench_take_the_pivot_rules(monkeypatch, tmp_path):
     from rigtools import drive_config
     assert drive_config(monkeypatch, tmp_path, "--pivot", "margin").pivot == "margin"
-    assert drive_config(monkeypatch, tmp_path).pivot == "disc"          # the default
+    assert drive_config(monkeypatch, tmp_path).pivot == "swept"   # the default since 2026-12-05
+    assert drive_config(monkeypatch, tmp_path, "--pivot", "disc").pivot == "disc"
     assert drive_config(monkeypatch, tmp_path, "--pivot", "small-swept").pivot == "small-swept"
 
 
