@@ -257,9 +257,10 @@ def test_a_look_without_a_fix_widens_the_next_fixs_window():
     """``wall_fix_widen``: the tiny room as above (depth eyes, the head, odometry five
     times noisier, seed 3), the fix's window 2 sigma.  The first move throws the heading
     15 deg off, beyond the window: kept at 2 sigma the estimate stays that far off for
-    the next two looks and again for three after a later move, 12 looks in all; widened
-    by a sigma per look without a fix, it is found again at the second look after each
-    throw, and the goal is reached in fewer looks.  Out of range is refused by name."""
+    two looks and, after a later throw, for three, 12 looks in all; widened by a sigma per
+    look without a fix, no throw outlasts two looks (the first none: the first look,
+    with nothing to fix, had widened the window already), and the goal is reached in 8
+    looks.  Out of range is refused by name."""
     from planner.loop import DriveConfig, run, _check_config
     from planner.tiny import GOAL, tiny_room
     from rigtools import DRIVE_BEFORE_2026_12_04
