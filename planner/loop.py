@@ -695,7 +695,7 @@ def _check_config(cfg: DriveConfig) -> None:
         raise ValueError("pose 'walls' fixes the estimate against the room's walls: it needs "
                          "known_walls (the floor plan); use pose 'dead_reckoning'")
     if cfg.learn_floor != "off":
-        reach = cfg.learn_back_ft + cfg.profile.radius_ft
+        reach = step_back_reach_ft(cfg)
         if not 0 < cfg.learn_back_ft or reach > cfg.start_clear_ft:
             raise ValueError(f"learn_back_ft {cfg.learn_back_ft!r}: the step back and the "
                              f"turn there ({reach:.2f} ft) must stay inside the clear spot "
@@ -1251,6 +1251,12 @@ def steps_back(cfg: DriveConfig) -> bool:
     :meth:`Perception.update` reads no picture for them)."""
     return cfg.learn_floor == "step-back" and cfg.floor_eyes != "off" and \
         not (cfg.eyes == "depth" and cfg.floor_eyes in BOUNDING)
+
+
+def step_back_reach_ft(cfg: DriveConfig) -> float:
+    """How far from the start the step back reaches: ``learn_back_ft`` and the
+    turn's circle there (the footprint's half diagonal)."""
+    return cfg.learn_back_ft + cfg.profile.radius_ft
 
 
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,

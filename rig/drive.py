@@ -66,7 +66,7 @@ def frames_of(result, room):
 
 
 def cmd_drive(args) -> int:
-    from planner.loop import run, steps_back
+    from planner.loop import run, step_back_reach_ft, steps_back
     from rig.pictures import save_png
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
@@ -107,11 +107,11 @@ def cmd_drive(args) -> int:
     def fail(message):
         raise SystemExit(f"rig drive: {message}")
     cfg = loop_config(args, goal, fail)
-    back = cfg.learn_back_ft + cfg.profile.radius_ft
-    if steps_back(cfg) and room.clearance(start.x, start.z) < back:
-        fail(f"the start ({start.x:g}, {start.z:g}) ft is {room.clearance(start.x, start.z):.2f} "
-             f"ft from an obstacle or wall; the step back that learns the floor's grey "
-             f"needs {back:.2f} ft all round (--learn-floor off: no step back)")
+    back, clear = step_back_reach_ft(cfg), room.clearance(start.x, start.z)
+    if steps_back(cfg) and clear < back:
+        fail(f"the start ({start.x:g}, {start.z:g}) ft is {clear:.2f} ft from an obstacle or "
+             f"wall; the step back that learns the floor's grey needs {back:.2f} ft all round "
+             f"(--learn-floor off: no step back)")
     noise = None if args.no_noise else OdometryNoise(seed=args.seed)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

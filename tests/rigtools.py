@@ -20,6 +20,7 @@ from diskfmt.layouts import decode_bi, encode_bi, encode_ncont, decode_ncont, Co
 from diskfmt.rdos import JHData, LinkTimeout, ESTAR_LOCK
 from estar.program import in_process_rig
 from nstar.program import Nova
+from planner.loop import DriveConfig
 from rig.session import child_env, start_nstar as _start_nstar
 
 REPO = Path(__file__).resolve().parent.parent
@@ -267,7 +268,7 @@ def drive_config(monkeypatch, out, *options):
 # What the step back that learns the floor's grey (DriveConfig.learn_floor "step-back", the
 # default since 2026-12-05 09:30) adds to a drive's travel at most: the step itself and
 # the way back to where it began.  A path's optimum from the start does not hold it.
-STEP_BACK_FT = 2 * 1.25
+STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 
 # The drive's defaults before 2026-12-04 (docs/planner.md, "Fetching the evidence, the
 # drift and the grown walls"): a test that traced a drive under them pins them, so that
