@@ -68,6 +68,14 @@ STAND_INS = {"tenth": MIN_SHARE, "majority": 0.5 + 1e-9}
 BOUNDING = ("bound", "bound-add")          # the floor_eyes values whose picture bounds the assumption
 
 
+def reads_floor(floor_eyes: str, depth_eyes: bool) -> bool:
+    """Whether a look reads the floor's grey from its picture under ``floor_eyes``
+    (``DriveConfig.floor_eyes``): never under ``"off"``, nor with the depth eyes
+    (``depth_eyes``) under a bounding value: they assume nothing, so there is
+    nothing for the picture to bound."""
+    return floor_eyes != "off" and not (depth_eyes and floor_eyes in BOUNDING)
+
+
 @dataclass
 class FloorRays:
     """Where each pixel's ray meets the floor plane."""

@@ -29,7 +29,7 @@ import numpy as np
 from vehicle.sim import State
 from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
     BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed, \
-    raised_ends, within_heading
+    raised_ends, reads_floor, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, pose_point_covariance
@@ -483,9 +483,7 @@ class Perception:
             self._refute_through(scan_points, R, left, res)
         rays = top = proof_top = None
         bounded = self.floor_eyes in BOUNDING
-        # (depth eyes assume nothing, so "bound" has nothing to bound: no picture work)
-        if self.floor_eyes != "off" and picture is not None and \
-                not (bounded and depth is not None):
+        if picture is not None and reads_floor(self.floor_eyes, depth is not None):
             rays = floor_rays(R, left)
             pic = np.asarray(picture)
             if known is not None:

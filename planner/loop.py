@@ -132,7 +132,7 @@ import numpy as np
 from vehicle.commands import Back, Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
-from .appearance import BOUNDING, STAND_INS as STAND_IN_SHARES
+from .appearance import BOUNDING, STAND_INS as STAND_IN_SHARES, reads_floor
 from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
 from .drift import Odometry, erode_by_drift
 from .features import FloorFeatures
@@ -1246,11 +1246,8 @@ class Drive:
 
 def steps_back(cfg: DriveConfig) -> bool:
     """Whether the drive steps back before its first look (``learn_floor="step-back"``):
-    only where a look reads the floor's grey, so never under ``floor_eyes="off"``, nor
-    with the depth eyes under a bounding ``floor_eyes`` (they assume nothing, and
-    :meth:`Perception.update` reads no picture for them)."""
-    return cfg.learn_floor == "step-back" and cfg.floor_eyes != "off" and \
-        not (cfg.eyes == "depth" and cfg.floor_eyes in BOUNDING)
+    only where a look reads the floor's grey (:func:`planner.appearance.reads_floor`)."""
+    return cfg.learn_floor == "step-back" and reads_floor(cfg.floor_eyes, cfg.eyes == "depth")
 
 
 def step_back_reach_ft(cfg: DriveConfig) -> float:

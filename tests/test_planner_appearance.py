@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from planner.appearance import (ROWS, STAND_INS, floor_end, floor_greys, floor_proof, floor_rays,
+from planner.appearance import (BOUNDING, ROWS, STAND_INS, floor_end, floor_greys, floor_proof, floor_rays,
                                 floor_run, keep_before_hit, nearest_greys, run_reach,
                                 training_mask, vetoed)
 from planner.floormap import FREE, OCCUPIED, empty_map
@@ -696,3 +696,15 @@ def test_a_raised_edge_carries_along_the_runs_top_to_columns_without_a_point():
     # points nearer than min_range_ft (the loop passes the floor scan's 2.5 ft) are not used
     assert max(q.dp for q in on_edge) < 6.0
     assert (raised_ends(on_edge, rays, top, reach, min_range_ft=6.0) == reach).all()
+
+
+def test_a_look_reads_the_floor_except_off_or_depth_eyes_under_a_bound():
+    """The one predicate for both Perception.update's picture work and the
+    drive's step back: the depth eyes assume nothing, so a bounding
+    floor_eyes has nothing to bound."""
+    from planner.appearance import reads_floor
+    assert not reads_floor("off", False) and not reads_floor("off", True)
+    for eyes in BOUNDING:
+        assert reads_floor(eyes, False) and not reads_floor(eyes, True)
+    for eyes in ("carve", "veto", "add"):
+        assert reads_floor(eyes, False) and reads_floor(eyes, True)
