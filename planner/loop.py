@@ -684,6 +684,10 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
+    for name in ("max_looks", "max_stuck"):
+        if isinstance(getattr(cfg, name), bool) or not isinstance(getattr(cfg, name), int) \
+                or getattr(cfg, name) < 1:
+            raise ValueError(f"{name} {getattr(cfg, name)!r}: a count of looks, at least 1")
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
                          "assumes the fixed rig's pitch; use head 'fixed' with it, or pose "

@@ -182,8 +182,8 @@ LOOP_OPTION_GROUPS = (
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
-     ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress", "--reverse",
-      "--max-looks")),
+     ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
+      "--reverse", "--max-looks", "--max-stuck")),
 )
 
 
@@ -474,6 +474,9 @@ def add_loop_options(p) -> None:
     opt("--max-looks", type=int, default=C.max_looks, metavar="N",
         help=f"stop after N cycles, each one look of the fixed rig (default {C.max_looks}; "
              "under --head assist a cycle's added look of the head comes on top)")
+    opt("--max-stuck", type=int, default=C.max_stuck, metavar="N",
+        help=f"give up after N looks in a row without progress (--progress; default "
+             f"{C.max_stuck}), saying why")
 
 
 def first_look_note(cycles, slow_s: float = 1.0) -> str:
@@ -521,7 +524,7 @@ def loop_config(args, goal, fail):
     profile = replace(DEFAULT, reverse=args.reverse == "on", head=args.head == "pan-tilt",
                       margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                       max_looks=args.max_looks, eyes=args.eyes, match=args.match,
+                       max_looks=args.max_looks, max_stuck=args.max_stuck, eyes=args.eyes, match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
                        occupied=args.occupied, hit_at=args.hit_at,

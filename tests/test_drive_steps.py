@@ -152,3 +152,27 @@ def test_rig_drive_refuses_a_start_too_near_something_for_the_step_back(tmp_path
     assert not list(tmp_path.iterdir())
     cfg = drive_config(monkeypatch, tmp_path, "--start", "0,-3.2", "--learn-floor", "off")
     assert cfg.learn_floor == "off"
+
+
+def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tmp_path):
+    """A goal in the tiny room's box (x 1.2..2.6, z 3.5..4.5) is never
+    reachable and the vehicle never moves: the drive gives up after exactly
+    ``max_stuck`` looks, saying why; ``rig drive --max-stuck`` sets it, and a
+    count below 1 is refused."""
+    from planner.loop import run
+    from world.odometry import OdometryNoise
+    from rigtools import drive_config
+    assert DriveConfig.max_stuck == 8
+    assert drive_config(monkeypatch, tmp_path, "--max-stuck", "3").max_stuck == 3
+    for n in (2, 3):
+        res = run(tiny_room(), State(0.0, 0.0, 0.0),
+                  DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n),
+                  noise=OdometryNoise(seed=1))
+        assert len(res.cycles) == n
+        assert res.reason.startswith(f"stopped after {n} looks without progress: goal not "
+                                     "reachable")
+        assert not res.reached and res.collisions == 0
+    for name in ("max_stuck", "max_looks"):
+        for bad in (0, -1, 2.5, True):
+            with pytest.raises(ValueError, match=name):
+                _check_config(DriveConfig(goal=GOAL, **{name: bad}))
