@@ -17,7 +17,7 @@ taut, and time).
     python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
     python bench/drive.py --rooms 20 --first 21 --blank-carve unknown --carve error
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
-    python bench/drive.py --rooms 20 --goal-region disc           # plan to the goal's tolerance disc
+    python bench/drive.py --rooms 20 --goal-region point          # plan to the goal point (before 12-05)
     python bench/drive.py --rooms 20 --floor-eyes carve --losses  # the floor in view proves free space
     python bench/drive.py --first 101 --rooms 200 --floor-eyes off   # the blank-column assumption unbounded (the default before 2026-12-02)
     python bench/drive.py --rooms 20 --expire-uncertain 3 --losses  # once-hit cells in view expire

@@ -9,7 +9,7 @@ the defaults, collisions, path / optimum at most, looks per metre and the true
 box cells its final maps show free.
 
     python bench/drive_options.py --rooms 100                      # the built-in list below
-    python bench/drive_options.py --first 101 --rooms 200 --option "--reverse on" --option "--goal-region disc"
+    python bench/drive_options.py --first 101 --rooms 200 --option "--reverse on" --option "--goal-region point"
     python bench/drive_options.py --rooms 100 --eyes truth         # every option with oracle edges
 
 Each run's JSON is kept in ``--dir`` (one file per option, the name its flags), so
@@ -32,13 +32,13 @@ from pathlib import Path
 # the defaults of their day (docs/planner.md says where and why); last, the
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
 # the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
-# learn the floor, the fix's window never widened and the pivot's disc (the improved
-# matcher, the fill, the smallest turns unchecked, the step back, the widening and the
-# swept pivot are the defaults since 2026-12-05); the two heads.
+# learn the floor, the fix's window never widened, the pivot's disc and the goal planned
+# to as a point (the improved matcher, the fill, the smallest turns unchecked, the step
+# back, the widening, the swept pivot and the goal's disc are the defaults since
+# 2026-12-05); the two heads.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
-    "--goal-region disc",
     "--reverse on",
     "--progress evidence",
     "--uncertain look",
@@ -74,6 +74,7 @@ OPTIONS = [
     "--learn-floor off",
     "--wall-fix-widen 0",
     "--pivot disc",
+    "--goal-region point",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -327,13 +327,15 @@ class DriveConfig:
                                           # allows the one ending nearest the goal, inside
                                           # tolerance_ft - 0.1 (motion.disc_approach); "path":
                                           # the path's prefix only (the default before)
-    goal_region: str = "point"            # what the planner plans to: "point": the goal
-                                          # itself (refused when the map puts an obstacle
-                                          # within the planning radius of it); "disc": the
+    goal_region: str = "disc"             # what the planner plans to (not 1985): "disc"
+                                          # (the default since 2026-12-05 11:10): the
                                           # standable cell reachable from the estimate inside
                                           # the tolerance disc that is nearest the goal
-                                          # (goal_target); the loop's success test is the
-                                          # disc either way
+                                          # (goal_target), the goal itself where the vehicle
+                                          # may stand there; "point" (before): the goal
+                                          # itself, refused when the map puts an obstacle
+                                          # within the planning radius of it.  The loop's
+                                          # success test is the disc either way
     floor_eyes: str = "bound-add"         # what the picture shows of the floor (planner.appearance)
                                           # (planner.appearance, not 1985): "off"; "carve":
                                           # once the floor's grey is learned, each column's

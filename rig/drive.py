@@ -268,9 +268,11 @@ def add_loop_options(p) -> None:
              "the same safety rules allow that ends nearest the goal inside its "
              "tolerance less 0.1 ft; path: the path's safe prefix only (before)")
     opt("--goal-region", choices=GOALS, default=C.goal_region,
-        help="what the planner plans to: the goal point (default; refused when the "
-             "map puts an obstacle within the vehicle's radius of it) or the "
-             "standable cell nearest it inside the goal tolerance (0.75 ft)")
+        help="what the planner plans to: disc (default since 2026-12-05; not 1985): "
+             "the standable cell nearest the goal inside its tolerance less 0.1 ft, the "
+             "goal itself where the vehicle may stand there; point (before): the goal "
+             "itself, refused when the map puts an obstacle within the vehicle's radius "
+             "of it")
     opt("--floor-eyes", choices=FLOOR_EYES, default=C.floor_eyes,
         help="what the picture shows of the floor (not 1985; planner.appearance): "
              "bound-add (default since 2026-12-03): bound, and once the floor's grey "

@@ -62,21 +62,21 @@ def test_a_bad_count_is_refused(capsys):
 @pytest.mark.processes
 def test_the_script_runs_the_defaults_and_an_option_and_keeps_each_run(tmp_path, capsys):
     out = tmp_path / "table.json"
-    argv = ["--rooms", "1", "--first", "22", "--eyes", "truth", "--option", "--goal-region disc",
+    argv = ["--rooms", "1", "--first", "22", "--eyes", "truth", "--option", "--goal-region point",
             "--dir", str(tmp_path / "runs"), "--out", str(out)]
     assert drive_options.main(argv) == 0
     rows = json.loads(out.read_text())["rows"]
-    assert [r["option"] for r in rows] == ["(defaults)", "--goal-region disc"]
+    assert [r["option"] for r in rows] == ["(defaults)", "--goal-region point"]
     # room 22 is one the defaults reach with oracle edges (docs/planner.md)
     assert rows[0]["reached"] == [22] and rows[0]["collisions"] == 0
     kept = tmp_path / "runs" / "truth_22_22"
-    assert sorted(p.name for p in kept.glob("*.json")) == ["defaults.json", "goal_region_disc.json"]
+    assert sorted(p.name for p in kept.glob("*.json")) == ["defaults.json", "goal_region_point.json"]
     assert not list(kept.glob("*.part"))
     # a second call reads the kept runs instead of driving again
     (kept / "defaults.log").unlink()
     assert drive_options.main(argv) == 0
     assert not (kept / "defaults.log").exists()
-    assert "goal-region disc" in capsys.readouterr().out
+    assert "goal-region point" in capsys.readouterr().out
 
 
 @pytest.mark.processes

@@ -88,4 +88,5 @@ def test_goal_region_is_checked_and_reaches_the_loop_by_its_flags(tmp_path, monk
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, goal_region="area"))
     cfg = drive_config(monkeypatch, tmp_path, "--goal-region", "disc")
     assert cfg.goal_region == "disc"
-    assert drive_config(monkeypatch, tmp_path).goal_region == "point"
+    assert drive_config(monkeypatch, tmp_path).goal_region == "disc"      # since 2026-12-05
+    assert drive_config(monkeypatch, tmp_path, "--goal-region", "point").goal_region == "point"

@@ -122,13 +122,15 @@ def test_walls_needs_the_floor_plan_and_an_unknown_extent_is_one_clear_error():
     assert DriveConfig(goal=GOAL).map_extent == "seen"     # off by default
 
 
-def _drive(extent, barrier=True, by_goal=False):
+def _drive(extent, barrier=True, by_goal=False, **how):
     """A Drive in the plan ROOM whose model holds the barrier's cells (and with
     ``by_goal`` the cell x 0..0.25, z 9.5..9.75 beside the goal), hit twice (confirmed)
-    at a height inside the vehicle's band, as a look's hits enter it."""
+    at a height inside the vehicle's band, as a look's hits enter it; ``how``: more
+    DriveConfig fields."""
     room = Room("barrier", (), np.zeros((0, 3)), np.zeros((0, 2, 3)),
                 np.array([BARRIER] if barrier else np.zeros((0, 4))), ROOM)
-    d = Drive(room, START, DriveConfig(goal=GOAL, map_extent=extent), None, False, Perception)
+    d = Drive(room, START, DriveConfig(goal=GOAL, map_extent=extent, **how), None, False,
+              Perception)
     xz = np.zeros((0, 2))
     if barrier:
         xs = np.arange(BARRIER[0] + 0.125, BARRIER[1], 0.25)       # the cells' centres
@@ -175,12 +177,22 @@ def test_fallback_keeps_the_seen_map_where_the_walls_map_refuses_the_goal_too():
     # an obstacle cell beside the goal: its centre 2 cells from the goal cell's, (2 -
     # sqrt 2) x 0.25 = 0.146 ft by the bound, under R: the goal refused on either map,
     # so the wider map would only move the nearest reachable cell; the seen one stays
-    d = _drive("fallback", by_goal=True)
+    # (planned to as a point: the goal's disc, the default since 2026-12-05, has a standable
+    # cell in it on either map, so neither refuses the goal)
+    d = _drive("fallback", by_goal=True, goal_region="point")
     fm = d.drawn_map(START, "seen")
     wide = d.drawn_map(START, "walls")
     for m in (fm, wide):
         assert plan(m, START, GOAL, d.cfg)[2].startswith("goal not reachable (the goal")
     assert d.map_to_plan_on(fm, START) is fm
+    # planned to its disc the goal is not refused on the map out to the walls, which has a
+    # standable cell of the disc the vehicle's reaches: the fallback takes that map
+    disc = _drive("fallback", by_goal=True)
+    assert disc.cfg.goal_region == "disc"
+    fm, wide = disc.drawn_map(START, "seen"), disc.drawn_map(START, "walls")
+    assert plan(fm, START, GOAL, disc.cfg)[2].startswith("goal not reachable")
+    assert plan(wide, START, GOAL, disc.cfg)[2].startswith("path to the goal")
+    assert disc.map_to_plan_on(fm, START) is not fm
 
 
 def test_plan_walls_grown_by_two_sigma_of_the_estimate():
