@@ -25,9 +25,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from .verdict import (CONSTRAINTS, Constraints, LineData, Params, Verdict, confirm,
-                      judged_candidates, line_candidates, match_line, neighbour_lines, readmit,
-                      rematch_params, rematches)
+from .verdict import (CONSTRAINTS, Assignment, Constraints, LineData, Params, Verdict,
+                      assignment_verdicts, confirm, line_assignment, line_candidates,
+                      match_line, neighbour_lines, readmit, rematch_params, rematches,
+                      shares_assignment)
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
@@ -78,6 +79,11 @@ class ImprovedMatcher:
         if constraints.subpixel and vd is None:
             raise ValueError("the subpixel constraint needs the .VD pictures")
         self.constraints, self.params, self.vd = constraints, params, vd
+        # The two passes' rules, made once (not per line): the first pass
+        # without the neighbour constraint and the ambiguity rule, as match_lines.
+        self._first_rules = (replace(constraints, neighbours=False, subpixel=False),
+                             replace(params, min_confidence=0.0))
+        self._second_constraints = replace(constraints, subpixel=False)
         self._lines: dict[int, LineData] = {}
         self._first: dict[int, list[Verdict]] = {}
         self._second: dict[int, list[Verdict]] = {}
@@ -85,7 +91,7 @@ class ImprovedMatcher:
         self._rematch: dict[int, list[Verdict]] = {}
         self._confirms: dict[tuple[int, int], list[Verdict]] = {}
         self._cands: dict = {}
-        self._judged: dict = {}
+        self._assigned: dict[int, Assignment] = {}
         self._max_lines = max(MAX_CACHED_LINES, 2 * _reach(constraints, params) + 4)
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
@@ -121,7 +127,7 @@ class ImprovedMatcher:
             self._rematch.clear()
             self._confirms.clear()
             self._cands.clear()
-            self._judged.clear()
+            self._assigned.clear()
         self._lines[iyloc] = data
         while len(self._lines) > self._max_lines:
             old = next(iter(self._lines))
@@ -129,7 +135,7 @@ class ImprovedMatcher:
             self._first.pop(old, None)
             self._second.pop(old, None)
             self._cands.pop(old, None)
-            self._judged.pop(old, None)
+            self._assigned.pop(old, None)
             self._rematch.pop(old, None)
             for cache in (self._rounds, self._confirms):
                 for key in [k for k in cache if k[0] == old]:
@@ -147,6 +153,16 @@ class ImprovedMatcher:
             self._cands[y] = line_candidates(self._line(eclipse, y), self.params)
         return self._cands[y]
 
+    def _assignment(self, eclipse, y: int) -> Assignment:
+        """Line y's assignment as the first pass makes it: the second pass
+        shares it (unless ``neighbour_bonus``), and confirm weighs its
+        candidates."""
+        if y not in self._assigned:
+            cands = self._candidates(eclipse, y)      # (line y is held while they are)
+            self._assigned[y] = line_assignment(self._lines[y], cands, self._first_rules[0],
+                                                self.params)
+        return self._assigned[y]
+
     def _neighbours(self, eclipse, y: int) -> list[list[Verdict]]:
         if not self.constraints.neighbours:
             return []
@@ -156,11 +172,10 @@ class ImprovedMatcher:
     def _first_pass(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts without the neighbour constraint (as match_lines)."""
         if y not in self._first:
-            self._first[y] = match_line(self._line(eclipse, y),
-                                        replace(self.constraints, neighbours=False,
-                                                subpixel=False),
-                                        replace(self.params, min_confidence=0.0),
-                                        cands=self._candidates(eclipse, y))
+            constraints, params = self._first_rules
+            self._first[y] = assignment_verdicts(self._line(eclipse, y),
+                                                 self._assignment(eclipse, y),
+                                                 constraints, params)
         return self._first[y]
 
     def _readmitted(self, eclipse, y: int, rounds: int) -> list[Verdict]:
@@ -188,10 +203,7 @@ class ImprovedMatcher:
             # Held here, not looked up after the recursion below: fetching the
             # lines IY-22..IY+22 may push line y's entries out of the caches.
             data = self._line(eclipse, y)
-            judged = self._judged.get(y)
-            if judged is None:
-                judged = judged_candidates(self._candidates(eclipse, y), self.constraints, p)
-                self._judged[y] = judged
+            judged = self._assignment(eclipse, y).judged
             before = self._confirmed(eclipse, y, rounds - 1)
             around = [self._confirmed(eclipse, n, rounds - 1)
                       for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
@@ -206,7 +218,7 @@ class ImprovedMatcher:
         if y not in self._rematch:
             p2 = rematch_params(self.params)
             self._rematch[y] = match_line(
-                self._line(eclipse, y), replace(self.constraints, subpixel=False), p2,
+                self._line(eclipse, y), self._second_constraints, p2,
                 [self._second_pass(eclipse, n) for n in neighbour_lines(y, p2)
                  if 0 <= n <= 119], cands=self._candidates(eclipse, y))
         return self._rematch[y]
@@ -215,9 +227,14 @@ class ImprovedMatcher:
         """Line y's verdicts before re-admission (as match_lines)."""
         if y not in self._second:
             data = self._line(eclipse, y)
-            self._second[y] = match_line(data, replace(self.constraints, subpixel=False),
-                                         self.params, self._neighbours(eclipse, y),
-                                         cands=self._candidates(eclipse, y))
+            neighbours = self._neighbours(eclipse, y)
+            if shares_assignment(self.constraints, self.params):
+                self._second[y] = assignment_verdicts(data, self._assignment(eclipse, y),
+                                                      self._second_constraints, self.params,
+                                                      neighbours)
+            else:
+                self._second[y] = match_line(data, self._second_constraints, self.params,
+                                             neighbours, cands=self._candidates(eclipse, y))
         return self._second[y]
 
 

@@ -292,8 +292,36 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
     (left, right) .VD grey profiles of this line (:mod:`matching.subpixel`),
     needed when ``constraints.subpixel``.  ``cands``: the line's
     :func:`line_candidates` under ``params``, when already at hand."""
-    p = params
-    c = line_candidates(data, p) if cands is None else cands
+    c = line_candidates(data, params) if cands is None else cands
+    assigned = line_assignment(data, c, constraints, params, neighbours)
+    return assignment_verdicts(data, assigned, constraints, params, neighbours, profiles)
+
+
+@dataclass(frozen=True)
+class Assignment:
+    """A line's matches as the assignment chose them, before the rules that
+    judge each match on its own (neighbours, ambiguity, subpixel).
+
+    Why a stage of its own: the streaming matcher's two passes over a line
+    (without, then with the neighbour constraint) differ only after it, so
+    it makes the assignment once (:func:`shares_assignment`)."""
+    judged: Candidates             # the candidates as weighed (:func:`judged_candidates`)
+    reason: dict                   # left-edge position -> why it has no match, if none
+    chosen: dict                   # left-edge position -> its matched Verdict
+
+
+def shares_assignment(constraints: Constraints, params: Params) -> bool:
+    """Whether a line's assignment is the same with and without the neighbour
+    constraint: it is unless the neighbours' support is in the costs
+    (``neighbour_bonus``)."""
+    return not (constraints.neighbours and params.neighbour_bonus)
+
+
+def line_assignment(data: LineData, c: Candidates, constraints: Constraints, p: Params,
+                    neighbours=None) -> Assignment:
+    """The first stage of :func:`match_line` on the line's candidates ``c``:
+    lr, region, the assignment, each match's confidence, and
+    ``drop_farther_end``.  ``neighbours`` only for ``neighbour_bonus``."""
     reason = {int(i): "no candidate" for i in range(len(c.left))}
     has = set(c.i.tolist())
     for i in has:
@@ -307,6 +335,7 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
         c = _region_weighted(c, p)
         for i in has - set(c.i.tolist()):
             reason[i] = "no region partner"
+    judged = c
     evidence = c.cost                       # what a verdict reports as its cost
     if constraints.neighbours and p.neighbour_bonus:
         c = replace(c, cost=c.cost - p.neighbour_bonus * _support(c, neighbours or (), p))
@@ -321,19 +350,29 @@ def match_line(data: LineData, constraints: Constraints = Constraints(),
                          float(evidence[k]), conf)
     if p.drop_farther_end:
         out = dict(zip(out, farther_ends_dropped(list(out.values()), p.region_tolerance)))
+    return Assignment(judged, reason, out)
+
+
+def assignment_verdicts(data: LineData, a: Assignment, constraints: Constraints, p: Params,
+                        neighbours=None, profiles=None) -> list[Verdict]:
+    """The second stage of :func:`match_line`: the neighbour and ambiguity
+    rules (and subpixel) on the assignment's matches, a "no match" for every
+    other edge; sorted by edge number."""
+    out = a.chosen
     if constraints.neighbours:
         lines = [[(n.edge > 50, n.x, n.disparity) for n in line if n.matched]
                  for line in neighbours or ()]
         out = {i: _neighbour_check(v, lines, p) for i, v in out.items()}
-    for i, v in list(out.items()):
-        if v.matched and v.confidence < p.min_confidence:
-            out[i] = replace(v, matched=False, reason="ambiguous")
+    out = {i: (replace(v, matched=False, reason="ambiguous")
+               if v.matched and v.confidence < p.min_confidence else v)
+           for i, v in out.items()}
     if constraints.subpixel and profiles is not None:
         from .subpixel import refine_verdicts
         out = dict(zip(out, refine_verdicts(list(out.values()), data, profiles,
                                             p.subpixel_max_change)))
+    left = a.judged.left
     verdicts = [out.get(i) or Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), False,
-                                      reason[i]) for i in range(len(left))]
+                                      a.reason[i]) for i in range(len(left))]
     return sorted(verdicts, key=lambda v: v.edge)
 
 
