@@ -27,8 +27,8 @@ import numpy as np
 
 from .verdict import (CONSTRAINTS, Assignment, Constraints, LineData, Params, Verdict,
                       assignment_verdicts, confirm, line_assignment, line_candidates,
-                      match_line, neighbour_lines, readmit, rematch_params, rematches,
-                      shares_assignment)
+                      match_line, matched_edges, neighbour_lines, readmit, rematch_params,
+                      rematches, shares_assignment)
 
 MODES = ("1985", "improved")
 MAX_CACHED_LINES = 24
@@ -90,6 +90,7 @@ class ImprovedMatcher:
         self._rounds: dict[tuple[int, int], list[Verdict]] = {}
         self._rematch: dict[int, list[Verdict]] = {}
         self._confirms: dict[tuple[int, int], list[Verdict]] = {}
+        self._matches: dict[tuple[int, int], list] = {}   # matched_edges of _confirmed
         self._cands: dict = {}
         self._assigned: dict[int, Assignment] = {}
         self._max_lines = max(MAX_CACHED_LINES, 2 * _reach(constraints, params) + 4)
@@ -126,6 +127,7 @@ class ImprovedMatcher:
             self._rounds.clear()
             self._rematch.clear()
             self._confirms.clear()
+            self._matches.clear()
             self._cands.clear()
             self._assigned.clear()
         self._lines[iyloc] = data
@@ -137,7 +139,7 @@ class ImprovedMatcher:
             self._cands.pop(old, None)
             self._assigned.pop(old, None)
             self._rematch.pop(old, None)
-            for cache in (self._rounds, self._confirms):
+            for cache in (self._rounds, self._confirms, self._matches):
                 for key in [k for k in cache if k[0] == old]:
                     del cache[key]
 
@@ -205,10 +207,19 @@ class ImprovedMatcher:
             data = self._line(eclipse, y)
             judged = self._assignment(eclipse, y).judged
             before = self._confirmed(eclipse, y, rounds - 1)
-            around = [self._confirmed(eclipse, n, rounds - 1)
-                      for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
-            self._confirms[key] = confirm(data, before, around, p, judged)
+            ns = [n for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
+            around = [self._confirmed(eclipse, n, rounds - 1) for n in ns]
+            matches = [self._matched_edges(n, rounds - 1, v) for n, v in zip(ns, around)]
+            self._confirms[key] = confirm(data, before, around, p, judged, matches=matches)
         return self._confirms[key]
+
+    def _matched_edges(self, y: int, rounds: int, verdicts: list[Verdict]) -> list:
+        """``matched_edges(verdicts)``, line y's verdicts after ``rounds`` confirm
+        passes, made once: they vouch for the lines IY-7..IY+7 in turn."""
+        key = (y, rounds)
+        if key not in self._matches:
+            self._matches[key] = matched_edges(verdicts)
+        return self._matches[key]
 
     def _base(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts before re-admission: the second pass, or with

@@ -270,15 +270,25 @@ def _choose(c: Candidates, constraints: Constraints, p: Params):
     return np.array(chosen, dtype=np.int64), marginal
 
 
-def _confidence(c: Candidates, k: int, marginal: np.ndarray, p: Params) -> float:
-    """Margin of match ``k`` over its best rival (another partner of either of
-    its edges), and over leaving it out, in units of 2 x occlusion."""
-    rivals = ((c.i == c.i[k]) | (c.j == c.j[k]))
-    rivals[k] = False
-    gap = 2.0 * p.occlusion - float(c.cost[k])
-    if rivals.any():
-        gap = min(gap, float(marginal[rivals].min() - marginal[k]))
-    return min(1.0, max(0.0, gap / (2.0 * p.occlusion)))
+def _confidences(c: Candidates, chosen: np.ndarray, marginal: np.ndarray,
+                 p: Params) -> list[float]:
+    """For each chosen match k: its margin over its best rival (another
+    partner of either of its edges), and over leaving it out, in units of
+    2 x occlusion.  All the line's matches at once: one rivals matrix, not a
+    pass over the candidates per match."""
+    if len(chosen) == 0:
+        return []
+    rivals = (c.i[chosen, None] == c.i[None, :]) | (c.j[chosen, None] == c.j[None, :])
+    rivals[np.arange(len(chosen)), chosen] = False
+    best_rival = np.where(rivals, marginal[None, :], np.inf).min(axis=1)
+    out = []
+    for k, rival, has_rival in zip(chosen.tolist(), best_rival.tolist(),
+                                   rivals.any(axis=1).tolist()):
+        gap = 2.0 * p.occlusion - float(c.cost[k])
+        if has_rival:
+            gap = min(gap, rival - float(marginal[k]))
+        out.append(min(1.0, max(0.0, gap / (2.0 * p.occlusion))))
+    return out
 
 
 def match_line(data: LineData, constraints: Constraints = Constraints(),
@@ -342,9 +352,8 @@ def line_assignment(data: LineData, c: Candidates, constraints: Constraints, p: 
     chosen, marginal = _choose(c, constraints, p)
     out: dict[int, Verdict] = {}
     left = c.left
-    for k in chosen.tolist():
+    for k, conf in zip(chosen.tolist(), _confidences(c, chosen, marginal, p)):
         i = int(c.i[k])
-        conf = _confidence(c, k, marginal, p)
         out[i] = Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), True, "matched",
                          int(c.right.edge[c.j[k]]), float(c.loc1[k]), float(c.loc2[k]),
                          float(evidence[k]), conf)
@@ -360,8 +369,7 @@ def assignment_verdicts(data: LineData, a: Assignment, constraints: Constraints,
     other edge; sorted by edge number."""
     out = a.chosen
     if constraints.neighbours:
-        lines = [[(n.edge > 50, n.x, n.disparity) for n in line if n.matched]
-                 for line in neighbours or ()]
+        lines = [matched_edges(line) for line in neighbours or ()]
         out = {i: _neighbour_check(v, lines, p) for i, v in out.items()}
     out = {i: (replace(v, matched=False, reason="ambiguous")
                if v.matched and v.confidence < p.min_confidence else v)
@@ -402,8 +410,14 @@ def farther_ends_dropped(verdicts: list[Verdict], tolerance: float) -> list[Verd
     return out
 
 
+def matched_edges(verdicts: list[Verdict]) -> list[tuple[bool, int, float]]:
+    """A line's matches as its neighbouring lines' rules read them:
+    (right end?, x, disparity) of each matched edge."""
+    return [(v.edge > 50, v.x, v.disparity) for v in verdicts if v.matched]
+
+
 def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
-    """``lines``: per neighbouring line, its matches as (right end?, x, disparity)."""
+    """``lines``: per neighbouring line, its :func:`matched_edges`."""
     if not v.matched:
         return v
     support = 0
@@ -416,7 +430,10 @@ def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
         if p.unsupported_factor is not None:
             return replace(v, confidence=v.confidence * p.unsupported_factor)
         return replace(v, matched=False, reason="not on a vertical line")
-    return replace(v, confidence=v.confidence * min(1.0, 0.75 + 0.125 * support))
+    factor = min(1.0, 0.75 + 0.125 * support)
+    if factor == 1.0:                 # the confidence times 1 is itself: no new verdict
+        return v
+    return replace(v, confidence=v.confidence * factor)
 
 
 def neighbour_lines(iyloc: int, params: Params, reach: int | None = None) -> list[int]:
@@ -475,7 +492,7 @@ CONFIRMABLE = ("occluded", "not on a vertical line", "ambiguous")
 
 def confirm(data: LineData, verdicts: list[Verdict], neighbours,
             params: Params = Params(), cands: Candidates | None = None,
-            constraints: Constraints = Constraints()) -> list[Verdict]:
+            constraints: Constraints = Constraints(), matches=None) -> list[Verdict]:
     """The ``confirm`` pass: a second look at the edges the line's rules
     dropped.  An edge left without a match for a reason in
     :data:`CONFIRMABLE` keeps its *own* choice: the partner the assignment
@@ -497,7 +514,9 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     taken.  Edges are visited along the line, each confirmed match counting
     as used at once.  Reason "confirmed"; confidence = the share of the
     neighbouring lines that agree times 1 - cost/256.  ``cands``: the line's
-    :func:`judged_candidates` under ``constraints``, when already at hand."""
+    :func:`judged_candidates` under ``constraints``, when already at hand;
+    ``matches``: the :func:`matched_edges` of each of ``neighbours``, when
+    already at hand (every line's verdicts vouch for fourteen others)."""
     p = params
     c = judged_candidates(line_candidates(data, p), constraints, p) if cands is None else cands
     if len(c) == 0:
@@ -505,8 +524,7 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     pos1 = {int(e): i for i, e in enumerate(c.left.edge)}
     pos2 = {int(e): j for j, e in enumerate(c.right.edge)}
     pairs = sorted((pos1[v.edge], pos2[v.partner]) for v in verdicts if v.matched)
-    lines = [[(n.edge > 50, n.x, n.disparity) for n in line if n.matched]
-             for line in neighbours]
+    lines = [matched_edges(line) for line in neighbours] if matches is None else matches
     n_lines = max(1, len(neighbours))
     by_edge = {v.edge: v for v in verdicts}
     for v in sorted(verdicts, key=lambda v: pos1[v.edge]):

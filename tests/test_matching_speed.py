@@ -1,0 +1,112 @@
+"""The improved matcher's faster scan gives the same scan, bit for bit.
+
+``planner.loop.scan_look(..., "improved")`` is the bulk of the drive loop's
+cycle, so the streaming matcher shares work between its passes and lines.  None of it may change a
+result: tests/data/improved_scans.json.gz holds looks of generated rooms (the
+pictures, rendered by world.render) with their scans as the plain matcher
+(commit add8861, before the speed-up) gave them, every located point and
+every verdict with its floats as ``repr`` writes them (exactly).  To write it
+again from a tree of that commit::
+
+    PYTHONPATH=<tree> python tests/test_matching_speed.py
+"""
+
+from __future__ import annotations
+
+import base64
+import gzip
+import json
+import sys
+from dataclasses import astuple
+from pathlib import Path
+
+import numpy as np
+
+FIXTURE = Path(__file__).parent / "data" / "improved_scans.json.gz"
+LOOKS = ((1, 1), (2, 3), (3, 0))        # (generated room, look of its generated walk)
+
+
+def scan_record(scan) -> dict:
+    """A scan's points and verdicts as JSON text per line (floats by repr)."""
+    return {"points": json.dumps([astuple(p) for p in scan.points]),
+            "lines": {str(r.iyloc): json.dumps([astuple(v) for v in r.verdicts])
+                      for r in scan.results},
+            "requests": scan.requests}
+
+
+def render_fixture_looks():
+    """The pictures of :data:`LOOKS`, as the drive renders a look (2x2 rays per pixel)."""
+    from world.render import render_look
+    from world.room import generate_room
+    from world.walk import generate_walk
+    out = []
+    for seed, k in LOOKS:
+        room = generate_room(seed)
+        look = render_look(room, generate_walk(room, seed, k + 1)[k], seed=1000 * seed + k,
+                           supersample=2)
+        out.append((look.left_bi, look.right_bi))
+    return out
+
+
+def write_fixture() -> None:
+    from planner.loop import DriveConfig, scan_look
+    lines = DriveConfig.__dataclass_fields__["lines"].default
+    looks = []
+    for left, right in render_fixture_looks():
+        looks.append({"left": base64.b64encode(left.astype(np.uint8).tobytes()).decode(),
+                      "right": base64.b64encode(right.astype(np.uint8).tobytes()).decode(),
+                      "shape": list(left.shape), "dtype": str(left.dtype), "lines": list(lines),
+                      "scan": scan_record(scan_look(left, right, lines, "improved"))})
+    FIXTURE.parent.mkdir(exist_ok=True)
+    FIXTURE.write_bytes(gzip.compress(json.dumps(looks).encode(), mtime=0))
+
+
+def fixture_looks():
+    for look in json.loads(gzip.decompress(FIXTURE.read_bytes())):
+        pictures = [np.frombuffer(base64.b64decode(look[k]), dtype=np.uint8)
+                    .reshape(look["shape"]).astype(look["dtype"]) for k in ("left", "right")]
+        yield pictures, tuple(look["lines"]), look["scan"]
+
+
+def test_the_scan_of_a_look_is_the_plain_matchers_bit_for_bit():
+    from planner.loop import scan_look
+    reasons = set()
+    for (left, right), lines, want in fixture_looks():
+        got = scan_record(scan_look(left, right, lines, "improved"))
+        assert got["requests"] == want["requests"]
+        for y in want["lines"]:
+            assert got["lines"][y] == want["lines"][y], f"line {y}"
+            reasons |= {v[4] for v in json.loads(want["lines"][y])}
+        assert got["points"] == want["points"]
+    # the looks exercise every rule of the default five
+    assert {"matched", "confirmed", "occluded", "not on a vertical line", "ambiguous",
+            "not mutual", "no candidate"} <= reasons
+
+
+def test_the_fixtures_pictures_are_the_renderers():
+    """The stored pictures are the looks world.render gives today (else the
+    fixture no longer names what it claims to)."""
+    for (left, right), ((want_l, want_r), _, _) in zip(render_fixture_looks(), fixture_looks()):
+        assert np.array_equal(left, want_l) and np.array_equal(right, want_r)
+
+
+def test_the_streaming_matcher_equals_the_batch_api_on_a_rendered_look():
+    """ESTAR line by line with the matcher (its shared assignment, its kept
+    neighbour matches) against match_lines, the plain batch form, on the
+    1985 lists of every line of a look."""
+    from estar.program import in_process_rig
+    from matching import Constraints, match_lines
+    from matching.mode import make_matcher
+    from rig.scan import run_lines
+    (left, right), _, _ = next(fixture_looks())
+    streamed = run_lines(in_process_rig(left, right, matcher=make_matcher("improved")),
+                         range(30, 60, 3))
+    faithful = run_lines(in_process_rig(left, right), range(0, 120))
+    batch = match_lines(faithful.results, Constraints())
+    for r in streamed.results:
+        assert r.verdicts == batch[r.iyloc], r.iyloc
+
+
+if __name__ == "__main__":
+    write_fixture()
+    sys.exit(0)
