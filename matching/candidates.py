@@ -13,6 +13,8 @@ directions, so that the constraints of :mod:`matching.assign` can weigh it:
   the feature's width), ties to the shift nearest zero, as MARF breaks them
   (:func:`shape_cost` equals MARF's shift search (``estar.marf.marf_kernel``) with ``cap_overflow``);
   the 1985 16-bit overflow (ND >= 128 counts as 256) is not kept by default;
+  :func:`candidates` runs the same search compiled, pair by pair
+  (:func:`best_shift`: a slice has a few edges, too few for array steps to pay);
 * the right-slice location is ``x2 - shift`` (the sign the geometry implies,
   the E7 fix; the 1985 sign is ``x2 + shift``) when ``use_shift``, else the
   feature index itself;
@@ -25,6 +27,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from diskfmt.jit import jit
 
 NPIX = 128
 EDISP = 1
@@ -67,9 +71,8 @@ def slice_edges(features) -> SliceEdges:
         right = max(min(right, width), 0)
         rows.append((start, 0, k, lg, k, left))
         rows.append((stop, 1, k + 50, rg, k, right))
-    rows.sort(key=lambda r: (r[0], r[1], r[2]))
-    cols = list(zip(*rows)) if rows else [()] * 6
-    arr = [np.asarray(c, dtype=np.int64) for c in cols]
+    rows.sort()                           # by (x, side, edge): the edge numbers are unique
+    arr = np.array(rows, dtype=np.int64).reshape(-1, 6).T.copy()
     return SliceEdges(edge=arr[2], x=arr[0], side=arr[1], grey=arr[3], feature=arr[4],
                       bound=arr[5])
 
@@ -147,6 +150,52 @@ class Candidates:
                           self.shape[keep], self.shift[keep], self.loc1[keep], self.loc2[keep])
 
 
+@jit
+def best_shift(map1, map2, bound, cap_overflow, pop):
+    """:func:`shape_costs` of one pair, as a loop: ``map1``/``map2`` the two
+    17-word maps (flag word first).  Returns (shift, mismatch)."""
+    best_s, best_v = 0, 256
+    for k in range(2 * min(bound, 15) + 1):
+        off = (k + 1) // 2
+        s = off if k % 2 == 0 else -off         # MARF's order: 0, -1, 1, -2, 2 ...
+        n1 = n2 = nd = 0
+        for t in range(16 - off):
+            a = map1[1 + t + (off if s > 0 else 0)] & 0xFFFF
+            b = map2[1 + t + (off if s < 0 else 0)] & 0xFFFF
+            n1 += pop[a]
+            n2 += pop[b]
+            nd += pop[a ^ b]
+        val = 256
+        if n1 + n2 != 0 and not (cap_overflow and nd >= 128):
+            val = (nd * 256) // (n1 + n2)
+        if val < best_v:                        # only a strictly smaller mismatch
+            best_s, best_v = s, val
+    return best_s, best_v
+
+
+@jit
+def admissible_pairs(left, maps1, right, maps2, use_shift, max_disparity, cap_overflow, pop,
+                     out):
+    """The pairs :func:`candidates` keeps, in the order of the left edges then
+    the right ones: ``left``/``right`` rows (x, side, grey, bound) of the two
+    slices' edges, ``maps1``/``maps2`` their 17-word maps.  Writes rows (i, j,
+    shift, mismatch) into ``out``; returns how many."""
+    n = 0
+    for i in range(left.shape[1]):
+        for j in range(right.shape[1]):
+            if (left[1, i] != right[1, j] or abs(left[2, i] - right[2, j]) > GREY_TOLERANCE
+                    or maps1[i, 0] != 1 or maps2[j, 0] != 1
+                    or left[0, i] - right[0, j] <= -16):     # cannot come back above EDISP
+                continue
+            shift, mismatch = best_shift(maps1[i], maps2[j], min(left[3, i], right[3, j]),
+                                         cap_overflow, pop)
+            d = left[0, i] - (right[0, j] - (shift if use_shift else 0))
+            if d > EDISP and d <= max_disparity:
+                out[n, 0], out[n, 1], out[n, 2], out[n, 3] = i, j, shift, mismatch
+                n += 1
+    return n
+
+
 def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
                grey_penalty: float = 16.0, max_disparity: float = NPIX,
                cap_overflow: bool = False, width_penalty: float = 0.0) -> Candidates:
@@ -154,30 +203,25 @@ def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
     fetched (flag word 1), scored by shape; only those with a disparity above
     EDISP (and at most ``max_disparity``) are kept."""
     left, right = slice_edges(features1), slice_edges(features2)
-    m1 = np.asarray(maps1, dtype=np.int64)
-    m2 = np.asarray(maps2, dtype=np.int64)
     if len(left) == 0 or len(right) == 0:
         empty = np.zeros(0, dtype=np.int64)
         return Candidates(left, right, empty, empty, empty.astype(float), empty, empty,
                           empty.astype(float), empty.astype(float))
-    ii, jj = np.meshgrid(np.arange(len(left)), np.arange(len(right)), indexing="ij")
-    ii, jj = ii.ravel(), jj.ravel()
+    # a few edges a slice: one compiled pass over the pairs, not array steps
+    # on arrays of a few elements
+    out = np.empty((len(left) * len(right), 4), dtype=np.int64)
+    n = admissible_pairs(np.stack((left.x, left.side, left.grey, left.bound)),
+                         np.asarray(maps1, dtype=np.int64)[left.edge - 1],
+                         np.stack((right.x, right.side, right.grey, right.bound)),
+                         np.asarray(maps2, dtype=np.int64)[right.edge - 1],
+                         use_shift, float(max_disparity), cap_overflow, _POP, out)
+    ii, jj, shift, shape = out[:n].T.copy()
     gd = np.abs(left.grey[ii] - right.grey[jj])
-    ok = (left.side[ii] == right.side[jj]) & (gd <= GREY_TOLERANCE)
-    ok &= (m1[left.edge[ii] - 1, 0] == 1) & (m2[right.edge[jj] - 1, 0] == 1)
-    ok &= left.x[ii] - right.x[jj] > -16          # cannot come back above EDISP
-    ii, jj, gd = ii[ok], jj[ok], gd[ok]
-    bounds = np.minimum(left.bound[ii], right.bound[jj])
-    shift, shape = shape_costs(m1[left.edge[ii] - 1, 1:17], m2[right.edge[jj] - 1, 1:17],
-                               bounds, cap_overflow)
     loc1 = left.x[ii].astype(np.float64)
     loc2 = (right.x[jj] - (shift if use_shift else 0)).astype(np.float64)
-    d = loc1 - loc2
-    keep = (d > EDISP) & (d <= max_disparity)
     cost = shape + grey_penalty * gd
     if width_penalty:
         w1 = np.array([f[1] - f[0] for f in features1], dtype=np.int64)
         w2 = np.array([f[1] - f[0] for f in features2], dtype=np.int64)
         cost = cost + width_penalty * np.abs(w1[left.feature[ii] - 1] - w2[right.feature[jj] - 1])
-    c = Candidates(left, right, ii, jj, cost.astype(np.float64), shape, shift, loc1, loc2)
-    return c.subset(keep)
+    return Candidates(left, right, ii, jj, cost.astype(np.float64), shape, shift, loc1, loc2)

@@ -1,7 +1,8 @@
 """The improved matcher's faster scan gives the same scan, bit for bit.
 
 ``planner.loop.scan_look(..., "improved")`` is the bulk of the drive loop's
-cycle, so the streaming matcher shares work between its passes and lines.  None of it may change a
+cycle, so the streaming matcher shares work between its passes and lines and
+finds a line's candidate pairs in one compiled pass.  None of it may change a
 result: tests/data/improved_scans.json.gz holds looks of generated rooms (the
 pictures, rendered by world.render) with their scans as the plain matcher
 (commit add8861, before the speed-up) gave them, every located point and
@@ -105,6 +106,58 @@ def test_the_streaming_matcher_equals_the_batch_api_on_a_rendered_look():
     batch = match_lines(faithful.results, Constraints())
     for r in streamed.results:
         assert r.verdicts == batch[r.iyloc], r.iyloc
+
+
+def _fixture_lines():
+    from matching.verdict import LineData
+    from rig.scan import run_lines
+    from estar.program import in_process_rig
+    out = []
+    for (left, right), _, _ in fixture_looks():
+        scan = run_lines(in_process_rig(left, right), range(0, 120, 4))
+        out += [LineData.of(r) for r in scan.results if r.features1 and r.features2]
+    return out
+
+
+def test_the_compiled_pair_search_equals_its_plain_python_and_marfs_shift_search():
+    from matching.candidates import _POP, admissible_pairs, best_shift, shape_costs, slice_edges
+    plain_pairs = getattr(admissible_pairs, "py_func", admissible_pairs)
+    plain_shift = getattr(best_shift, "py_func", best_shift)
+    lines = _fixture_lines()
+    assert len(lines) > 20
+    found = 0
+    for d in lines:
+        left, right = slice_edges(d.features1), slice_edges(d.features2)
+        rows1 = np.stack((left.x, left.side, left.grey, left.bound))
+        rows2 = np.stack((right.x, right.side, right.grey, right.bound))
+        maps1, maps2 = d.maps1[left.edge - 1], d.maps2[right.edge - 1]
+        for use_shift, cap in ((True, False), (False, True)):
+            outs = []
+            for fn in (admissible_pairs, plain_pairs):
+                out = np.full((len(left) * len(right), 4), -7, dtype=np.int64)
+                outs.append((fn(rows1, maps1, rows2, maps2, use_shift, 128.0, cap, _POP, out),
+                             out))
+            assert outs[0][0] == outs[1][0] and np.array_equal(outs[0][1], outs[1][1])
+            n, out = outs[0]
+            found += n
+            # every pair's shift and mismatch are the array search's (shape_costs)
+            for i, j, s, v in out[:n]:
+                bound = min(left.bound[i], right.bound[j])
+                want = shape_costs(maps1[i][None, 1:], maps2[j][None, 1:], np.array([bound]),
+                                   cap)
+                assert (s, v) == (want[0][0], want[1][0])
+                assert best_shift(maps1[i], maps2[j], bound, cap, _POP) == (s, v) \
+                    == plain_shift(maps1[i], maps2[j], bound, cap, _POP)
+    assert found > 50
+    # random maps, every bound, both overflow rules
+    r = np.random.default_rng(5)
+    for _ in range(200):
+        m1 = np.concatenate(([1], r.integers(-32768, 32768, 16)))
+        m2 = np.concatenate(([1], r.integers(0, 1 << 16, 16) & r.integers(0, 1 << 16, 16)))
+        bound = int(r.integers(0, 20))
+        for cap in (False, True):
+            s, v = shape_costs(m1[None, 1:], m2[None, 1:], np.array([bound]), cap)
+            assert best_shift(m1, m2, bound, cap, _POP) == (s[0], v[0])
 
 
 if __name__ == "__main__":
