@@ -149,6 +149,11 @@ class Candidates:
         return Candidates(self.left, self.right, self.i[keep], self.j[keep], self.cost[keep],
                           self.shape[keep], self.shift[keep], self.loc1[keep], self.loc2[keep])
 
+    def with_cost(self, cost: np.ndarray) -> "Candidates":
+        """The same pairs at other costs (a constraint's penalty or bonus)."""
+        return Candidates(self.left, self.right, self.i, self.j, cost, self.shape, self.shift,
+                          self.loc1, self.loc2)
+
 
 @jit
 def best_shift(map1, map2, bound, cap_overflow, pop):

@@ -94,6 +94,10 @@ class ImprovedMatcher:
         self._cands: dict = {}
         self._assigned: dict[int, Assignment] = {}
         self._max_lines = max(MAX_CACHED_LINES, 2 * _reach(constraints, params) + 4)
+        self._rematches = rematches(constraints, params)
+        self._shares_assignment = shares_assignment(constraints, params)
+        # the rounds a line's entry may have in _rounds, _confirms, _matches
+        self._round_keys = range(max(params.confirm_rounds, params.readmit_rounds) + 1)
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
         """LCLN's hook: (tables for LCSL, verdicts) of line IY."""
@@ -139,9 +143,9 @@ class ImprovedMatcher:
             self._cands.pop(old, None)
             self._assigned.pop(old, None)
             self._rematch.pop(old, None)
-            for cache in (self._rounds, self._confirms, self._matches):
-                for key in [k for k in cache if k[0] == old]:
-                    del cache[key]
+            for r in self._round_keys:
+                for cache in (self._rounds, self._confirms, self._matches):
+                    cache.pop((old, r), None)
 
     def _line(self, eclipse, y: int) -> LineData:
         if y not in self._lines:
@@ -196,11 +200,14 @@ class ImprovedMatcher:
         return self._rounds[key]
 
     def _confirmed(self, eclipse, y: int, rounds: int) -> list[Verdict]:
-        """Line y's verdicts after ``rounds`` confirm passes (as match_lines)."""
-        if rounds == 0:
-            return self._base(eclipse, y)
+        """Line y's verdicts after ``rounds`` confirm passes (as match_lines);
+        kept for round 0 too, the one every line's first pass asks 15 times."""
         key = (y, rounds)
-        if key not in self._confirms:
+        if key in self._confirms:
+            return self._confirms[key]
+        if rounds == 0:
+            self._confirms[key] = self._base(eclipse, y)
+        else:
             p = self.params
             # Held here, not looked up after the recursion below: fetching the
             # lines IY-22..IY+22 may push line y's entries out of the caches.
@@ -224,7 +231,7 @@ class ImprovedMatcher:
     def _base(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts before re-admission: the second pass, or with
         ``rematch_bonus`` the line assigned again (as match_lines)."""
-        if not rematches(self.constraints, self.params):
+        if not self._rematches:
             return self._second_pass(eclipse, y)
         if y not in self._rematch:
             p2 = rematch_params(self.params)
@@ -239,7 +246,7 @@ class ImprovedMatcher:
         if y not in self._second:
             data = self._line(eclipse, y)
             neighbours = self._neighbours(eclipse, y)
-            if shares_assignment(self.constraints, self.params):
+            if self._shares_assignment:
                 self._second[y] = assignment_verdicts(data, self._assignment(eclipse, y),
                                                       self._second_constraints, self.params,
                                                       neighbours)

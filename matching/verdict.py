@@ -332,7 +332,9 @@ def line_assignment(data: LineData, c: Candidates, constraints: Constraints, p: 
     """The first stage of :func:`match_line` on the line's candidates ``c``:
     lr, region, the assignment, each match's confidence, and
     ``drop_farther_end``.  ``neighbours`` only for ``neighbour_bonus``."""
-    reason = {int(i): "no candidate" for i in range(len(c.left))}
+    reason = {i: "no candidate" for i in range(len(c.left))}
+    if len(c) == 0:                   # most lines of a look: nothing for the rules to weigh
+        return Assignment(c, reason, {})
     has = set(c.i.tolist())
     for i in has:
         reason[i] = "occluded"
@@ -348,7 +350,7 @@ def line_assignment(data: LineData, c: Candidates, constraints: Constraints, p: 
     judged = c
     evidence = c.cost                       # what a verdict reports as its cost
     if constraints.neighbours and p.neighbour_bonus:
-        c = replace(c, cost=c.cost - p.neighbour_bonus * _support(c, neighbours or (), p))
+        c = c.with_cost(c.cost - p.neighbour_bonus * _support(c, neighbours or (), p))
     chosen, marginal = _choose(c, constraints, p)
     out: dict[int, Verdict] = {}
     left = c.left
@@ -420,12 +422,10 @@ def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
     """``lines``: per neighbouring line, its :func:`matched_edges`."""
     if not v.matched:
         return v
-    support = 0
-    side, d = v.edge > 50, v.disparity
-    for line in lines:
-        if any(s == side and abs(x - v.x) <= p.neighbour_dx and abs(nd - d) <= p.neighbour_dd
-               for s, x, nd in line):
-            support += 1
+    side, x0, d = v.edge > 50, v.x, v.disparity
+    dx, dd = p.neighbour_dx, p.neighbour_dd
+    support = sum(any(s == side and abs(x - x0) <= dx and abs(nd - d) <= dd
+                      for s, x, nd in line) for line in lines)
     if support == 0:
         if p.unsupported_factor is not None:
             return replace(v, confidence=v.confidence * p.unsupported_factor)
@@ -484,7 +484,7 @@ def _region_weighted(c: Candidates, p: Params) -> Candidates:
     supported = _region_supported(c, p.region_tolerance)
     if p.region_penalty is None:
         return c.subset(supported)
-    return replace(c, cost=c.cost + np.where(supported, 0.0, p.region_penalty))
+    return c.with_cost(c.cost + np.where(supported, 0.0, p.region_penalty))
 
 
 CONFIRMABLE = ("occluded", "not on a vertical line", "ambiguous")
@@ -519,17 +519,17 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     already at hand (every line's verdicts vouch for fourteen others)."""
     p = params
     c = judged_candidates(line_candidates(data, p), constraints, p) if cands is None else cands
-    if len(c) == 0:
+    dropped = [v for v in verdicts if not v.matched and v.reason in CONFIRMABLE]
+    if len(c) == 0 or not dropped:
         return verdicts
     pos1 = {int(e): i for i, e in enumerate(c.left.edge)}
     pos2 = {int(e): j for j, e in enumerate(c.right.edge)}
     pairs = sorted((pos1[v.edge], pos2[v.partner]) for v in verdicts if v.matched)
     lines = [matched_edges(line) for line in neighbours] if matches is None else matches
     n_lines = max(1, len(neighbours))
+    dx, dd = p.neighbour_dx, p.confirm_dd
     by_edge = {v.edge: v for v in verdicts}
-    for v in sorted(verdicts, key=lambda v: pos1[v.edge]):
-        if v.matched or v.reason not in CONFIRMABLE:
-            continue
+    for v in sorted(dropped, key=lambda v: pos1[v.edge]):
         i = pos1[v.edge]
         if v.partner:                                   # the assignment's own choice
             ks = np.flatnonzero((c.i == i) & (c.j == pos2[v.partner]))
@@ -544,10 +544,9 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
         hi = min((b for a, b in pairs if a > i), default=len(c.right))
         if not lo < j < hi:                             # used, or out of order
             continue
-        side, d = v.edge > 50, float(c.disp[k])
-        support = sum(any(s == side and abs(x - v.x) <= p.neighbour_dx
-                          and abs(nd - d) <= p.confirm_dd for s, x, nd in line)
-                      for line in lines)
+        side, x0, d = v.edge > 50, v.x, float(c.disp[k])
+        support = sum(any(s == side and abs(x - x0) <= dx and abs(nd - d) <= dd
+                          for s, x, nd in line) for line in lines)
         if support < p.confirm_support:
             continue
         conf = support / n_lines * max(0.0, 1.0 - float(c.cost[k]) / 256.0)
