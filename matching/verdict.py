@@ -314,10 +314,12 @@ class Assignment:
 
     Why a stage of its own: the streaming matcher's two passes over a line
     (without, then with the neighbour constraint) differ only after it, so
-    it makes the assignment once (:func:`shares_assignment`)."""
+    it makes the assignment once (:func:`shares_assignment`), and the
+    verdicts of the edges it left out are made once for both."""
     judged: Candidates             # the candidates as weighed (:func:`judged_candidates`)
-    reason: dict                   # left-edge position -> why it has no match, if none
     chosen: dict                   # left-edge position -> its matched Verdict
+    no_match: dict                 # every other left-edge position -> its "no match" Verdict
+    by_edge: list                  # the left-edge positions in the order of their edge numbers
 
 
 def shares_assignment(constraints: Constraints, params: Params) -> bool:
@@ -334,7 +336,7 @@ def line_assignment(data: LineData, c: Candidates, constraints: Constraints, p: 
     ``drop_farther_end``.  ``neighbours`` only for ``neighbour_bonus``."""
     reason = {i: "no candidate" for i in range(len(c.left))}
     if len(c) == 0:                   # most lines of a look: nothing for the rules to weigh
-        return Assignment(c, reason, {})
+        return _assignment(data, c, {}, reason)
     has = set(c.i.tolist())
     for i in has:
         reason[i] = "occluded"
@@ -361,7 +363,15 @@ def line_assignment(data: LineData, c: Candidates, constraints: Constraints, p: 
                          float(evidence[k]), conf)
     if p.drop_farther_end:
         out = dict(zip(out, farther_ends_dropped(list(out.values()), p.region_tolerance)))
-    return Assignment(judged, reason, out)
+    return _assignment(data, judged, out, reason)
+
+
+def _assignment(data: LineData, judged: Candidates, chosen: dict, reason: dict) -> Assignment:
+    left = judged.left
+    no_match = {i: Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), False, reason[i])
+                for i in range(len(left)) if i not in chosen}
+    return Assignment(judged, chosen, no_match, sorted(range(len(left)),
+                                                       key=lambda i: int(left.edge[i])))
 
 
 def assignment_verdicts(data: LineData, a: Assignment, constraints: Constraints, p: Params,
@@ -380,10 +390,7 @@ def assignment_verdicts(data: LineData, a: Assignment, constraints: Constraints,
         from .subpixel import refine_verdicts
         out = dict(zip(out, refine_verdicts(list(out.values()), data, profiles,
                                             p.subpixel_max_change)))
-    left = a.judged.left
-    verdicts = [out.get(i) or Verdict(data.iyloc, int(left.edge[i]), int(left.x[i]), False,
-                                      a.reason[i]) for i in range(len(left))]
-    return sorted(verdicts, key=lambda v: v.edge)
+    return [out.get(i) or a.no_match[i] for i in a.by_edge]
 
 
 def farther_ends_dropped(verdicts: list[Verdict], tolerance: float) -> list[Verdict]:
