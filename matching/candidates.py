@@ -48,6 +48,7 @@ class SliceEdges:
     grey: np.ndarray          # the grey level MASL compares (left grey / right grey)
     feature: np.ndarray       # feature number 1..50
     bound: np.ndarray         # MASL's shift bound on this edge's side (IRGDL/IRGDR)
+    width: np.ndarray         # its feature's width (stop - start)
 
     def __len__(self) -> int:
         return len(self.edge)
@@ -69,12 +70,12 @@ def slice_edges(features) -> SliceEdges:
         right = NPIX - stop + 1 if k >= n else _half(features[k][0] - stop)
         left = max(min(left, width), 0)
         right = max(min(right, width), 0)
-        rows.append((start, 0, k, lg, k, left))
-        rows.append((stop, 1, k + 50, rg, k, right))
+        rows.append((start, 0, k, lg, k, left, stop - start))
+        rows.append((stop, 1, k + 50, rg, k, right, stop - start))
     rows.sort()                           # by (x, side, edge): the edge numbers are unique
-    arr = np.array(rows, dtype=np.int64).reshape(-1, 6).T.copy()
+    arr = np.array(rows, dtype=np.int64).reshape(-1, 7).T.copy()
     return SliceEdges(edge=arr[2], x=arr[0], side=arr[1], grey=arr[3], feature=arr[4],
-                      bound=arr[5])
+                      bound=arr[5], width=arr[6])
 
 
 def shape_cost(map1, map2, bound: int, cap_overflow: bool = False) -> tuple[int, int]:
@@ -179,25 +180,34 @@ def best_shift(map1, map2, bound, cap_overflow, pop):
 
 
 @jit
-def admissible_pairs(left, maps1, right, maps2, use_shift, max_disparity, cap_overflow, pop,
-                     out):
+def admissible_pairs(left, maps1, right, maps2, use_shift, grey_penalty, width_penalty,
+                     max_disparity, cap_overflow, pop, pairs, scores):
     """The pairs :func:`candidates` keeps, in the order of the left edges then
-    the right ones: ``left``/``right`` rows (x, side, grey, bound) of the two
-    slices' edges, ``maps1``/``maps2`` their 17-word maps.  Writes rows (i, j,
-    shift, mismatch) into ``out``; returns how many."""
+    the right ones: ``left``/``right`` rows (x, side, grey, bound, width) of
+    the two slices' edges, ``maps1``/``maps2`` their 17-word maps.  Writes
+    rows (i, j, shift, mismatch) into ``pairs`` and (cost, loc1, loc2) into
+    ``scores`` (cost = mismatch + grey_penalty x the grey difference, +
+    width_penalty x the features' difference in width); returns how many."""
     n = 0
     for i in range(left.shape[1]):
         for j in range(right.shape[1]):
-            if (left[1, i] != right[1, j] or abs(left[2, i] - right[2, j]) > GREY_TOLERANCE
+            grey_diff = abs(left[2, i] - right[2, j])
+            if (left[1, i] != right[1, j] or grey_diff > GREY_TOLERANCE
                     or maps1[i, 0] != 1 or maps2[j, 0] != 1
                     or left[0, i] - right[0, j] <= -16):     # cannot come back above EDISP
                 continue
             shift, mismatch = best_shift(maps1[i], maps2[j], min(left[3, i], right[3, j]),
                                          cap_overflow, pop)
-            d = left[0, i] - (right[0, j] - (shift if use_shift else 0))
-            if d > EDISP and d <= max_disparity:
-                out[n, 0], out[n, 1], out[n, 2], out[n, 3] = i, j, shift, mismatch
-                n += 1
+            loc2 = right[0, j] - (shift if use_shift else 0)
+            d = left[0, i] - loc2
+            if not (d > EDISP and d <= max_disparity):
+                continue
+            cost = mismatch + grey_penalty * grey_diff
+            if width_penalty != 0.0:
+                cost = cost + width_penalty * abs(left[4, i] - right[4, j])
+            pairs[n, 0], pairs[n, 1], pairs[n, 2], pairs[n, 3] = i, j, shift, mismatch
+            scores[n, 0], scores[n, 1], scores[n, 2] = cost, left[0, i], loc2
+            n += 1
     return n
 
 
@@ -214,19 +224,14 @@ def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
                           empty.astype(float), empty.astype(float))
     # a few edges a slice: one compiled pass over the pairs, not array steps
     # on arrays of a few elements
-    out = np.empty((len(left) * len(right), 4), dtype=np.int64)
-    n = admissible_pairs(np.stack((left.x, left.side, left.grey, left.bound)),
+    pairs = np.empty((len(left) * len(right), 4), dtype=np.int64)
+    scores = np.empty((len(left) * len(right), 3), dtype=np.float64)
+    n = admissible_pairs(np.stack((left.x, left.side, left.grey, left.bound, left.width)),
                          np.asarray(maps1, dtype=np.int64)[left.edge - 1],
-                         np.stack((right.x, right.side, right.grey, right.bound)),
+                         np.stack((right.x, right.side, right.grey, right.bound, right.width)),
                          np.asarray(maps2, dtype=np.int64)[right.edge - 1],
-                         use_shift, float(max_disparity), cap_overflow, _POP, out)
-    ii, jj, shift, shape = out[:n].T.copy()
-    gd = np.abs(left.grey[ii] - right.grey[jj])
-    loc1 = left.x[ii].astype(np.float64)
-    loc2 = (right.x[jj] - (shift if use_shift else 0)).astype(np.float64)
-    cost = shape + grey_penalty * gd
-    if width_penalty:
-        w1 = np.array([f[1] - f[0] for f in features1], dtype=np.int64)
-        w2 = np.array([f[1] - f[0] for f in features2], dtype=np.int64)
-        cost = cost + width_penalty * np.abs(w1[left.feature[ii] - 1] - w2[right.feature[jj] - 1])
-    return Candidates(left, right, ii, jj, cost.astype(np.float64), shape, shift, loc1, loc2)
+                         use_shift, float(grey_penalty), float(width_penalty),
+                         float(max_disparity), cap_overflow, _POP, pairs, scores)
+    ii, jj, shift, shape = pairs[:n].T.copy()
+    cost, loc1, loc2 = scores[:n].T.copy()
+    return Candidates(left, right, ii, jj, cost, shape, shift, loc1, loc2)

@@ -128,26 +128,35 @@ def test_the_compiled_pair_search_equals_its_plain_python_and_marfs_shift_search
     found = 0
     for d in lines:
         left, right = slice_edges(d.features1), slice_edges(d.features2)
-        rows1 = np.stack((left.x, left.side, left.grey, left.bound))
-        rows2 = np.stack((right.x, right.side, right.grey, right.bound))
+        rows1 = np.stack((left.x, left.side, left.grey, left.bound, left.width))
+        rows2 = np.stack((right.x, right.side, right.grey, right.bound, right.width))
         maps1, maps2 = d.maps1[left.edge - 1], d.maps2[right.edge - 1]
-        for use_shift, cap in ((True, False), (False, True)):
+        for use_shift, cap, width_penalty in ((True, False, 4.0), (False, True, 0.0)):
             outs = []
             for fn in (admissible_pairs, plain_pairs):
-                out = np.full((len(left) * len(right), 4), -7, dtype=np.int64)
-                outs.append((fn(rows1, maps1, rows2, maps2, use_shift, 128.0, cap, _POP, out),
-                             out))
-            assert outs[0][0] == outs[1][0] and np.array_equal(outs[0][1], outs[1][1])
-            n, out = outs[0]
+                pairs = np.full((len(left) * len(right), 4), -7, dtype=np.int64)
+                scores = np.full((len(left) * len(right), 3), np.nan)
+                n = fn(rows1, maps1, rows2, maps2, use_shift, 16.0, width_penalty, 128.0, cap,
+                       _POP, pairs, scores)
+                outs.append((n, pairs, scores))
+            assert outs[0][0] == outs[1][0]
+            assert np.array_equal(outs[0][1], outs[1][1])
+            assert np.array_equal(outs[0][2], outs[1][2], equal_nan=True)
+            n, pairs, scores = outs[0]
             found += n
-            # every pair's shift and mismatch are the array search's (shape_costs)
-            for i, j, s, v in out[:n]:
+            for (i, j, s, v), (cost, loc1, loc2) in zip(pairs[:n], scores[:n]):
+                # the shift and mismatch of the array search (shape_costs), the
+                # cost and locations of the array formulas
                 bound = min(left.bound[i], right.bound[j])
                 want = shape_costs(maps1[i][None, 1:], maps2[j][None, 1:], np.array([bound]),
                                    cap)
                 assert (s, v) == (want[0][0], want[1][0])
                 assert best_shift(maps1[i], maps2[j], bound, cap, _POP) == (s, v) \
                     == plain_shift(maps1[i], maps2[j], bound, cap, _POP)
+                want_cost = (np.array([v]) + 16.0 * np.abs(left.grey[[i]] - right.grey[[j]])
+                             + width_penalty * np.abs(left.width[[i]] - right.width[[j]]))
+                assert cost == want_cost[0]
+                assert (loc1, loc2) == (left.x[i], right.x[j] - (s if use_shift else 0))
     assert found > 50
     # random maps, every bound, both overflow rules
     r = np.random.default_rng(5)
