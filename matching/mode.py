@@ -89,14 +89,13 @@ class ImprovedMatcher:
         self._second: dict[int, list[Verdict]] = {}
         self._rounds: dict[tuple[int, int], list[Verdict]] = {}
         self._rematch: dict[int, list[Verdict]] = {}
-        self._confirms: dict[tuple[int, int], list[Verdict]] = {}
-        self._matches: dict[tuple[int, int], list] = {}   # matched_edges of _confirmed
+        self._confirms: dict[tuple[int, int], tuple[list[Verdict], list]] = {}
         self._cands: dict = {}
         self._assigned: dict[int, Assignment] = {}
         self._max_lines = max(MAX_CACHED_LINES, 2 * _reach(constraints, params) + 4)
         self._rematches = rematches(constraints, params)
         self._shares_assignment = shares_assignment(constraints, params)
-        # the rounds a line's entry may have in _rounds, _confirms, _matches
+        # the rounds a line's entry may have in _rounds and _confirms
         self._round_keys = range(max(params.confirm_rounds, params.readmit_rounds) + 1)
 
     def tables_for(self, eclipse, iyloc, features1, features2, maps1, maps2):
@@ -131,7 +130,6 @@ class ImprovedMatcher:
             self._rounds.clear()
             self._rematch.clear()
             self._confirms.clear()
-            self._matches.clear()
             self._cands.clear()
             self._assigned.clear()
         self._lines[iyloc] = data
@@ -144,7 +142,7 @@ class ImprovedMatcher:
             self._assigned.pop(old, None)
             self._rematch.pop(old, None)
             for r in self._round_keys:
-                for cache in (self._rounds, self._confirms, self._matches):
+                for cache in (self._rounds, self._confirms):
                     cache.pop((old, r), None)
 
     def _line(self, eclipse, y: int) -> LineData:
@@ -200,13 +198,19 @@ class ImprovedMatcher:
         return self._rounds[key]
 
     def _confirmed(self, eclipse, y: int, rounds: int) -> list[Verdict]:
-        """Line y's verdicts after ``rounds`` confirm passes (as match_lines);
-        kept for round 0 too, the one every line's first pass asks 15 times."""
+        """Line y's verdicts after ``rounds`` confirm passes (as match_lines)."""
+        return self._confirmed_entry(eclipse, y, rounds)[0]
+
+    def _confirmed_entry(self, eclipse, y: int, rounds: int) -> tuple[list[Verdict], list]:
+        """(verdicts, their matched_edges) of line y after ``rounds`` confirm
+        passes, round 0 included: each line's are read by the lines IY-7..IY+7
+        in turn, so the matches are made once, with the verdicts."""
         key = (y, rounds)
-        if key in self._confirms:
-            return self._confirms[key]
+        entry = self._confirms.get(key)
+        if entry is not None:
+            return entry
         if rounds == 0:
-            self._confirms[key] = self._base(eclipse, y)
+            verdicts = self._base(eclipse, y)
         else:
             p = self.params
             # Held here, not looked up after the recursion below: fetching the
@@ -214,19 +218,12 @@ class ImprovedMatcher:
             data = self._line(eclipse, y)
             judged = self._assignment(eclipse, y).judged
             before = self._confirmed(eclipse, y, rounds - 1)
-            ns = [n for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
-            around = [self._confirmed(eclipse, n, rounds - 1) for n in ns]
-            matches = [self._matched_edges(n, rounds - 1, v) for n, v in zip(ns, around)]
-            self._confirms[key] = confirm(data, before, around, p, judged, matches=matches)
-        return self._confirms[key]
-
-    def _matched_edges(self, y: int, rounds: int, verdicts: list[Verdict]) -> list:
-        """``matched_edges(verdicts)``, line y's verdicts after ``rounds`` confirm
-        passes, made once: they vouch for the lines IY-7..IY+7 in turn."""
-        key = (y, rounds)
-        if key not in self._matches:
-            self._matches[key] = matched_edges(verdicts)
-        return self._matches[key]
+            around = [self._confirmed_entry(eclipse, n, rounds - 1)
+                      for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
+            verdicts = confirm(data, before, [v for v, _ in around], p, judged,
+                               matches=[m for _, m in around])
+        entry = self._confirms[key] = (verdicts, matched_edges(verdicts))
+        return entry
 
     def _base(self, eclipse, y: int) -> list[Verdict]:
         """Line y's verdicts before re-admission: the second pass, or with
