@@ -431,7 +431,7 @@ def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
         return v
     side, x0, d = v.edge > 50, v.x, v.disparity
     dx, dd = p.neighbour_dx, p.neighbour_dd
-    support = sum(any(s == side and abs(x - x0) <= dx and abs(nd - d) <= dd
+    support = sum(any(abs(x - x0) <= dx and s == side and abs(nd - d) <= dd
                       for s, x, nd in line) for line in lines)
     if support == 0:
         if p.unsupported_factor is not None:
@@ -529,8 +529,12 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     dropped = [v for v in verdicts if not v.matched and v.reason in CONFIRMABLE]
     if len(c) == 0 or not dropped:
         return verdicts
-    pos1 = {int(e): i for i, e in enumerate(c.left.edge)}
-    pos2 = {int(e): j for j, e in enumerate(c.right.edge)}
+    # a line's few candidates as lists: looked up edge by edge below
+    ci, cj, cost = c.i.tolist(), c.j.tolist(), c.cost.tolist()
+    loc1, loc2 = c.loc1.tolist(), c.loc2.tolist()
+    right_edge = c.right.edge.tolist()
+    pos1 = {e: i for i, e in enumerate(c.left.edge.tolist())}
+    pos2 = {e: j for j, e in enumerate(right_edge)}
     pairs = sorted((pos1[v.edge], pos2[v.partner]) for v in verdicts if v.matched)
     lines = [matched_edges(line) for line in neighbours] if matches is None else matches
     n_lines = max(1, len(neighbours))
@@ -539,28 +543,27 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     for v in sorted(dropped, key=lambda v: pos1[v.edge]):
         i = pos1[v.edge]
         if v.partner:                                   # the assignment's own choice
-            ks = np.flatnonzero((c.i == i) & (c.j == pos2[v.partner]))
-        else:                                           # its cheapest candidate
-            ks = np.flatnonzero(c.i == i)
-            ks = ks[np.lexsort((c.j[ks], c.cost[ks]))][:1]
-        if not len(ks):
+            ks = [k for k in range(len(ci)) if ci[k] == i and cj[k] == pos2[v.partner]]
+        else:                                           # its cheapest candidate (then leftmost)
+            ks = sorted((k for k in range(len(ci)) if ci[k] == i),
+                        key=lambda k: (cost[k], cj[k]))
+        if not ks:
             continue
-        k = int(ks[0])
-        j = int(c.j[k])
+        k = ks[0]
+        j = cj[k]
         lo = max((b for a, b in pairs if a < i), default=-1)
         hi = min((b for a, b in pairs if a > i), default=len(c.right))
         if not lo < j < hi:                             # used, or out of order
             continue
-        side, x0, d = v.edge > 50, v.x, float(c.disp[k])
-        support = sum(any(s == side and abs(x - x0) <= dx and abs(nd - d) <= dd
+        side, x0, d = v.edge > 50, v.x, loc1[k] - loc2[k]
+        # the column first: it is the test that fails most
+        support = sum(any(abs(x - x0) <= dx and s == side and abs(nd - d) <= dd
                           for s, x, nd in line) for line in lines)
         if support < p.confirm_support:
             continue
-        conf = support / n_lines * max(0.0, 1.0 - float(c.cost[k]) / 256.0)
-        by_edge[v.edge] = replace(v, matched=True, reason="confirmed",
-                                  partner=int(c.right.edge[j]), loc1=float(c.loc1[k]),
-                                  loc2=float(c.loc2[k]), cost=float(c.cost[k]),
-                                  confidence=conf)
+        conf = support / n_lines * max(0.0, 1.0 - cost[k] / 256.0)
+        by_edge[v.edge] = replace(v, matched=True, reason="confirmed", partner=right_edge[j],
+                                  loc1=loc1[k], loc2=loc2[k], cost=cost[k], confidence=conf)
         pairs = sorted(pairs + [(i, j)])
     return [by_edge[v.edge] for v in verdicts]
 
