@@ -75,6 +75,7 @@ def test_the_scan_of_a_look_is_the_plain_matchers_bit_for_bit():
     for (left, right), lines, want in fixture_looks():
         got = scan_record(scan_look(left, right, lines, "improved"))
         assert got["requests"] == want["requests"]
+        assert got["lines"].keys() == want["lines"].keys()
         for y in want["lines"]:
             assert got["lines"][y] == want["lines"][y], f"line {y}"
             reasons |= {v[4] for v in json.loads(want["lines"][y])}
@@ -167,6 +168,19 @@ def test_the_compiled_pair_search_equals_its_plain_python_and_marfs_shift_search
         for cap in (False, True):
             s, v = shape_costs(m1[None, 1:], m2[None, 1:], np.array([bound]), cap)
             assert best_shift(m1, m2, bound, cap, _POP) == (s[0], v[0])
+
+
+def test_the_scan_bench_times_this_tree(capsys):
+    """bench/bench_scan.py, one look, this tree alone (its worker is a process of its own)."""
+    import importlib.util
+    path = Path(__file__).resolve().parent.parent / "bench" / "bench_scan.py"
+    spec = importlib.util.spec_from_file_location("bench_scan", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    assert bench.main(["--rooms", "1", "--looks", "1", "--rounds", "1",
+                       "--reference", "none"]) == 0
+    out = capsys.readouterr().out
+    assert "1 looks (1 rooms x 1)" in out and "this tree" in out
 
 
 if __name__ == "__main__":
