@@ -32,10 +32,10 @@ from pathlib import Path
 # the defaults of their day (docs/planner.md says where and why); last, the
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
 # the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
-# learn the floor, the fix's window never widened, the pivot's disc and the goal planned
-# to as a point (the improved matcher, the fill, the smallest turns unchecked, the step
-# back, the widening, the swept pivot and the goal's disc are the defaults since
-# 2026-12-05); the two heads.
+# learn the floor, the fix's window never widened, the pivot's disc, the goal planned
+# to as a point and 8 looks without progress (the improved matcher, the fill, the
+# smallest turns unchecked, the step back, the widening, the swept pivot, the goal's disc
+# and 16 looks are the defaults since 2026-12-05); the two heads.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -75,6 +75,7 @@ OPTIONS = [
     "--wall-fix-widen 0",
     "--pivot disc",
     "--goal-region point",
+    "--max-stuck 8",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -185,7 +185,10 @@ class DriveConfig:
     tolerance_ft: float = 0.75            # goal reached when the estimate is this near
     max_looks: int = 60                   # cycles, each one look of the fixed rig (under
                                           # head="assist" the head's added look on top)
-    max_stuck: int = 8                    # cycles without progress before giving up
+    max_stuck: int = 16                   # looks in a row without progress before giving
+                                          # up (16 since 2026-12-05 12:00, not 1985; 8
+                                          # before: the evidence's looks from one place, up
+                                          # to 3 at each blocker, used it up)
     lines: tuple = tuple(range(8, 113, 2))
     voi: VolumeOfInterest = VolumeOfInterest(32.0, 7)
     band: tuple[float, float] = (-0.5, FLOOR_Y - 0.25)   # room Y of the vehicle's passage

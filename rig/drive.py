@@ -478,7 +478,7 @@ def add_loop_options(p) -> None:
              "under --head assist a cycle's added look of the head comes on top)")
     opt("--max-stuck", type=int, default=C.max_stuck, metavar="N",
         help=f"give up after N looks in a row without progress (--progress; default "
-             f"{C.max_stuck}), saying why")
+             f"{C.max_stuck} since 2026-12-05, not 1985; 8 before), saying why")
 
 
 def first_look_note(cycles, slow_s: float = 1.0) -> str:

@@ -162,7 +162,7 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import drive_config
-    assert DriveConfig.max_stuck == 8
+    assert DriveConfig.max_stuck == 16                  # since 2026-12-05 12:00 (8 before)
     assert drive_config(monkeypatch, tmp_path, "--max-stuck", "3").max_stuck == 3
     for n in (2, 3):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
