@@ -14,6 +14,8 @@ same final map of each run, from the start to the goal (path length pulled
 taut, and time).
 
     python bench/drive.py --rooms 20 [--pose fused] [--eyes truth] [--search astar] [--unknown blocked]
+    python bench/drive.py --seeds 87,114,401-410                  # these seeds only
+    python bench/drive.py --unreached-in run.json --max-stuck 24  # only the rooms run.json did not reach
     python bench/drive.py --rooms 20 --cell-ft 0.125 --losses    # the octree one level deeper
     python bench/drive.py --rooms 20 --first 21 --blank-carve unknown --carve error
     python bench/drive.py --rooms 20 --occupied model --feature-pose drift --losses
@@ -207,10 +209,49 @@ def _add_tally(total, t):
             total[k] = total.get(k, 0) + v
 
 
+def parse_seeds(text: str) -> list[int]:
+    """``--seeds``: a comma list of seeds and ranges ("87,114,401-410"), in order,
+    each once.  ValueError naming the bad part."""
+    out = []
+    for part in text.split(","):
+        part = part.strip()
+        lo, sep, hi = part.partition("-")
+        try:
+            a = int(lo)
+            b = int(hi) if sep else a
+        except ValueError:
+            raise ValueError(f"--seeds: {part!r} is not a seed or a range like 401-410") from None
+        if a < 0 or b < a:
+            raise ValueError(f"--seeds: {part!r} is not a seed or a range like 401-410")
+        out += [k for k in range(a, b + 1) if k not in out]
+    return out
+
+
+def unreached_seeds(path: str) -> list[int]:
+    """``--unreached-in``: the seeds a bench run's ``--out`` JSON did not reach.
+    ValueError naming the file when it is not such a file."""
+    try:
+        rows = json.loads(open(path).read())["rooms"]
+        return [int(r["room"]) for r in rows if not r["reached"]]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise ValueError(f"--unreached-in {path}: not a bench/drive.py --out file ({e})") from None
+
+
+def task_seeds(args) -> list[int]:
+    """The seeds the bench runs: ``--seeds`` or ``--unreached-in`` when given,
+    else ``--first`` .. ``--first + --rooms - 1``."""
+    if getattr(args, "seeds", None):
+        return parse_seeds(args.seeds)
+    if getattr(args, "unreached_in", None):
+        return unreached_seeds(args.unreached_in)
+    return list(range(args.first, args.first + args.rooms))
+
+
 def seeded_tasks(args):
-    """(seed, room, start state, goal or None) for the seeded rooms the bench runs;
-    under ``--lab`` the bundled lab and its default goal, the seed the odometry
-    noise's (the lab's one task under ``--rooms`` draws of the dead reckoning)."""
+    """(seed, room, start state, goal or None) for the seeded rooms the bench runs
+    (:func:`task_seeds`); under ``--lab`` the bundled lab and its default goal, the
+    seed the odometry noise's (the lab's one task under draws of the dead
+    reckoning)."""
     from planner.planning import random_goal
     from vehicle.profile import DEFAULT
     from vehicle.sim import State
@@ -219,10 +260,10 @@ def seeded_tasks(args):
         from rig.drive import DEFAULT_LAB_GOAL
         room = bundled_lab()
         s = room.start
-        for seed in range(args.first, args.first + args.rooms):
+        for seed in task_seeds(args):
             yield seed, room, State(s.x, s.z, s.heading_deg), DEFAULT_LAB_GOAL
         return
-    for seed in range(args.first, args.first + args.rooms):
+    for seed in task_seeds(args):
         room = generate_room(seed)
         s = room.start
         start = State(s.x, s.z, s.heading_deg)
@@ -258,6 +299,13 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rooms", type=int, default=20)
     ap.add_argument("--first", type=int, default=1, help="first room seed")
+    ap.add_argument("--seeds", metavar="LIST",
+                    help="the seeds to run instead of --first/--rooms: a comma list of "
+                         "seeds and ranges, e.g. 87,114,401-410")
+    ap.add_argument("--unreached-in", metavar="JSON",
+                    help="run only the seeds an earlier run's --out JSON did not reach (an "
+                         "option that only acts where a drive would stop, --max-stuck or "
+                         "--max-looks, drives the reached ones the same)")
     ap.add_argument("--lab", action="store_true",
                     help="drive the bundled lab to its default goal instead, once per "
                          "odometry noise seed --first .. --first + --rooms - 1 (rig drive "
@@ -278,6 +326,12 @@ def main(argv=None) -> int:
     ap.add_argument("--true-maps", action="store_true",
                     help="only the two searches on the TRUE floor maps of the rooms (no drive)")
     args = ap.parse_args(argv)
+    if args.seeds and args.unreached_in:
+        ap.error("--seeds and --unreached-in: give one")
+    try:
+        task_seeds(args)
+    except ValueError as e:
+        ap.error(str(e))
     if args.true_maps:
         return true_maps(args)
 
