@@ -526,7 +526,8 @@ def loop_config(args, goal, fail):
     profile = replace(DEFAULT, reverse=args.reverse == "on", head=args.head == "pan-tilt",
                       margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                       max_looks=args.max_looks, max_stuck=args.max_stuck, eyes=args.eyes, match=args.match,
+                       max_looks=args.max_looks, max_stuck=args.max_stuck, eyes=args.eyes,
+                       match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
                        occupied=args.occupied, hit_at=args.hit_at,

@@ -156,7 +156,7 @@ def test_rig_drive_refuses_a_start_too_near_something_for_the_step_back(tmp_path
 
 def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tmp_path):
     """A goal in the tiny room's box (x 1.2..2.6, z 3.5..4.5) is never
-    reachable and the vehicle never moves: the drive gives up after exactly
+    reachable and the vehicle never moves after its first look: the drive gives up after exactly
     ``max_stuck`` looks, saying why; ``rig drive --max-stuck`` sets it, and a
     count below 1 is refused."""
     from planner.loop import run
