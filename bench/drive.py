@@ -212,7 +212,7 @@ def _add_tally(total, t):
 def parse_seeds(text: str) -> list[int]:
     """``--seeds``: a comma list of seeds and ranges ("87,114,401-410"), in order,
     each once.  ValueError naming the bad part."""
-    out = []
+    out, seen = [], set()
     for part in text.split(","):
         part = part.strip()
         lo, sep, hi = part.partition("-")
@@ -223,7 +223,10 @@ def parse_seeds(text: str) -> list[int]:
             raise ValueError(f"--seeds: {part!r} is not a seed or a range like 401-410") from None
         if a < 0 or b < a:
             raise ValueError(f"--seeds: {part!r} is not a seed or a range like 401-410")
-        out += [k for k in range(a, b + 1) if k not in out]
+        for k in range(a, b + 1):
+            if k not in seen:
+                seen.add(k)
+                out.append(k)
     return out
 
 

@@ -690,9 +690,9 @@ def _check_config(cfg: DriveConfig) -> None:
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     for name in ("max_looks", "max_stuck"):
-        if isinstance(getattr(cfg, name), bool) or not isinstance(getattr(cfg, name), int) \
-                or getattr(cfg, name) < 1:
-            raise ValueError(f"{name} {getattr(cfg, name)!r}: a count of looks, at least 1")
+        count = getattr(cfg, name)
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise ValueError(f"{name} {count!r}: a count of looks, at least 1")
     if cfg.head != "fixed" and cfg.pose == "fused":
         raise ValueError(f"head {cfg.head!r} with pose 'fused': the walk's camera estimate "
                          "assumes the fixed rig's pitch; use head 'fixed' with it, or pose "
