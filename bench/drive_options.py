@@ -44,7 +44,7 @@ OPTIONS = [
     "--uncertain look",
     "--refute-hits through",
     "--refute-hits under",
-    "--expire-uncertain 3",
+    "--expire-uncertain 3 --occupied looks",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",
@@ -76,6 +76,7 @@ OPTIONS = [
     "--pivot disc",
     "--goal-region point",
     "--max-stuck 8",
+    "--occupied looks",
     "--head assist",
     "--head pan-tilt",
 ]

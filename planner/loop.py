@@ -36,11 +36,11 @@ the path as needed during the traversal".
   inserting a look equals regenerating the tree from all looks while no
   earlier feature moves (true of the dead-reckoned adapter).  A cell is
   believed occupied once ``confirm_looks`` looks hit it (uncertain before).
-  ``occupied="model"`` (a named option, :mod:`planner.features`) instead
-  draws the occupied and uncertain cells each cycle from floor features
-  fused look by look, each grown by its fused covariance (Chapter IV's
-  octree "regenerated from the symbolic model"); the free space is the same
-  sight-line carving;
+  ``occupied="model"`` (:mod:`planner.features`; the default since
+  2026-12-05 14:00, ``"looks"`` the per-look cells above) draws the occupied
+  and uncertain cells each cycle from floor features fused look by look,
+  each grown by its fused covariance (Chapter IV's octree "regenerated from
+  the symbolic model"); the free space is the same sight-line carving;
 * **plan**: the floor map over the vehicle's height band, grown by the
   vehicle's radius, searched by the dissertation's search (or A*), pulled
   taut, turned into motion commands;
@@ -306,11 +306,12 @@ class DriveConfig:
                                           # "moved": any motion; "evidence" (measured, not
                                           # adopted): a shorter way left than ever, or new
                                           # free space seen
-    occupied: str = "looks"               # the map's occupied / uncertain cells: "looks":
-                                          # every look's hits as log-odds, grown by that
-                                          # look's covariance, never shrunk; "model": drawn
+    occupied: str = "model"               # the map's occupied / uncertain cells: "model"
+                                          # (the default since 2026-12-05 14:00): drawn
                                           # each cycle from the floor features, fused look
-                                          # by look (planner.features; Perception.update)
+                                          # by look (planner.features; Perception.update);
+                                          # "looks": every look's hits as log-odds, grown
+                                          # by that look's covariance, never shrunk
     feature_pose: str = "absolute"        # under occupied="model", the pose error in each
                                           # observation's covariance: "absolute": the
                                           # dead-reckoned pose's whole covariance;
@@ -732,6 +733,10 @@ def _check_config(cfg: DriveConfig) -> None:
             cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
         raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
                          f"not {cfg.expire_uncertain!r}")
+    if cfg.expire_uncertain and cfg.occupied != "looks":
+        # the fused features are drawn afresh each cycle; expiry shows the per-look cells
+        raise ValueError(f"expire_uncertain acts on each look's hit cells: it needs "
+                         f"occupied 'looks', not {cfg.occupied!r}")
 
 
 def map_around(est: State, goal, bounds, extent: str = "seen") -> list:

@@ -258,10 +258,10 @@ def add_loop_options(p) -> None:
              "before 2026-12-05) or 'point' (default): at the located point's own "
              "horizontal position")
     opt("--occupied", choices=OCCUPIEDS, default=C.occupied,
-        help="the map's occupied cells: every look's hits grown by that look's "
-             "covariance (default), or regenerated each cycle from the floor "
-             "features fused look by look (Chapter IV's octree regenerated from "
-             "the symbolic model)")
+        help="the map's occupied cells: model (default since 2026-12-05 14:00): "
+             "regenerated each cycle from the floor features fused look by look "
+             "(Chapter IV's octree regenerated from the symbolic model); looks: "
+             "every look's hits grown by that look's covariance, never shrunk")
     opt("--approach", choices=APPROACHES, default=C.approach,
         help="the last move near the goal: disc (default since 2026-12-02; not "
              "1985): where the path's safe prefix drives nowhere, the straight move "

@@ -323,15 +323,15 @@ def test_blank_carve_rejects_an_unknown_way():
 
 
 def test_rig_drive_passes_the_map_source_options_to_the_loop(tmp_path, monkeypatch):
-    """``--occupied model --feature-pose drift --hit-at axis`` reach DriveConfig;
-    the defaults are the loop's own (per-look accumulation, absolute pose
-    error, hits at the located points, since 2026-12-05); a bad value is refused."""
+    """``--occupied looks --feature-pose drift --hit-at axis`` reach DriveConfig;
+    the defaults are the loop's own (the fused floor features since 2026-12-05
+    14:00, absolute pose error, hits at the located points); a bad value is refused."""
     from rig.main import main
-    c = drive_config(monkeypatch, tmp_path, "--occupied", "model", "--feature-pose", "drift",
+    c = drive_config(monkeypatch, tmp_path, "--occupied", "looks", "--feature-pose", "drift",
                      "--hit-at", "axis")
-    assert (c.occupied, c.feature_pose, c.hit_at) == ("model", "drift", "axis")
+    assert (c.occupied, c.feature_pose, c.hit_at) == ("looks", "drift", "axis")
     c = drive_config(monkeypatch, tmp_path)
-    assert (c.occupied, c.feature_pose, c.hit_at) == ("looks", "absolute", "point") == \
+    assert (c.occupied, c.feature_pose, c.hit_at) == ("model", "absolute", "point") == \
         (DriveConfig.occupied, DriveConfig.feature_pose, DriveConfig.hit_at)
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--occupied", "octree"])

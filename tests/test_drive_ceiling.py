@@ -140,7 +140,8 @@ def test_room_35_turns_into_its_box_no_longer_with_the_margin():
 
 
 def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
-    # the defaults, odometry noise seed 774 (bench/drive.py's room 774): look 4 showed
+    # the defaults of 2026-12-05 12:00 (each look's hits in the octree, occupied="looks"),
+    # odometry noise seed 774 (bench/drive.py's room 774): look 4 showed
     # four cells free 0.13 ft inside the box x -1.76..-0.88, z 5.12..6.0 (its front face
     # has the floor's grey, 5); at look 9 the estimate is 0.04 ft and 1 deg off and the
     # box 0.47 ft from the vehicle's centre, inside the 0.64 ft circle a pivot sweeps:
@@ -156,7 +157,7 @@ def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
     s = room.start
     start = State(s.x, s.z, s.heading_deg)
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(774))
-    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12),
+    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12, occupied="looks"),
                   noise=OdometryNoise(seed=774), keep_maps=False) for p in ("disc", "swept")}
     assert DriveConfig.pivot == "swept"
     assert res["disc"].collisions == 1 and "hit something" in res["disc"].reason

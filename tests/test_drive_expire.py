@@ -114,15 +114,18 @@ def test_expire_uncertain_checked_and_passed_by_rig_drive(tmp_path, monkeypatch)
     from rigtools import drive_config
     with pytest.raises(ValueError, match="expire_uncertain"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, expire_uncertain=-1))
-    assert drive_config(monkeypatch, tmp_path, "--expire-uncertain", "2").expire_uncertain == 2
+    assert drive_config(monkeypatch, tmp_path, "--expire-uncertain", "2", "--occupied",
+                        "looks").expire_uncertain == 2
     assert drive_config(monkeypatch, tmp_path).expire_uncertain == 0
 
 
 def test_the_tiny_room_is_reached_with_expiry():
     from world.odometry import OdometryNoise
     # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
+    # expiry acts on the per-look octree's cells (occupied="looks"), not the fused features
     res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",
-                                                             expire_uncertain=2, sight_lines="band"),
+                                                             expire_uncertain=2, sight_lines="band",
+                                                             occupied="looks"),
               noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0

@@ -125,11 +125,13 @@ def test_walls_needs_the_floor_plan_and_an_unknown_extent_is_one_clear_error():
 def _drive(extent, barrier=True, by_goal=False, **how):
     """A Drive in the plan ROOM whose model holds the barrier's cells (and with
     ``by_goal`` the cell x 0..0.25, z 9.5..9.75 beside the goal), hit twice (confirmed)
-    at a height inside the vehicle's band, as a look's hits enter it; ``how``: more
-    DriveConfig fields."""
+    at a height inside the vehicle's band, as a look's hits enter it under
+    ``occupied="looks"`` (the per-look octree the cells are written into; the fused
+    features of the default draw theirs each cycle); ``how``: more DriveConfig fields."""
     room = Room("barrier", (), np.zeros((0, 3)), np.zeros((0, 2, 3)),
                 np.array([BARRIER] if barrier else np.zeros((0, 4))), ROOM)
-    d = Drive(room, START, DriveConfig(goal=GOAL, map_extent=extent, **how), None, False,
+    d = Drive(room, START, DriveConfig(goal=GOAL, map_extent=extent,
+                                       **{"occupied": "looks", **how}), None, False,
               Perception)
     xz = np.zeros((0, 2))
     if barrier:

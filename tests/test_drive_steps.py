@@ -33,6 +33,9 @@ def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
     (dict(expire_uncertain=-2), "expire_uncertain must be a whole number"),
     (dict(expire_uncertain=1.5), "expire_uncertain must be a whole number"),
     (dict(expire_uncertain=True), "expire_uncertain must be a whole number"),
+    # expiry shows the per-look octree's cells; the fused features (the default) are redrawn
+    (dict(expire_uncertain=3), "expire_uncertain acts on each look's hit cells: it needs "
+                               "occupied 'looks', not 'model'"),
     (dict(head="assist", pose="fused"), "head 'assist' with pose 'fused'"),
     (dict(head="pan-tilt", pose="fused"), "head 'pan-tilt' with pose 'fused'"),
     # 2.0 ft back and the turn's 0.64 ft circle there leave the 2.5 ft clear spot
@@ -46,7 +49,8 @@ def test_values_out_of_range_and_the_head_with_the_walk_are_refused(kw, words):
 
 def test_the_defaults_and_the_named_options_pass_the_check():
     for kw in ({}, dict(head="pan-tilt"), dict(head="assist"), dict(pose="fused"),
-               dict(blank_px=None, expire_uncertain=3, refute_hits="through")):
+               dict(blank_px=None, expire_uncertain=3, refute_hits="through",
+                    occupied="looks")):
         assert _check_config(DriveConfig(goal=GOAL, **kw)) is None
 
 
@@ -158,7 +162,9 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     """A goal in the tiny room's box (x 1.2..2.6, z 3.5..4.5) is never
     reachable and the vehicle never moves after its first look: the drive gives up after exactly
     ``max_stuck`` looks, saying why; ``rig drive --max-stuck`` sets it, and a
-    count below 1 is refused."""
+    count below 1 is refused.  (Each look's hits in the octree, occupied="looks": the fused
+    features draw the box's seen face thinner, and the goal's disc then holds unknown
+    floor behind the box, which the planner may aim at.)"""
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import drive_config
@@ -166,7 +172,7 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     assert drive_config(monkeypatch, tmp_path, "--max-stuck", "3").max_stuck == 3
     for n in (2, 3):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
-                  DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n),
+                  DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n, occupied="looks"),
                   noise=OdometryNoise(seed=1))
         assert len(res.cycles) == n
         assert res.reason.startswith(f"stopped after {n} looks without progress: goal not "

@@ -181,6 +181,31 @@ def test_the_loop_on_the_regenerated_map_reaches_the_tiny_rooms_goal():
     assert res.features is not None and len(res.features) > 0 and res.features.fused > 0
 
 
+def test_room_156s_passage_stays_open_on_the_fused_map_and_closes_on_the_per_look_map():
+    """Bench room 156 (noise seed 156; the task leaves 0.25 ft to spare): on the per-look
+    map (occupied="looks", the default before 2026-12-05 14:00) the hits one look saw keep
+    their look's wide growth, the way out of the start narrows below the vehicle and the
+    drive never moves; drawn from the fused features (the default since) the same looks
+    leave it open and the vehicle reaches the goal, by its true pose too, without a
+    collision (the world's exact geometry counts both)."""
+    from planner.planning import random_goal
+    from vehicle.profile import DEFAULT
+    from world.room import generate_room
+    room = generate_room(156)
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(156))
+    assert DriveConfig.occupied == "model"
+    res = {how: run(room, start, DriveConfig(goal=goal, occupied=how, max_looks=20),
+                    noise=OdometryNoise(seed=156), keep_maps=False) for how in ("looks", "model")}
+    looks, model = res["looks"], res["model"]
+    assert not looks.reached and "narrower than the vehicle" in looks.reason, looks.reason
+    assert looks.collisions == 0
+    assert model.reached and model.collisions == 0, model.reason
+    end = model.true_track[-1]
+    assert math.hypot(end.x - goal[0], end.z - goal[1]) <= DriveConfig.tolerance_ft
+
+
 def test_an_unknown_occupied_source_is_refused():
     with pytest.raises(ValueError, match="unknown occupied 'octree'; one of looks, model"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, occupied="octree"))
