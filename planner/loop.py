@@ -37,7 +37,7 @@ the path as needed during the traversal".
   earlier feature moves (true of the dead-reckoned adapter).  A cell is
   believed occupied once ``confirm_looks`` looks hit it (uncertain before).
   ``occupied="model"`` (:mod:`planner.features`; the default since
-  2026-12-05 14:00, ``"looks"`` the per-look cells above) draws the occupied
+  2026-12-05 13:45, ``"looks"`` the per-look cells above) draws the occupied
   and uncertain cells each cycle from floor features fused look by look,
   each grown by its fused covariance (Chapter IV's octree "regenerated from
   the symbolic model"); the free space is the same sight-line carving;
@@ -138,7 +138,7 @@ from .drift import Odometry, erode_by_drift
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .localize import HEADING_SIGMAS
-from .motion import back_prefix, disc_approach, fetch_evidence, head_blank_ft, \
+from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
@@ -150,6 +150,7 @@ from .trajectory import heading_to, wrap
 
 POSES = ("fused", "dead_reckoning", "walls")
 LOOK_AROUNDS = ("sweep", "evidence")
+TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
 PIVOTS = ("disc", "margin", "swept", "small-swept")  # what a pivot needs seen free (.pivot)
@@ -290,6 +291,10 @@ class DriveConfig:
                                           # the floor plan's walls fused with the
                                           # odometry's prior, planner.localize)
     pose_method: str = "robust"           # the walk's driving method under "fused"
+    turn_room: str = "off"                # no pivot is allowed where the vehicle stands
+                                          # (nor a BACK): "off", it stays; "forward" (not
+                                          # 1985; a named option): the shortest straight
+                                          # move on after which one is (motion.forward_to_turn)
     look_around: str = "evidence"         # the vehicle cannot move: "sweep" (the default
                                           # before 2026-12-04): face the path, then turn
                                           # +35 / -70 deg in place; "evidence" (not 1985;
@@ -307,7 +312,7 @@ class DriveConfig:
                                           # adopted): a shorter way left than ever, or new
                                           # free space seen
     occupied: str = "model"               # the map's occupied / uncertain cells: "model"
-                                          # (the default since 2026-12-05 14:00): drawn
+                                          # (the default since 2026-12-05 13:45): drawn
                                           # each cycle from the floor features, fused look
                                           # by look (planner.features; Perception.update);
                                           # "looks": every look's hits as log-odds, grown
@@ -675,6 +680,7 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS),
+                          ("turn_room", TURN_ROOMS),
                           ("progress", PROGRESSES), ("uncertain", UNCERTAIN_PLANS),
                           ("track_free", TRACK_FREES), ("goal_region", GOALS),
                           ("floor_eyes", FLOOR_EYES), ("blank_carve", ("unknown", "always")),
@@ -1096,12 +1102,14 @@ class Drive:
             self.last_reason = str(exc)
         if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
                                             for c in seg)):
-            seg, note = self.look_round(fm, est, safe, seen, note)
+            seg, note = self.look_round(fm, est, safe, seen, note, pts)
         return Decision(pts, seg, note, left, fetching, safe, fm)
 
-    def look_round(self, fm: FloorMap, est: State, safe, seen, note: str):
+    def look_round(self, fm: FloorMap, est: State, safe, seen, note: str, pts=()):
         """No motion: turn to look, toward the goal first, then sweep (+35, -70 deg);
-        with the head, the head looks round first; else back to where it can turn.
+        with the head, the head looks round first; else back to where it can turn
+        (``reverse``), or forward to where it can (``turn_room="forward"``: then
+        facing the path ``pts``, or turning as it would have here).
         Returns (commands, note)."""
         prof = self.prof
         self.sweep += 1
@@ -1120,6 +1128,13 @@ class Drive:
             return [Turn(round(t, 2))], note + " (turning to look)"
         if back:
             return back, note + " (cannot turn here: backing to where it can)"
+        if self.cfg.turn_room == "forward":
+            aims = (lambda end: path_heading(end, pts),
+                    lambda end: wrap(end.heading_deg + t))
+            on = forward_to_turn(fm, est, aims, safe, seen, prof, self.pivot_sweep,
+                                 self.pivot_r)
+            if on:
+                return on, note + " (cannot turn here: forward to where it can)"
         return [], note + " (cannot turn: space within its radius not seen free)"
 
     def _decision_state(self):

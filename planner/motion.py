@@ -483,6 +483,42 @@ def back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProf
     return [Back(round(d, 3))] if d > 0.05 else []
 
 
+TURN_ROOM_STEP_FT = 0.25     # turn_room="forward": the forward moves tried, this far apart
+
+
+def forward_to_turn(fm: FloorMap, est: State, aims, safe: Passable, seen, prof: VehicleProfile,
+                    pivot_sweep=None, pivot_ft: float | None = None,
+                    step_ft: float = TURN_ROOM_STEP_FT) -> list | None:
+    """``[FORWARD d, TURN t]`` for a vehicle that cannot pivot where it stands
+    (``DriveConfig.turn_room="forward"``; not 1985): the shortest straight
+    move along the heading, in steps of ``step_ft`` up to the profile's step,
+    that the rules of every forward move allow (:func:`safe_prefix`: the
+    swept width and the nose seen free, nothing known within the radius)
+    and after which a pivot passes :func:`pivot_allowed`; ``t`` turns to the
+    first heading of ``aims`` that may be taken there (each a function of the
+    pose after the move, returning a heading in degrees or None).  None
+    when no such move exists.  The pivot circle beside a vehicle is the
+    floor nearest it, which the fixed rig never shows (nearer than
+    :func:`near_visible_ft`); a little way on, the circle lies over floor
+    the looks behind have shown."""
+    half_w, half_l = prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft
+    n = int(math.floor(prof.step_ft / step_ft + 1e-9))
+    for k in range(1, n + 1):
+        d = k * step_ft
+        seg = safe_prefix([Forward(d)], est, safe, seen, d, None, half_w, half_l, 0.0)
+        if sum(c.distance_ft for c in seg if isinstance(c, Forward)) < d - 1e-6:
+            return None                    # the move itself is refused from here on
+        end = advance(est, Forward(d))
+        for aim in aims:
+            h = aim(end)
+            if h is None:
+                continue
+            t = round(wrap(h - end.heading_deg), 2)
+            if abs(t) >= 1.0 and pivot_allowed(fm, end, t, prof, pivot_sweep, pivot_ft):
+                return [Forward(round(d, 3)), Turn(t)]
+    return None
+
+
 LOOKS_PER_VIEWPOINT = 3      # looks at one blocker from one place before trying another
 
 

@@ -183,7 +183,7 @@ LOOP_OPTION_GROUPS = (
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
-      "--reverse", "--max-looks", "--max-stuck")),
+      "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
 )
 
 
@@ -191,6 +191,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
+        TURN_ROOMS, \
     MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, \
         WALL_POINTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
@@ -258,7 +259,7 @@ def add_loop_options(p) -> None:
              "before 2026-12-05) or 'point' (default): at the located point's own "
              "horizontal position")
     opt("--occupied", choices=OCCUPIEDS, default=C.occupied,
-        help="the map's occupied cells: model (default since 2026-12-05 14:00): "
+        help="the map's occupied cells: model (default since 2026-12-05 13:45): "
              "regenerated each cycle from the floor features fused look by look "
              "(Chapter IV's octree regenerated from the symbolic model); looks: "
              "every look's hits grown by that look's covariance, never shrunk")
@@ -304,6 +305,11 @@ def add_loop_options(p) -> None:
              "reachable cell nearest the goal (default), or plan through them and look")
     opt("--reverse", choices=("off", "on"), default="off",
         help="the vehicle may BACK straight over space seen free (default off)")
+    opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,
+        help="where no pivot is allowed (its swept cells not seen free) and the vehicle "
+             "cannot back: 'off' (default), it stays and looks again; 'forward' (not "
+             "1985): the shortest straight move on, over space seen free, after which a "
+             "pivot is allowed, then that pivot")
     opt("--track-free", choices=TRACK_FREES, default=C.track_free,
         help="free where the vehicle stood: its footprint at each pose (default), or "
              "the footprint swept by every move and pivot, shrunk by the margin")
@@ -532,7 +538,8 @@ def loop_config(args, goal, fail):
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
-                       look_around=args.look_around, progress=args.progress,
+                       look_around=args.look_around, turn_room=args.turn_room,
+                       progress=args.progress,
                        look_ahead=args.look_ahead, seen_cost=args.seen_cost,
                        uncertain=args.uncertain, track_free=args.track_free,
                        goal_region=args.goal_region, approach=args.approach, floor_eyes=args.floor_eyes,

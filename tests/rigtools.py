@@ -276,7 +276,7 @@ STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 # drive it traced.  (Each dict also turns back what came after it: the step back that
 # learns the floor's grey, the fix's widening window and the swept pivot, 2026-12-05 09:30;
 # the goal's disc planned to, 2026-12-05 11:10; 16 looks without progress, not 8, 12:00;
-# the occupied cells drawn from the fused floor features, not every look's hits, 14:00.)
+# the occupied cells drawn from the fused floor features, not every look's hits, 13:45.)
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan",
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks")

@@ -325,7 +325,7 @@ def test_blank_carve_rejects_an_unknown_way():
 def test_rig_drive_passes_the_map_source_options_to_the_loop(tmp_path, monkeypatch):
     """``--occupied looks --feature-pose drift --hit-at axis`` reach DriveConfig;
     the defaults are the loop's own (the fused floor features since 2026-12-05
-    14:00, absolute pose error, hits at the located points); a bad value is refused."""
+    13:45, absolute pose error, hits at the located points); a bad value is refused."""
     from rig.main import main
     c = drive_config(monkeypatch, tmp_path, "--occupied", "looks", "--feature-pose", "drift",
                      "--hit-at", "axis")

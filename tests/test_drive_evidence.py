@@ -165,6 +165,42 @@ def test_back_prefix_backs_over_seen_free_space_only():
     assert back_prefix(State(0.0, -7.3, 0.0), 1.0, safe, seen, DEFAULT) == []
 
 
+def test_forward_to_turn_moves_on_until_the_pivot_clears_a_never_seen_notch(monkeypatch, tmp_path):
+    """``turn_room="forward"``: in the corridor, with the cells x 0.75..1.25, z -7..-6.5
+    never seen, a vehicle at (0, -6.5) facing +z may not pivot to +x: its grown footprint
+    (0.55 by 0.65 ft half sides) reaches hypot(0.55, 0.65) = 0.85 ft, and the notch's nearest
+    corner (0.75, -6.5) is 0.75 ft away.  A quarter foot on it is 0.79 ft away, still within
+    reach; half a foot on, hypot(0.75, 0.5) = 0.90 ft, out of it: FORWARD 0.5, TURN 90.
+    Near the corridor's end no move on leaves room to pivot: None."""
+    from planner.motion import forward_to_turn, pivot_allowed, pivot_radius_ft
+    from rigtools import drive_config
+    from vehicle.commands import Forward, Turn
+    fm = corridor_map()
+    i0, j0 = fm.index(0.75, -7.0)
+    i1, j1 = fm.index(1.25, -6.5)
+    fm.cells[i0:i1, j0:j1] = UNKNOWN
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    sweep, pivot_ft = (DEFAULT.footprint, DEFAULT.margin_ft), pivot_radius_ft(DEFAULT)
+    reach = math.hypot(DEFAULT.width_ft / 2 + DEFAULT.margin_ft,
+                       DEFAULT.length_ft / 2 + DEFAULT.margin_ft)
+    assert math.hypot(0.75, 0.25) < reach < math.hypot(0.75, 0.5)
+    here = State(0.0, -6.5, 0.0)
+    assert not pivot_allowed(fm, here, 90.0, DEFAULT, sweep, pivot_ft)
+    east = (lambda end: 90.0,)
+    assert forward_to_turn(fm, here, east, safe, seen, DEFAULT, sweep, pivot_ft) == \
+        [Forward(0.5), Turn(90.0)]
+    # an aim with no heading, or one already faced, is passed over
+    assert forward_to_turn(fm, here, (lambda end: None, lambda end: 0.0) + east, safe, seen,
+                           DEFAULT, sweep, pivot_ft) == [Forward(0.5), Turn(90.0)]
+    # 0.9 ft from the corridor's end at z = 2: the nose (0.65 ft) reaches unseen cells
+    # before the grown footprint's reach clears them
+    assert forward_to_turn(fm, State(0.0, 0.9, 0.0), east, safe, seen, DEFAULT, sweep,
+                           pivot_ft) is None
+    assert DriveConfig.turn_room == "off"
+    assert drive_config(monkeypatch, tmp_path, "--turn-room", "forward").turn_room == "forward"
+
+
 def test_the_evidence_options_drive_the_tiny_room_without_collision():
     """The named options together (look at what the path lacks, progress by
     evidence, reverse allowed, plan through uncertain cells) still reach the

@@ -17,7 +17,8 @@ from vehicle.sim import State
 @pytest.mark.parametrize("field", [
     "match", "pose", "eyes", "pivot", "look_around", "progress", "uncertain", "track_free",
     "goal_region", "floor_eyes", "blank_carve", "blank_limit", "blank_sides", "sight_lines",
-    "occupied", "hit_at", "feature_pose", "approach", "head", "refute_hits", "learn_floor"])
+    "occupied", "hit_at", "feature_pose", "approach", "head", "refute_hits", "learn_floor",
+    "turn_room"])
 def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
     from planner.loop import run
     cfg = DriveConfig(goal=GOAL, **{field: "nonsense"})

@@ -183,7 +183,7 @@ def test_the_loop_on_the_regenerated_map_reaches_the_tiny_rooms_goal():
 
 def test_room_156s_passage_stays_open_on_the_fused_map_and_closes_on_the_per_look_map():
     """Bench room 156 (noise seed 156; the task leaves 0.25 ft to spare): on the per-look
-    map (occupied="looks", the default before 2026-12-05 14:00) the hits one look saw keep
+    map (occupied="looks", the default before 2026-12-05 13:45) the hits one look saw keep
     their look's wide growth, the way out of the start narrows below the vehicle and the
     drive never moves; drawn from the fused features (the default since) the same looks
     leave it open and the vehicle reaches the goal, by its true pose too, without a
