@@ -77,6 +77,7 @@ OPTIONS = [
     "--goal-region point",
     "--max-stuck 8",
     "--occupied looks",
+    "--turn-room off",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -291,10 +291,11 @@ class DriveConfig:
                                           # the floor plan's walls fused with the
                                           # odometry's prior, planner.localize)
     pose_method: str = "robust"           # the walk's driving method under "fused"
-    turn_room: str = "off"                # no pivot is allowed where the vehicle stands
-                                          # (nor a BACK): "off", it stays; "forward" (not
-                                          # 1985; a named option): the shortest straight
-                                          # move on after which one is (motion.forward_to_turn)
+    turn_room: str = "forward"            # no pivot is allowed where the vehicle stands
+                                          # (nor a BACK): "forward" (not 1985; the default
+                                          # since 2026-12-05 15:00): the shortest straight
+                                          # move on after which one is (motion.forward_to_turn);
+                                          # "off": it stays and looks again
     look_around: str = "evidence"         # the vehicle cannot move: "sweep" (the default
                                           # before 2026-12-04): face the path, then turn
                                           # +35 / -70 deg in place; "evidence" (not 1985;

@@ -307,9 +307,9 @@ def add_loop_options(p) -> None:
         help="the vehicle may BACK straight over space seen free (default off)")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,
         help="where no pivot is allowed (its swept cells not seen free) and the vehicle "
-             "cannot back: 'off' (default), it stays and looks again; 'forward' (not "
-             "1985): the shortest straight move on, over space seen free, after which a "
-             "pivot is allowed, then that pivot")
+             "cannot back: 'forward' (default since 2026-12-05 15:00; not 1985): the "
+             "shortest straight move on, over space seen free, after which a pivot is "
+             "allowed, then that pivot; 'off': it stays and looks again")
     opt("--track-free", choices=TRACK_FREES, default=C.track_free,
         help="free where the vehicle stood: its footprint at each pose (default), or "
              "the footprint swept by every move and pivot, shrunk by the margin")

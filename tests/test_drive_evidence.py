@@ -197,7 +197,8 @@ def test_forward_to_turn_moves_on_until_the_pivot_clears_a_never_seen_notch(monk
     # before the grown footprint's reach clears them
     assert forward_to_turn(fm, State(0.0, 0.9, 0.0), east, safe, seen, DEFAULT, sweep,
                            pivot_ft) is None
-    assert DriveConfig.turn_room == "off"
+    assert DriveConfig.turn_room == "forward"            # the default since 2026-12-05 15:00
+    assert drive_config(monkeypatch, tmp_path, "--turn-room", "off").turn_room == "off"
     assert drive_config(monkeypatch, tmp_path, "--turn-room", "forward").turn_room == "forward"
 
 

@@ -165,7 +165,8 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     ``max_stuck`` looks, saying why; ``rig drive --max-stuck`` sets it, and a
     count below 1 is refused.  (Each look's hits in the octree, occupied="looks": the fused
     features draw the box's seen face thinner, and the goal's disc then holds unknown
-    floor behind the box, which the planner may aim at.)"""
+    floor behind the box, which the planner may aim at; and turn_room="off": with "forward"
+    the vehicle moves on to where it can turn.)"""
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import drive_config
@@ -173,7 +174,8 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     assert drive_config(monkeypatch, tmp_path, "--max-stuck", "3").max_stuck == 3
     for n in (2, 3):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
-                  DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n, occupied="looks"),
+                  DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n, occupied="looks",
+                              turn_room="off"),
                   noise=OdometryNoise(seed=1))
         assert len(res.cycles) == n
         assert res.reason.startswith(f"stopped after {n} looks without progress: goal not "
