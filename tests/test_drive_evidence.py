@@ -202,6 +202,30 @@ def test_forward_to_turn_moves_on_until_the_pivot_clears_a_never_seen_notch(monk
     assert drive_config(monkeypatch, tmp_path, "--turn-room", "forward").turn_room == "forward"
 
 
+def test_room_385_moves_on_to_turn_where_it_stood_before():
+    """Bench room 385 (noise seed 385): without turning room the vehicle stops "cannot
+    turn", standing where every pivot it needs sweeps floor no look has shown; with it
+    (the default since 2026-12-05 15:00) a cycle moves on and turns, and the goal is
+    reached by the true pose too, without a collision (the world's exact geometry)."""
+    from planner.loop import run
+    from planner.planning import random_goal
+    from world.odometry import OdometryNoise
+    from world.room import generate_room
+    room = generate_room(385)
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    goal = random_goal(room, start, DEFAULT, np.random.default_rng(385))
+    res = {how: run(room, start, DriveConfig(goal=goal, turn_room=how), keep_maps=False,
+                    noise=OdometryNoise(seed=385)) for how in ("off", "forward")}
+    off, on = res["off"], res["forward"]
+    assert not off.reached and "cannot turn: space within its radius" in off.reason
+    assert off.collisions == 0
+    assert on.reached and on.collisions == 0, on.reason
+    assert any("forward to where it can" in c.note for c in on.cycles)
+    end = on.true_track[-1]
+    assert math.hypot(end.x - goal[0], end.z - goal[1]) <= DriveConfig.tolerance_ft
+
+
 def test_the_evidence_options_drive_the_tiny_room_without_collision():
     """The named options together (look at what the path lacks, progress by
     evidence, reverse allowed, plan through uncertain cells) still reach the
