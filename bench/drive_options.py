@@ -33,9 +33,11 @@ from pathlib import Path
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
 # the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
 # learn the floor, the fix's window never widened, the pivot's disc, the goal planned
-# to as a point and 8 looks without progress (the improved matcher, the fill, the
-# smallest turns unchecked, the step back, the widening, the swept pivot, the goal's disc
-# and 16 looks are the defaults since 2026-12-05); the two heads.
+# to as a point, 8 looks without progress, each look's hits as the map's obstacles and no
+# move on to turn (the improved matcher, the fill, the smallest turns unchecked, the step
+# back, the widening, the swept pivot, the goal's disc, 16 looks, the fused features and
+# forward to turn are the defaults since 2026-12-05); the two heads.  (Expiry acts only
+# on each look's hits, so it is measured with them.)
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
