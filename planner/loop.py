@@ -167,7 +167,7 @@ REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
-MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
+MAP_EXTENTS = ("seen", "walls", "fallback", "stalled")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
@@ -517,7 +517,13 @@ class DriveConfig:
                                           # it but one lies on the map out to the walls,
                                           # that map for the cycle (Drive.map_to_plan_on);
                                           # measured 2026-12-02: fixes rooms 26 and 99, loses
-                                          # room 44 (depth eyes, fixed rig): not adopted
+                                          # room 44 (depth eyes, fixed rig): not adopted;
+                                          # "stalled" (not 1985; named, needs known_walls):
+                                          # "seen" until stall_looks looks pass without
+                                          # progress, "fallback" from then on
+    stall_looks: int = 8                  # map_extent="stalled": looks in a row without
+                                          # progress (the count toward max_stuck) after
+                                          # which the run falls back
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -697,7 +703,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
-    for name in ("max_looks", "max_stuck"):
+    for name in ("max_looks", "max_stuck", "stall_looks"):
         count = getattr(cfg, name)
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise ValueError(f"{name} {count!r}: a count of looks, at least 1")
@@ -875,6 +881,7 @@ class Drive:
                                                cfg.voi.resolution)
         self.cycles: list[Cycle] = []
         self.stuck = 0
+        self.stalled = False                  # map_extent="stalled": the fallback has begun
         self.best_left, self.most_free = math.inf, 0   # the shortest way left so far, the most free cells
         self.last_reason = ""                 # the planner's NoPath of the last decision ("" if none)
         self.sweep = 0                        # looks turned in place since the vehicle last moved
@@ -1025,8 +1032,15 @@ class Drive:
         nearest the goal) and one lies on the map drawn out to the room's walls, that
         map.  (Where the goal itself is refused on both, a goal too near an obstacle on
         the map, ``fm`` stays: with the wider map the nearest reachable cell moved and
-        rooms 44 and 93 on depth eyes stopped short.)"""
-        if self.cfg.map_extent != "fallback" or self._reaches_goal(fm, est):
+        rooms 44 and 93 on depth eyes stopped short.)  Under ``"stalled"``, ``fm`` until
+        ``stall_looks`` looks in a row have made no progress, then as ``"fallback"`` for the
+        rest of the run: the wider map sends a vehicle that would have got there on ``fm``
+        round the far side of never-seen space (room 156: 60 looks used up a foot and a
+        half from the goal), so it is kept for the runs the seen map has stalled."""
+        cfg = self.cfg
+        self.stalled = self.stalled or (cfg.map_extent == "stalled"
+                                        and self.stuck >= cfg.stall_looks)
+        if not (cfg.map_extent == "fallback" or self.stalled) or self._reaches_goal(fm, est):
             return fm
         wide = self.drawn_map(est, "walls")
         return wide if self._reaches_goal(wide, est) else fm
