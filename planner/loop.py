@@ -519,11 +519,12 @@ class DriveConfig:
                                           # measured 2026-12-02: fixes rooms 26 and 99, loses
                                           # room 44 (depth eyes, fixed rig): not adopted;
                                           # "stalled" (not 1985; named, needs known_walls):
-                                          # "seen" until stall_looks looks pass without
-                                          # progress, "fallback" from then on
-    stall_looks: int = 8                  # map_extent="stalled": looks in a row without
-                                          # progress (the count toward max_stuck) after
-                                          # which the run falls back
+                                          # "seen" until the seen map has had no way to the
+                                          # goal for stall_looks looks in a row, "fallback"
+                                          # from then on (Drive.watch_the_way)
+    stall_looks: int = 4                  # map_extent="stalled": looks in a row whose seen
+                                          # map has no way to the goal before the run
+                                          # falls back
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -881,7 +882,8 @@ class Drive:
                                                cfg.voi.resolution)
         self.cycles: list[Cycle] = []
         self.stuck = 0
-        self.stalled = False                  # map_extent="stalled": the fallback has begun
+        self.no_way = 0                       # map_extent="stalled": looks in a row whose
+        self.stalled = False                  # seen map had no way to the goal; the fallback begun
         self.best_left, self.most_free = math.inf, 0   # the shortest way left so far, the most free cells
         self.last_reason = ""                 # the planner's NoPath of the last decision ("" if none)
         self.sweep = 0                        # looks turned in place since the vehicle last moved
@@ -1032,18 +1034,24 @@ class Drive:
         nearest the goal) and one lies on the map drawn out to the room's walls, that
         map.  (Where the goal itself is refused on both, a goal too near an obstacle on
         the map, ``fm`` stays: with the wider map the nearest reachable cell moved and
-        rooms 44 and 93 on depth eyes stopped short.)  Under ``"stalled"``, ``fm`` until
-        ``stall_looks`` looks in a row have made no progress, then as ``"fallback"`` for the
-        rest of the run: the wider map sends a vehicle that would have got there on ``fm``
-        round the far side of never-seen space (room 156: 60 looks used up a foot and a
-        half from the goal), so it is kept for the runs the seen map has stalled."""
+        rooms 44 and 93 on depth eyes stopped short.)  Under ``"stalled"``, as
+        ``"fallback"`` once :meth:`watch_the_way` has seen the run stall."""
         cfg = self.cfg
-        self.stalled = self.stalled or (cfg.map_extent == "stalled"
-                                        and self.stuck >= cfg.stall_looks)
         if not (cfg.map_extent == "fallback" or self.stalled) or self._reaches_goal(fm, est):
             return fm
         wide = self.drawn_map(est, "walls")
         return wide if self._reaches_goal(wide, est) else fm
+
+    def watch_the_way(self, fm: FloorMap, est: State) -> None:
+        """``map_extent="stalled"``: count the looks in a row whose seen map ``fm`` has no
+        way to the goal; from ``stall_looks`` on, the run falls back for good.  A seen
+        map without a way often finds one a look or two later as the vehicle drives
+        toward the reachable cell nearest the goal (room 156: looks 2 and 3), where the
+        fallback from the first look sends it round the far side of never-seen space
+        (60 looks used up a foot and a half from the goal)."""
+        if not self.stalled:
+            self.no_way = 0 if self._reaches_goal(fm, est) else self.no_way + 1
+            self.stalled = self.no_way >= self.cfg.stall_looks
 
     def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
         """Whether the planner finds a path to the goal itself on ``fm``."""
@@ -1241,6 +1249,8 @@ class Drive:
             est = self.estimate(look, scan, points, pan, tilt)
             fm = self.update_map(look, points, est, pan, tilt,
                                  self.head or bool(assist and extra_looks))
+            if self.cfg.map_extent == "stalled" and not extra_looks:
+                self.watch_the_way(fm, est)
             d = self.plan(fm, est, pan)
             fm = d.fmap
             if assist and extra_looks == 0 and (not _moves(d.commands) or d.fetching):

@@ -426,10 +426,12 @@ def add_loop_options(p) -> None:
              "instead of a drive toward the reachable cell nearest the goal; "
              "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
              "whose seen map has no path to the goal; 'stalled' (not 1985): 'seen' "
-             "until --stall-looks looks pass without progress, 'fallback' after")
+             "until the seen map has had no path to the goal for --stall-looks looks "
+             "in a row, 'fallback' after")
     opt("--stall-looks", type=int, default=C.stall_looks,
-        help="under --map-extent stalled: the looks in a row without progress after "
-             "which the run falls back to the walls' map (default %(default)s)")
+        help="under --map-extent stalled: the looks in a row without a path to the "
+             "goal on the seen map after which the run falls back for good "
+             "(default %(default)s)")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "

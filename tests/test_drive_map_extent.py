@@ -180,23 +180,31 @@ def test_fallback_plans_on_the_walls_map_only_where_the_seen_map_has_no_way():
     assert d.map_to_plan_on(fm, START) is fm
 
 
-def test_stalled_falls_back_only_after_stall_looks_without_progress_and_then_stays():
+def test_stalled_falls_back_after_stall_looks_without_a_way_and_then_stays():
     d = _drive("stalled", stall_looks=3)
     fm = d.drawn_map(START, "seen")
-    for stuck in (0, 1, 2):                   # the seen map, no way on it: kept, as "seen"
-        d.stuck = stuck
+    for look in (1, 2):                       # the seen map has no way: kept, as "seen"
+        d.watch_the_way(fm, START)
+        assert (d.no_way, d.stalled) == (look, False)
         assert d.map_to_plan_on(fm, START) is fm
-    d.stuck = 3                               # the third look without progress: "fallback"
+    d.watch_the_way(fm, START)                # the third look in a row without a way
+    assert d.stalled
     used = d.map_to_plan_on(fm, START)
     assert used.extent() == pytest.approx((-8.0, 8.0, -4.0, 14.0))
     assert plan(used, START, GOAL, d.cfg)[2] == "path to the goal"
-    d.stuck = 0                               # the vehicle moves on the wider map's path:
-    assert d.map_to_plan_on(fm, START) is not fm      # the fallback stays for the run
-    # and as "fallback", a seen map with a way to the goal is kept
-    clear = _drive("stalled", barrier=False, stall_looks=1)
-    clear.stuck = 5
-    fm = clear.drawn_map(START, "seen")
-    assert clear.map_to_plan_on(fm, START) is fm
+    # a seen map with a way to the goal: as "fallback", it is kept; the fallback stays
+    clear = _drive("stalled", barrier=False)
+    way = clear.drawn_map(START, "seen")
+    d.watch_the_way(way, START)
+    assert d.stalled and d.map_to_plan_on(way, START) is way
+    assert d.map_to_plan_on(fm, START) is not fm
+    # a look with a way starts the count again
+    e = _drive("stalled", stall_looks=2)
+    e.watch_the_way(fm, START)
+    e.watch_the_way(way, START)
+    e.watch_the_way(fm, START)
+    assert (e.no_way, e.stalled) == (1, False)
+    assert e.map_to_plan_on(fm, START) is fm
 
 
 def test_fallback_keeps_the_seen_map_where_the_walls_map_refuses_the_goal_too():
