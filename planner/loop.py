@@ -167,7 +167,7 @@ REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
-MAP_EXTENTS = ("seen", "walls", "fallback", "stalled")   # DriveConfig.map_extent: what the floor map covers
+MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
@@ -517,14 +517,7 @@ class DriveConfig:
                                           # it but one lies on the map out to the walls,
                                           # that map for the cycle (Drive.map_to_plan_on);
                                           # measured 2026-12-02: fixes rooms 26 and 99, loses
-                                          # room 44 (depth eyes, fixed rig): not adopted;
-                                          # "stalled" (not 1985; named, needs known_walls):
-                                          # "seen" until the seen map has had no way to the
-                                          # goal for stall_looks looks in a row, "fallback"
-                                          # from then on (Drive.watch_the_way)
-    stall_looks: int = 4                  # map_extent="stalled": looks in a row whose seen
-                                          # map has no way to the goal before the run
-                                          # falls back
+                                          # room 44 (depth eyes, fixed rig): not adopted
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -704,7 +697,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
-    for name in ("max_looks", "max_stuck", "stall_looks"):
+    for name in ("max_looks", "max_stuck"):
         count = getattr(cfg, name)
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise ValueError(f"{name} {count!r}: a count of looks, at least 1")
@@ -882,8 +875,6 @@ class Drive:
                                                cfg.voi.resolution)
         self.cycles: list[Cycle] = []
         self.stuck = 0
-        self.no_way = 0                       # map_extent="stalled": looks in a row whose
-        self.stalled = False                  # seen map had no way to the goal; the fallback begun
         self.best_left, self.most_free = math.inf, 0   # the shortest way left so far, the most free cells
         self.last_reason = ""                 # the planner's NoPath of the last decision ("" if none)
         self.sweep = 0                        # looks turned in place since the vehicle last moved
@@ -1034,24 +1025,11 @@ class Drive:
         nearest the goal) and one lies on the map drawn out to the room's walls, that
         map.  (Where the goal itself is refused on both, a goal too near an obstacle on
         the map, ``fm`` stays: with the wider map the nearest reachable cell moved and
-        rooms 44 and 93 on depth eyes stopped short.)  Under ``"stalled"``, as
-        ``"fallback"`` once :meth:`watch_the_way` has seen the run stall."""
-        cfg = self.cfg
-        if not (cfg.map_extent == "fallback" or self.stalled) or self._reaches_goal(fm, est):
+        rooms 44 and 93 on depth eyes stopped short.)"""
+        if self.cfg.map_extent != "fallback" or self._reaches_goal(fm, est):
             return fm
         wide = self.drawn_map(est, "walls")
         return wide if self._reaches_goal(wide, est) else fm
-
-    def watch_the_way(self, fm: FloorMap, est: State) -> None:
-        """``map_extent="stalled"``: count the looks in a row whose seen map ``fm`` has no
-        way to the goal; from ``stall_looks`` on, the run falls back for good.  A seen
-        map without a way often finds one a look or two later as the vehicle drives
-        toward the reachable cell nearest the goal (room 156: looks 2 and 3), where the
-        fallback from the first look sends it round the far side of never-seen space
-        (60 looks used up a foot and a half from the goal)."""
-        if not self.stalled:
-            self.no_way = 0 if self._reaches_goal(fm, est) else self.no_way + 1
-            self.stalled = self.no_way >= self.cfg.stall_looks
 
     def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
         """Whether the planner finds a path to the goal itself on ``fm``."""
@@ -1249,8 +1227,6 @@ class Drive:
             est = self.estimate(look, scan, points, pan, tilt)
             fm = self.update_map(look, points, est, pan, tilt,
                                  self.head or bool(assist and extra_looks))
-            if self.cfg.map_extent == "stalled" and not extra_looks:
-                self.watch_the_way(fm, est)
             d = self.plan(fm, est, pan)
             fm = d.fmap
             if assist and extra_looks == 0 and (not _moves(d.commands) or d.fetching):

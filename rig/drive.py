@@ -180,7 +180,7 @@ LOOP_OPTION_GROUPS = (
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
-      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent", "--stall-looks")),
+      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
       "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
@@ -425,13 +425,7 @@ def add_loop_options(p) -> None:
              "well, so a way through never-seen space by the walls is planned "
              "instead of a drive toward the reachable cell nearest the goal; "
              "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
-             "whose seen map has no path to the goal; 'stalled' (not 1985): 'seen' "
-             "until the seen map has had no path to the goal for --stall-looks looks "
-             "in a row, 'fallback' after")
-    opt("--stall-looks", type=int, default=C.stall_looks,
-        help="under --map-extent stalled: the looks in a row without a path to the "
-             "goal on the seen map after which the run falls back for good "
-             "(default %(default)s)")
+             "whose seen map has no path to the goal")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "
@@ -562,7 +556,7 @@ def loop_config(args, goal, fail):
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
-                       map_extent=args.map_extent, stall_looks=args.stall_looks, plan_walls=args.plan_walls,
+                       map_extent=args.map_extent, plan_walls=args.plan_walls,
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,

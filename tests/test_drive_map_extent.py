@@ -1,7 +1,7 @@
 """What the floor map covers (``DriveConfig.map_extent``, :func:`planner.loop.map_around`):
 under ``"seen"`` (the default) every hit so far, the estimate and the goal, 2 ft round,
 its border blocking the search; under ``"walls"`` (a named option) the room's floor plan
-as well; ``"fallback"`` and ``"stalled"`` choose between the two cycle by cycle.  Rooms 26 and 99 on depth eyes drove into a dead end because the way round
+as well.  Rooms 26 and 99 on depth eyes drove into a dead end because the way round
 the far side of a box lay off the map.  Hand-made maps; every extent and bound derived
 by hand."""
 
@@ -113,15 +113,10 @@ def test_walls_needs_the_floor_plan_and_an_unknown_extent_is_one_clear_error():
         _check_config(DriveConfig(goal=GOAL, map_extent="walls", known_walls=False))
     with pytest.raises(ValueError, match="map_extent 'fallback' needs known_walls"):
         _check_config(DriveConfig(goal=GOAL, map_extent="fallback", known_walls=False))
-    with pytest.raises(ValueError, match="map_extent 'stalled' needs known_walls"):
-        _check_config(DriveConfig(goal=GOAL, map_extent="stalled", known_walls=False))
-    for looks in (0, -1, 2.5, True):
-        with pytest.raises(ValueError, match="stall_looks .*: a count of looks, at least 1"):
-            _check_config(DriveConfig(goal=GOAL, map_extent="stalled", stall_looks=looks))
     with pytest.raises(ValueError,
-                       match="unknown map_extent 'room'; one of seen, walls, fallback, stalled"):
+                       match="unknown map_extent 'room'; one of seen, walls, fallback"):
         _check_config(DriveConfig(goal=GOAL, map_extent="room"))
-    assert MAP_EXTENTS == ("seen", "walls", "fallback", "stalled")
+    assert MAP_EXTENTS == ("seen", "walls", "fallback")
     _check_config(DriveConfig(goal=GOAL, map_extent="walls"))
     _check_config(DriveConfig(goal=GOAL, map_extent="fallback"))
     assert DriveConfig(goal=GOAL).map_extent == "seen"     # off by default
@@ -178,33 +173,6 @@ def test_fallback_plans_on_the_walls_map_only_where_the_seen_map_has_no_way():
     d = _drive("fallback", barrier=False)
     fm = d.drawn_map(START, "seen")
     assert d.map_to_plan_on(fm, START) is fm
-
-
-def test_stalled_falls_back_after_stall_looks_without_a_way_and_then_stays():
-    d = _drive("stalled", stall_looks=3)
-    fm = d.drawn_map(START, "seen")
-    for look in (1, 2):                       # the seen map has no way: kept, as "seen"
-        d.watch_the_way(fm, START)
-        assert (d.no_way, d.stalled) == (look, False)
-        assert d.map_to_plan_on(fm, START) is fm
-    d.watch_the_way(fm, START)                # the third look in a row without a way
-    assert d.stalled
-    used = d.map_to_plan_on(fm, START)
-    assert used.extent() == pytest.approx((-8.0, 8.0, -4.0, 14.0))
-    assert plan(used, START, GOAL, d.cfg)[2] == "path to the goal"
-    # a seen map with a way to the goal: as "fallback", it is kept; the fallback stays
-    clear = _drive("stalled", barrier=False)
-    way = clear.drawn_map(START, "seen")
-    d.watch_the_way(way, START)
-    assert d.stalled and d.map_to_plan_on(way, START) is way
-    assert d.map_to_plan_on(fm, START) is not fm
-    # a look with a way starts the count again
-    e = _drive("stalled", stall_looks=2)
-    e.watch_the_way(fm, START)
-    e.watch_the_way(way, START)
-    e.watch_the_way(fm, START)
-    assert (e.no_way, e.stalled) == (1, False)
-    assert e.map_to_plan_on(fm, START) is fm
 
 
 def test_fallback_keeps_the_seen_map_where_the_walls_map_refuses_the_goal_too():
