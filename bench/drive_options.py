@@ -33,10 +33,11 @@ from pathlib import Path
 # defaults of 2026-12-04 and of 2026-12-05 turned back one at a time and together, and
 # the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
 # learn the floor, the fix's window never widened, the pivot's disc, the goal planned
-# to as a point, 8 looks without progress, each look's hits as the map's obstacles and no
-# move on to turn (the improved matcher, the fill, the smallest turns unchecked, the step
-# back, the widening, the swept pivot, the goal's disc, 16 looks, the fused features and
-# forward to turn are the defaults since 2026-12-05); the two heads.  (Expiry acts only
+# to as a point, 8 looks without progress, each look's hits as the map's obstacles, no
+# move on to turn and the seen map alone (the improved matcher, the fill, the smallest
+# turns unchecked, the step back, the widening, the swept pivot, the goal's disc, 16
+# looks, the fused features, forward to turn and the walls' map where the seen one has no
+# way are the defaults since 2026-12-05); the two heads.  (Expiry acts only
 # on each look's hits, so it is measured with them.)
 OPTIONS = [
     "--clearance-at anywhere-exact",
@@ -52,7 +53,6 @@ OPTIONS = [
     "--stand-in majority",
     "--growth across",
     "--rejoin waypoint",
-    "--map-extent fallback",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",
@@ -80,6 +80,7 @@ OPTIONS = [
     "--max-stuck 8",
     "--occupied looks",
     "--turn-room off",
+    "--map-extent seen",
     "--head assist",
     "--head pan-tilt",
 ]

@@ -99,11 +99,12 @@ that only adds looks", room 7).  What a look proves (a sight line to a point
 it located) is not cut.
 
 The floor map each cycle plans on covers every hit so far, the estimate and the goal, 2 ft
-round, and its border blocks the search.  ``map_extent="fallback"`` (``rig drive
---map-extent fallback``, not 1985, off by default) plans a cycle whose map has no path to the
-goal on the map drawn out to the plan's walls instead, where that one has a path (the way
-round the far side of a box no hit has reached yet); ``"walls"`` does so every cycle
-(:func:`map_around`; measured: docs/planner.md, "The detours with eyes that see everything").
+round, and its border blocks the search.  Under ``map_extent="fallback"`` (not 1985; the
+default since 2026-12-05 16:30, ``"seen"`` before) a cycle whose map has no path to the
+goal plans on the map drawn out to the plan's walls instead, where that one has a path (the
+way round the far side of a box no hit has reached yet); ``"walls"`` does so every cycle
+(:func:`map_around`; measured: docs/planner.md, "The map out to the walls when the seen
+map has no way").
 
 When no path to the goal exists on the map (with unknown space blocked, or
 the goal looking blocked from afar), the vehicle heads for the reachable cell
@@ -504,7 +505,7 @@ class DriveConfig:
                                           # shows (appearance.within_heading; rooms 6, 34, 49)
     drift_sigmas: float = 2.0             # under "erode", "moves": the standard deviations of the
                                           # drift a free edge beside a hit gives up
-    map_extent: str = "seen"              # what the floor map (the search's space) covers:
+    map_extent: str = "fallback"          # what the floor map (the search's space) covers:
                                           # "seen": every hit so far, the estimate and the
                                           # goal, 2 ft round (its border blocks the search);
                                           # "walls" (not 1985; a named option, needs
@@ -512,12 +513,12 @@ class DriveConfig:
                                           # way through never-seen space by the walls is
                                           # planned (map_around; docs/planner.md, "The
                                           # detours with eyes that see everything");
-                                          # "fallback" (not 1985; named, needs known_walls):
-                                          # "seen", and where no path to the goal lies on
-                                          # it but one lies on the map out to the walls,
-                                          # that map for the cycle (Drive.map_to_plan_on);
-                                          # measured 2026-12-02: fixes rooms 26 and 99, loses
-                                          # room 44 (depth eyes, fixed rig): not adopted
+                                          # "fallback" (not 1985; the default since
+                                          # 2026-12-05 16:30, needs known_walls): "seen",
+                                          # and where no path to the goal lies on it but
+                                          # one lies on the map out to the walls, that map
+                                          # for the cycle (Drive.map_to_plan_on); seeds
+                                          # 1-900: 541 goals against 529, 0 collisions
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -707,7 +708,7 @@ def _check_config(cfg: DriveConfig) -> None:
                          "'dead_reckoning' or 'walls'")
     if cfg.map_extent != "seen" and not cfg.known_walls:
         raise ValueError(f"map_extent {cfg.map_extent!r} needs known_walls: without the floor "
-                         "plan the room's walls are not known")
+                         "plan the room's walls are not known; use map_extent 'seen'")
     if cfg.pose == "walls" and not cfg.known_walls:
         raise ValueError("pose 'walls' fixes the estimate against the room's walls: it needs "
                          "known_walls (the floor plan); use pose 'dead_reckoning'")
@@ -877,6 +878,7 @@ class Drive:
         self.stuck = 0
         self.best_left, self.most_free = math.inf, 0   # the shortest way left so far, the most free cells
         self.last_reason = ""                 # the planner's NoPath of the last decision ("" if none)
+        self._last_plan = None                # ((map, estimate, previous path), path or NoPath)
         self.sweep = 0                        # looks turned in place since the vehicle last moved
         self.prev_path = None                 # the path kept (planning.plan's keep_ft)
         self.known = None                     # the last floor map, its track free
@@ -1034,10 +1036,27 @@ class Drive:
     def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
         """Whether the planner finds a path to the goal itself on ``fm``."""
         try:
-            note = plan_path(fm, est, self.goal, self.cfg, self.prev_path)[2]
+            note = self._plan_on(fm, est)[2]
         except NoPath:
             return False
         return not note.startswith("goal not reachable")
+
+    def _plan_on(self, fm: FloorMap, est: State):
+        """:func:`planner.planning.plan` on ``fm`` from ``est`` (raising its NoPath),
+        kept for the same map, estimate and previous path: under
+        ``map_extent="fallback"`` the cycle asks first whether the seen map has a
+        way, then plans on it, and the search is most of a plan's time."""
+        last = self._last_plan
+        if last is None or last[0][0] is not fm or last[0][1] != est \
+                or last[0][2] is not self.prev_path:
+            try:
+                got = plan_path(fm, est, self.goal, self.cfg, self.prev_path)
+            except NoPath as exc:
+                got = exc
+            self._last_plan = last = ((fm, est, self.prev_path), got)
+        if isinstance(last[1], NoPath):
+            raise last[1]
+        return last[1]
 
     def plan(self, fm: FloorMap, est: State, pan: float) -> Decision:
         """Plan on the floor map: the path and its motion commands cut to what may be
@@ -1056,7 +1075,7 @@ class Drive:
             seen_eyes = looked_free(fm, est, cfg.max_range_ft).cells != UNKNOWN
         fetching = False
         try:
-            pts, cmds, note = plan_path(fm, est, goal, cfg, self.prev_path)
+            pts, cmds, note = self._plan_on(fm, est)
             if head:
                 cmds = shortcut_first_leg(cmds, est)
             seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,

@@ -419,13 +419,13 @@ def add_loop_options(p) -> None:
              "path avoids them: 'short' (the default since 2026-12-01: only when at "
              "most the kept-path allowance longer), 'any', or 'off' (as before)")
     opt("--map-extent", choices=MAP_EXTENTS, default=C.map_extent,
-        help="what the floor map the path is searched on covers: 'seen' (default): "
-             "every hit so far, the estimate and the goal, 2 ft round, its border "
-             "blocking the search; 'walls' (not 1985): the room's floor plan as "
-             "well, so a way through never-seen space by the walls is planned "
-             "instead of a drive toward the reachable cell nearest the goal; "
-             "'fallback' (not 1985): 'seen', and the walls' map only in a cycle "
-             "whose seen map has no path to the goal")
+        help="what the floor map the path is searched on covers: 'fallback' (not "
+             "1985; the default since 2026-12-05): 'seen', and the walls' map in a "
+             "cycle whose seen map has no path to the goal but the walls' map has; "
+             "'seen' (before): every hit so far, the estimate and the goal, 2 ft "
+             "round, its border blocking the search (no path: a drive toward the "
+             "reachable cell nearest the goal); 'walls' (not 1985): the room's floor "
+             "plan as well, every cycle")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "

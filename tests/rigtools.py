@@ -277,11 +277,12 @@ STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 # learns the floor's grey, the fix's widening window and the swept pivot, 2026-12-05 09:30;
 # the goal's disc planned to, 2026-12-05 11:10; 16 looks without progress, not 8, 12:00;
 # the occupied cells drawn from the fused floor features, not every look's hits, 13:45;
-# forward to where a pivot is allowed, 15:00.)
+# forward to where a pivot is allowed, 15:00; the map out to the walls where the seen map
+# has no way, 16:30.)
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan",
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
-                               turn_room="off")
+                               turn_room="off", map_extent="seen")
 
 # The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
 # the floor in view kept out of the boxes" and "The improved matcher"): the 1985 matcher,
@@ -294,10 +295,10 @@ DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckon
                                floor_end_check="off", proof_hits="trace", min_pivot_deg=0.0,
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
-                               turn_room="off")
+                               turn_room="off", map_extent="seen")
 # The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985),
 # in the one-cell gaps of free space (kept unknown) and in every turn being a pivot.
 DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_deg=0.0,
                                     learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                     goal_region="point", max_stuck=8, occupied="looks",
-                                    turn_room="off")
+                                    turn_room="off", map_extent="seen")

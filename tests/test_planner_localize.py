@@ -213,8 +213,9 @@ def test_the_loop_knows_the_walls_estimate_and_allows_it_with_the_head():
     assert "walls" in POSES and DriveConfig(goal=(0.0, 1.0)).pose == "walls"   # since 2026-12-05
     _check_config(DriveConfig(goal=(0.0, 1.0), pose="walls", head="pan-tilt"))
     with pytest.raises(ValueError, match="pose 'walls'.*known_walls"):
-        _check_config(DriveConfig(goal=(0.0, 1.0), known_walls=False))
-    _check_config(DriveConfig(goal=(0.0, 1.0), known_walls=False, pose="dead_reckoning"))
+        _check_config(DriveConfig(goal=(0.0, 1.0), known_walls=False, map_extent="seen"))
+    _check_config(DriveConfig(goal=(0.0, 1.0), known_walls=False, pose="dead_reckoning",
+                              map_extent="seen"))
 
 
 def test_the_loop_fixed_against_the_walls_ends_nearer_the_truth_than_dead_reckoning():
