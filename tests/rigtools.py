@@ -265,6 +265,19 @@ def drive_config(monkeypatch, out, *options):
     return seen["cfg"]
 
 
+def bench_task(seed: int):
+    """(room, start State, goal) of ``bench/drive.py``'s room ``seed``: the generated room,
+    its start, and the goal drawn for the default vehicle with the same seed."""
+    from planner.planning import random_goal
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.room import generate_room
+    room = generate_room(seed)
+    s = room.start
+    start = State(s.x, s.z, s.heading_deg)
+    return room, start, random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+
+
 # What the step back that learns the floor's grey (DriveConfig.learn_floor "step-back", the
 # default since 2026-12-05 09:30) adds to a drive's travel at most: the step itself and
 # the way back to where it began.  A path's optimum from the start does not hold it.

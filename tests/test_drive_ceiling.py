@@ -126,13 +126,9 @@ def test_room_35_turns_into_its_box_no_longer_with_the_margin():
     # off: pivot="disc" still does); with the margin (pivot="margin") but the
     # turn that faces the path unchecked, 2 deg into that turn at look 19; the
     # world's exact geometry counts it
-    from planner.planning import random_goal
     from world.odometry import OdometryNoise
-    from world.room import generate_room
-    room = generate_room(35)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(35))
+    from rigtools import bench_task
+    room, start, goal = bench_task(35)
     res = run(room, start, DriveConfig(goal=goal, eyes="truth", look_ahead=True, pivot="margin"),
               noise=OdometryNoise(seed=35), keep_maps=False)
     assert res.collisions == 0, res.reason
@@ -150,13 +146,9 @@ def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
     # 2026-12-05 09:30) grows the footprint by the planning margin, as forward moves
     # are, and the cells past the wrong ones were never seen: no such pivot.  The
     # world's exact geometry counts it.
-    from planner.planning import random_goal
     from world.odometry import OdometryNoise
-    from world.room import generate_room
-    room = generate_room(774)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(774))
+    from rigtools import bench_task
+    room, start, goal = bench_task(774)
     res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12, occupied="looks"),
                   noise=OdometryNoise(seed=774), keep_maps=False) for p in ("disc", "swept")}
     assert DriveConfig.pivot == "swept"

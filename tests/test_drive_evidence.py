@@ -209,13 +209,9 @@ def test_room_385_moves_on_to_turn_where_it_stood_before():
     reached by the true pose too, without a collision (the world's exact geometry).  On
     the seen map alone (the default before 2026-12-05 16:30, as traced)."""
     from planner.loop import run
-    from planner.planning import random_goal
     from world.odometry import OdometryNoise
-    from world.room import generate_room
-    room = generate_room(385)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(385))
+    from rigtools import bench_task
+    room, start, goal = bench_task(385)
     res = {how: run(room, start, DriveConfig(goal=goal, turn_room=how, map_extent="seen"),
                     keep_maps=False,
                     noise=OdometryNoise(seed=385)) for how in ("off", "forward")}

@@ -380,13 +380,8 @@ def test_assist_in_room_7_does_not_drive_into_the_wall_its_drift_moved():
     it the drive stops after 4.5 ft, before the wall, for a pivot its rule refuses; so
     does it with ``floor_eyes="bound"``, after 8 ft: the assumption is unbounded here,
     as when it was traced.)"""
-    from planner.planning import random_goal
-    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05
-    from world.room import generate_room
-    room = generate_room(7)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(7))
+    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05, bench_task
+    room, start, goal = bench_task(7)
     res = run(room, start, DriveConfig(goal=goal, head="assist", assist_pivot_ft=None,
                                        floor_eyes="off", **{**DRIVE_BEFORE_2026_12_04,
                                           **DRIVE_BEFORE_2026_12_05}),
@@ -405,13 +400,8 @@ def test_assist_in_room_45_pivots_only_on_cells_a_look_proved_near_enough():
     With ``assist_pivot_ft`` (the default under assist) no pivot counts such cells free;
     nor, without it, with the assumption bounded by the floor in view (``floor_eyes``
     "bound", the default since 2026-12-02; traced with it "off")."""
-    from planner.planning import random_goal
-    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05
-    from world.room import generate_room
-    room = generate_room(45)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(45))
+    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05, bench_task
+    room, start, goal = bench_task(45)
     runs = {(ft, fe): run(room, start, DriveConfig(goal=goal, head="assist", eyes="truth",
                                                    assist_pivot_ft=ft, floor_eyes=fe,
                                                    **{**DRIVE_BEFORE_2026_12_04,

@@ -234,13 +234,9 @@ def test_room_538_reached_round_the_far_side_where_the_seen_map_stops():
     way (the default since 2026-12-05 16:30) it goes round the far side and reaches
     the goal, by its true pose too, without a collision (the world's exact geometry)."""
     from planner.loop import run
-    from planner.planning import random_goal
     from world.odometry import OdometryNoise
-    from world.room import generate_room
-    room = generate_room(538)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(538))
+    from rigtools import bench_task
+    room, start, goal = bench_task(538)
     res = {how: run(room, start, DriveConfig(goal=goal, map_extent=how, max_looks=24),
                     noise=OdometryNoise(seed=538), keep_maps=False)
            for how in ("seen", "fallback")}

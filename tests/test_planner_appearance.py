@@ -355,15 +355,9 @@ def test_bound_keeps_the_blank_assumption_out_of_the_boxes_it_drove_into(seed, b
     from planner.evidence import Perception
     from planner.floormap import FREE as MAP_FREE
     from planner.loop import DriveConfig, run
-    from planner.planning import random_goal
-    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05
-    from vehicle.profile import DEFAULT
-    from vehicle.sim import State
+    from rigtools import DRIVE_BEFORE_2026_12_04, DRIVE_BEFORE_2026_12_05, bench_task
     from world.odometry import OdometryNoise
-    from world.room import generate_room
-    room = generate_room(seed)
-    start = State(room.start.x, room.start.z, room.start.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
+    room, start, goal = bench_task(seed)
     x0, x1, z0, z1 = room.obstacles[box]
     freed = {}
     for how in ("off", "bound"):

@@ -242,13 +242,8 @@ def test_moves_goes_with_grown_walls(seed):
     west of the truth); with the walls grown by the estimate's 2 sigma (the default) the
     same drive does not collide (docs/planner.md, "What the erosion costs: the pivots")."""
     from planner.loop import run
-    from planner.planning import random_goal
-    from vehicle.profile import DEFAULT
-    from world.room import generate_room
-    room = generate_room(seed)
-    start = State(room.start.x, room.start.z, room.start.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(seed))
-    from rigtools import DRIVE_BEFORE_2026_12_05
+    from rigtools import DRIVE_BEFORE_2026_12_05, bench_task
+    room, start, goal = bench_task(seed)
     res = {walls: run(room, start, DriveConfig(goal=goal, plan_walls=walls,
                                                **DRIVE_BEFORE_2026_12_05),
                       noise=OdometryNoise(seed=seed), keep_maps=False)

@@ -190,13 +190,8 @@ def test_room_156s_passage_stays_open_on_the_fused_map_and_closes_on_the_per_loo
     collision (the world's exact geometry counts both).  On the seen map alone (the
     default before 2026-12-05 16:30, as traced): the map out to the walls sends it round
     the far side at look 3, where the seen map has no way for two looks."""
-    from planner.planning import random_goal
-    from vehicle.profile import DEFAULT
-    from world.room import generate_room
-    room = generate_room(156)
-    s = room.start
-    start = State(s.x, s.z, s.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(156))
+    from rigtools import bench_task
+    room, start, goal = bench_task(156)
     assert DriveConfig.occupied == "model"
     res = {how: run(room, start, DriveConfig(goal=goal, occupied=how, max_looks=20,
                                              map_extent="seen"),

@@ -152,15 +152,9 @@ def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
     box at look 16 (the dead reckoning alone ends 0.1 ft off); within 2 sigma no
     collision."""
     from planner.loop import DriveConfig, run
-    from planner.planning import random_goal
-    from rigtools import DRIVE_BEFORE_2026_12_05_0430
-    from vehicle.profile import DEFAULT
-    from vehicle.sim import State
+    from rigtools import DRIVE_BEFORE_2026_12_05_0430, bench_task
     from world.odometry import OdometryNoise
-    from world.room import generate_room
-    room = generate_room(684)
-    start = State(room.start.x, room.start.z, room.start.heading_deg)
-    goal = random_goal(room, start, DEFAULT, np.random.default_rng(684))
+    room, start, goal = bench_task(684)
     res = {k: run(room, start, DriveConfig(goal=goal, wall_fix_sigmas=k, max_looks=20,
                                            **DRIVE_BEFORE_2026_12_05_0430),
                   noise=OdometryNoise(seed=684), keep_maps=False) for k in (3.0, 2.0)}
