@@ -278,6 +278,15 @@ def bench_task(seed: int):
     return room, start, random_goal(room, start, DEFAULT, np.random.default_rng(seed))
 
 
+def assert_reached_by_the_truth(res, goal) -> None:
+    """A drive's result reached ``goal`` without a collision, and its TRUE end (the world's
+    exact geometry, not the estimate it stopped on) lies within the goal's tolerance."""
+    import math
+    assert res.reached and res.collisions == 0, res.reason
+    end = res.true_track[-1]
+    assert math.hypot(end.x - goal[0], end.z - goal[1]) <= DriveConfig.tolerance_ft
+
+
 # What the step back that learns the floor's grey (DriveConfig.learn_floor "step-back", the
 # default since 2026-12-05 09:30) adds to a drive's travel at most: the step itself and
 # the way back to where it began.  A path's optimum from the start does not hold it.

@@ -210,7 +210,7 @@ def test_room_385_moves_on_to_turn_where_it_stood_before():
     the seen map alone (the default before 2026-12-05 16:30, as traced)."""
     from planner.loop import run
     from world.odometry import OdometryNoise
-    from rigtools import bench_task
+    from rigtools import assert_reached_by_the_truth, bench_task
     room, start, goal = bench_task(385)
     res = {how: run(room, start, DriveConfig(goal=goal, turn_room=how, map_extent="seen"),
                     keep_maps=False,
@@ -218,10 +218,8 @@ def test_room_385_moves_on_to_turn_where_it_stood_before():
     off, on = res["off"], res["forward"]
     assert not off.reached and "cannot turn: space within its radius" in off.reason
     assert off.collisions == 0
-    assert on.reached and on.collisions == 0, on.reason
+    assert_reached_by_the_truth(on, goal)
     assert any("forward to where it can" in c.note for c in on.cycles)
-    end = on.true_track[-1]
-    assert math.hypot(end.x - goal[0], end.z - goal[1]) <= DriveConfig.tolerance_ft
 
 
 def test_the_evidence_options_drive_the_tiny_room_without_collision():
