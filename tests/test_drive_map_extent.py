@@ -244,3 +244,33 @@ def test_room_538_reached_round_the_far_side_where_the_seen_map_stops():
     assert not seen.reached and "narrower than the vehicle" in seen.reason, seen.reason
     assert seen.collisions == 0
     assert_reached_by_the_truth(fallback, goal)
+
+
+def test_the_seen_maps_plan_is_searched_once_a_cycle(monkeypatch):
+    # the fallback asks whether the seen map has a way, then the cycle plans on it: the
+    # same map, estimate and kept path give the same answer, so the search runs once
+    import planner.loop as loop
+    calls = []
+
+    def counted(*args):
+        calls.append(args[0])
+        return plan(*args)
+    monkeypatch.setattr(loop, "plan_path", counted)
+    d = _drive("fallback", barrier=False)
+    fm = d.drawn_map(START, "seen")
+    assert d.map_to_plan_on(fm, START) is fm and len(calls) == 1
+    pts, cmds, note = d._plan_on(fm, START)
+    assert len(calls) == 1
+    assert (pts, cmds, note) == plan(fm, START, GOAL, d.cfg)
+    d.prev_path = pts                         # a kept path (or a new map, a new estimate):
+    d._plan_on(fm, START)                     # searched again
+    d._plan_on(d.drawn_map(START, "seen"), START)
+    d._plan_on(fm, State(0.0, 0.25, 0.0))
+    assert len(calls) == 4
+    # the seen map without a way: the walls' map is searched, and the cycle's plan on
+    # it is that search
+    blocked = _drive("fallback")
+    calls.clear()
+    wide = blocked.map_to_plan_on(blocked.drawn_map(START, "seen"), START)
+    assert len(calls) == 2 and calls[-1] is wide
+    assert blocked._plan_on(wide, START)[2] == "path to the goal" and len(calls) == 2
