@@ -519,11 +519,6 @@ class DriveConfig:
                                           # one lies on the map out to the walls, that map
                                           # for the cycle (Drive.map_to_plan_on); seeds
                                           # 1-900: 541 goals against 529, 0 collisions
-    detour_limit: float | None = None     # under "fallback" (not 1985; None: off): the walls'
-                                          # map only where its path is at most this many
-                                          # times the seen map's way (its path to the
-                                          # reachable cell nearest the goal and the
-                                          # straight line on from there)
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -727,10 +722,6 @@ def _check_config(cfg: DriveConfig) -> None:
             or not 0 < cfg.min_range_ft < cfg.max_range_ft:
         raise ValueError(f"min_range_ft must be a distance in feet above 0 and under "
                          f"max_range_ft ({cfg.max_range_ft:g}), not {cfg.min_range_ft!r}")
-    if cfg.detour_limit is not None and not (isinstance(cfg.detour_limit, (int, float))
-                                             and cfg.detour_limit >= 1):
-        raise ValueError(f"detour_limit must be a ratio of path lengths of at least 1, or "
-                         f"None (off), not {cfg.detour_limit!r}")
     for name in ("wall_fix_sigmas", "drift_sigmas"):
         sigmas = getattr(cfg, name)
         if not (isinstance(sigmas, (int, float)) and 0 < sigmas < 10):
@@ -1039,23 +1030,8 @@ class Drive:
         rooms 44 and 93 on depth eyes stopped short.)"""
         if self.cfg.map_extent != "fallback" or self._reaches_goal(fm, est):
             return fm
-        limit = self.cfg.detour_limit
-        seen_way = self._seen_way_ft(fm, est) if limit is not None else None
         wide = self.drawn_map(est, "walls")
-        if not self._reaches_goal(wide, est):
-            return fm
-        if seen_way is not None and path_length(self._plan_on(wide, est)[0]) > limit * seen_way:
-            return fm
-        return wide
-
-    def _seen_way_ft(self, fm: FloorMap, est: State) -> float | None:
-        """The length of the way the seen map ``fm`` points to: its path to the reachable
-        cell nearest the goal and the straight line on to the goal (None: no path)."""
-        try:
-            pts = self._plan_on(fm, est)[0]
-        except NoPath:
-            return None
-        return path_length(pts) + math.dist(pts[-1], self.goal)
+        return wide if self._reaches_goal(wide, est) else fm
 
     def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
         """Whether the planner finds a path to the goal itself on ``fm``."""

@@ -180,7 +180,7 @@ LOOP_OPTION_GROUPS = (
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
-      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent", "--detour-limit")),
+      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
       "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
@@ -426,10 +426,6 @@ def add_loop_options(p) -> None:
              "round, its border blocking the search (no path: a drive toward the "
              "reachable cell nearest the goal); 'walls' (not 1985): the room's floor "
              "plan as well, every cycle")
-    opt("--detour-limit", type=float, default=C.detour_limit, metavar="RATIO",
-        help="under --map-extent fallback (not 1985; off by default): plan on the walls' "
-             "map only where its path is at most RATIO times the seen map's way (its "
-             "path to the reachable cell nearest the goal and the straight line on)")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "
@@ -560,7 +556,7 @@ def loop_config(args, goal, fail):
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
-                       map_extent=args.map_extent, detour_limit=args.detour_limit, plan_walls=args.plan_walls,
+                       map_extent=args.map_extent, plan_walls=args.plan_walls,
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,

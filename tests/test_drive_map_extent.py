@@ -274,24 +274,3 @@ def test_the_seen_maps_plan_is_searched_once_a_cycle(monkeypatch):
     wide = blocked.map_to_plan_on(blocked.drawn_map(START, "seen"), START)
     assert len(calls) == 2 and calls[-1] is wide
     assert blocked._plan_on(wide, START)[2] == "path to the goal" and len(calls) == 2
-
-
-def test_detour_limit_keeps_the_seen_map_where_the_walls_way_is_much_longer():
-    # the seen map's way: straight up to the reachable cell nearest the goal, the cell
-    # centre 4.125 (the barrier's foot at z 5 less R = 0.79: 4.21, cells centred on
-    # k x 0.25 + 0.125), and on in a straight line to the goal: 4.125 + 4.875 = 9 ft; the
-    # walls' map goes round the barrier's right end: at least `low` (12.07 ft, above)
-    low = math.hypot(4.0, 5.125) + math.hypot(4.0, 9.0 - 5.125)
-    for limit, takes_wide in ((None, True), (1.5, True), (1.3, False), (1.0, False)):
-        d = _drive("fallback", detour_limit=limit)
-        fm = d.drawn_map(START, "seen")
-        assert d._seen_way_ft(fm, START) == pytest.approx(9.0, abs=0.05)
-        used = d.map_to_plan_on(fm, START)
-        assert (used is not fm) is takes_wide, limit
-    pts = d._plan_on(d.drawn_map(START, "walls"), START)[0]
-    wide_len = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:]))
-    assert 1.3 * 9.0 < low <= wide_len <= 1.5 * 9.0
-    for bad in (0.5, "2", -1):
-        with pytest.raises(ValueError, match="detour_limit must be a ratio"):
-            _check_config(DriveConfig(goal=GOAL, detour_limit=bad))
-    assert DriveConfig(goal=GOAL).detour_limit is None      # off by default
