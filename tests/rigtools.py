@@ -6,6 +6,7 @@ in the JHDATA protocol.  Fixtures built on them are in conftest.py."""
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import subprocess
@@ -281,7 +282,6 @@ def bench_task(seed: int):
 def assert_reached_by_the_truth(res, goal) -> None:
     """A drive's result reached ``goal`` without a collision, and its TRUE end (the world's
     exact geometry, not the estimate it stopped on) lies within the goal's tolerance."""
-    import math
     assert res.reached and res.collisions == 0, res.reason
     end = res.true_track[-1]
     assert math.hypot(end.x - goal[0], end.z - goal[1]) <= DriveConfig.tolerance_ft

@@ -206,8 +206,8 @@ def test_room_385_moves_on_to_turn_where_it_stood_before():
     """Bench room 385 (noise seed 385): without turning room the vehicle stops "cannot
     turn", standing where every pivot it needs sweeps floor no look has shown; with it
     (the default since 2026-12-05 15:00) a cycle moves on and turns, and the goal is
-    reached by the true pose too, without a collision (the world's exact geometry).  On
-    the seen map alone (the default before 2026-12-05 16:30, as traced)."""
+    reached by the true pose too, without a collision (the world's exact geometry).  Both
+    drives on the seen map alone (the default before 2026-12-05 16:30), as traced."""
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import assert_reached_by_the_truth, bench_task

@@ -2,9 +2,9 @@
 under ``"seen"`` every hit so far, the estimate and the goal, 2 ft round, its border
 blocking the search; under ``"walls"`` (a named option) the room's floor plan as well;
 ``"fallback"`` (the default since 2026-12-05) the seen map, or the walls' one in a cycle
-where only that has a way.  Rooms 26 and 99 on depth eyes drove into a dead end because the way round
-the far side of a box lay off the map.  Hand-made maps; every extent and bound derived
-by hand."""
+where only that has a way.  Rooms 26 and 99 on depth eyes drove into a dead end because
+the way round the far side of a box lay off the map.  Hand-made maps; every extent and
+bound derived by hand (and bench rooms driven both ways)."""
 
 import math
 
@@ -228,7 +228,7 @@ def test_plan_walls_grown_by_two_sigma_of_the_estimate():
 
 
 def test_room_538_reached_round_the_far_side_where_the_seen_map_stops():
-    """Bench room 538 (noise seed 538; the task leaves no room to spare): on the seen
+    """Bench room 538 (noise seed 538; the task leaves a quarter foot to spare): on the seen
     map alone the way out is narrower than the vehicle and the drive stops after 16
     looks without progress; with the map out to the walls where the seen one has no
     way (the default since 2026-12-05 16:30) it goes round the far side and reaches
