@@ -170,6 +170,7 @@ APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
+WALL_FIX_FIRSTS = ("widened", "base")  # DriveConfig.wall_fix_first
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
 FLOOR_END_CHECKS = ("off", "stereo")   # DriveConfig.floor_end_check: a floor end the eyes place nearer
@@ -432,6 +433,12 @@ class DriveConfig:
                                           # odometry tail, room 175: 5.3 deg in two commands
                                           # against 1.4 sigma) is found again at the next look
                                           # instead of drifting on until a wrong fix
+    wall_fix_first: str = "widened"       # which window a widened fix searches: "widened"
+                                          # (as since 09:30): the whole widened window at
+                                          # once; "base" (not 1985; a named option): the
+                                          # base window first, the widened one only where it
+                                          # finds no fix (room 866: 75 points on a box face
+                                          # line 10 deg off outvoted 10 on the far wall)
     min_range_ft: float = 3.0             # located points nearer than this are left out of
                                           # the floor scan, the wall fix and the floor end
                                           # check (perception.filter_points): 2.5 ft (a
@@ -694,7 +701,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
                           ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
                           ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS),
-                          ("wall_points", WALL_POINTS), ("proof_heading", PROOF_HEADINGS),
+                          ("wall_points", WALL_POINTS), ("wall_fix_first", WALL_FIX_FIRSTS),
+                          ("proof_heading", PROOF_HEADINGS),
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
@@ -935,7 +943,7 @@ class Drive:
 
     def _wall_fix(self, look, points, pan: float, tilt: float) -> State:
         """:meth:`estimate` under ``pose="walls"``."""
-        from .localize import depth_wall_points, fix_against_walls, rig_wall_points
+        from .localize import depth_wall_points, fix_in_windows, rig_wall_points
         pitch = self.prof.camera_pitch_deg + tilt
         prior = self.current()
         if self.cfg.eyes == "depth":
@@ -944,10 +952,11 @@ class Drive:
             q, cq = rig_wall_points(points, self.cfg.min_range_ft)
             if self.cfg.wall_points == "floor-ends":
                 q, cq = self._with_floor_ends(q, cq, look.left_bi, pitch)
-        fix = fix_against_walls(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
-                                self.room.bounds, pitch, pan,
-                                heading_sigmas=self.cfg.wall_fix_sigmas
-                                + self.cfg.wall_fix_widen * self.looks_unfixed)
+        windows = [self.cfg.wall_fix_sigmas + self.cfg.wall_fix_widen * self.looks_unfixed]
+        if self.cfg.wall_fix_first == "base" and windows[0] > self.cfg.wall_fix_sigmas:
+            windows.insert(0, self.cfg.wall_fix_sigmas)
+        fix = fix_in_windows(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
+                             self.room.bounds, pitch, pan, windows)
         if not fix.fixed:
             self.looks_unfixed += 1
             return prior

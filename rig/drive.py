@@ -168,7 +168,7 @@ LOOP_OPTION_GROUPS = (
     ("the eyes", "what the loop sees with",
      ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
-     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen",
+     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-first",
       "--feature-pose", "--drift-sigmas")),
     ("the map: what is occupied", "where a look's located points and the floor plan block",
      ("--hit-at", "--growth", "--occupied", "--expire-uncertain", "--refute-hits",
@@ -193,7 +193,7 @@ def add_loop_options(p) -> None:
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, \
     MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, \
-        WALL_POINTS
+        WALL_POINTS, WALL_FIX_FIRSTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -451,6 +451,10 @@ def add_loop_options(p) -> None:
              "grows by for each look in a row without a fix (not 1985; default "
              f"{C.wall_fix_widen:g}; 0: as before 2026-12-05): a heading the odometry "
              "threw out of the window is found again at the next look")
+    opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
+        help="under --pose walls after looks without a fix: 'widened' (default) "
+             "searches the whole widened window at once; 'base' (not 1985) the "
+             "--wall-fix-sigmas window first, the widened one only where it finds no fix")
     opt("--free-gaps", choices=FREE_GAPS, default=C.free_gaps,
         help="an unknown cell between two free ones across a row or a column: "
              "'fill' it free (not 1985; default since 2026-12-05): no box fits in it "
@@ -552,7 +556,7 @@ def loop_config(args, goal, fail):
                        learn_floor=args.learn_floor,
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
-                       wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen,
+                       wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen, wall_fix_first=args.wall_fix_first,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

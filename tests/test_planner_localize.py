@@ -406,3 +406,28 @@ def test_rig_drive_wall_points_reach_the_loop(tmp_path, monkeypatch):
     assert drive_config(monkeypatch, tmp_path).wall_points == "floor-ends"
     cfg = drive_config(monkeypatch, tmp_path, "--pose", "walls", "--wall-points", "edges")
     assert (cfg.pose, cfg.wall_points) == ("walls", "edges")
+
+
+
+def test_room_866s_false_fix_in_the_widened_window_and_the_base_window_first():
+    """Bench room 866 (noise seed 866; today's defaults, as traced): looks 1 and 2 find no
+    fix, so at look 3 the window has widened to 4 sigma.  In it 75 points at a heading 10
+    deg off the truth outvote 10 on the far wall, and the estimate ends the look 14.8 deg
+    off the true heading.  With the base window tried first (``wall_fix_first="base"``,
+    not 1985) the 10 points fix it within half a degree of the truth (the world's exact
+    pose).  An unknown order is one clear error."""
+    from planner.loop import DriveConfig, run
+    from rigtools import bench_task
+    from world.odometry import OdometryNoise
+    room, start, goal = bench_task(866)
+    off = {}
+    for first in ("widened", "base"):
+        res = run(room, start, DriveConfig(goal=goal, wall_fix_first=first, max_looks=3),
+                  noise=OdometryNoise(seed=866), keep_maps=False)
+        c = res.cycles[2]
+        off[first] = abs((c.estimate.heading_deg - c.true.heading_deg + 180) % 360 - 180)
+    assert off["widened"] > 10.0
+    assert off["base"] < 0.5
+    from planner.loop import _check_config
+    with pytest.raises(ValueError, match="unknown wall_fix_first 'both'; one of widened, base"):
+        _check_config(DriveConfig(goal=goal, wall_fix_first="both"))
