@@ -68,6 +68,7 @@ OPTIONS = [
     "--hit-at axis",
     "--min-range 2.5",
     "--wall-fix-sigmas 3",
+    "--wall-fix-first base",
     "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
     "--proof-hits trace --hit-at axis --min-range 2.5 --wall-fix-sigmas 3",
     "--match 1985",
