@@ -53,6 +53,7 @@ OPTIONS = [
     "--stand-in majority",
     "--growth across",
     "--rejoin waypoint",
+    "--wall-fix-first base",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",
@@ -68,7 +69,6 @@ OPTIONS = [
     "--hit-at axis",
     "--min-range 2.5",
     "--wall-fix-sigmas 3",
-    "--wall-fix-first base",
     "--pose dead_reckoning --wall-points edges --proof-heading estimate --floor-end-check off "
     "--proof-hits trace --hit-at axis --min-range 2.5 --wall-fix-sigmas 3",
     "--match 1985",
