@@ -437,8 +437,9 @@ class DriveConfig:
                                           # (as since 09:30): the whole widened window at
                                           # once; "base" (not 1985; a named option): the
                                           # base window first, the widened one only where it
-                                          # finds no fix (room 866: 75 points on a box face
-                                          # line 10 deg off outvoted 10 on the far wall)
+                                          # finds no fix (room 866: 75 points at a heading
+                                          # 10 deg off outvoted 10 on the far wall);
+                                          # seeds 1-900: 540 goals against 541, not adopted
     min_range_ft: float = 3.0             # located points nearer than this are left out of
                                           # the floor scan, the wall fix and the floor end
                                           # check (perception.filter_points): 2.5 ft (a
