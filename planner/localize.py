@@ -313,9 +313,9 @@ def fix_in_windows(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float,
     deviations of the prior's heading) tried in order: the first fix found, else the
     last try (``fixed`` False).  ``DriveConfig.wall_fix_first="base"`` (not 1985) tries
     the base window before the widened one: a consensus is the heading most points
-    agree on anywhere in its window, so a wide window lets a straight run of box faces
-    at a heading many sigmas off outvote the few true wall points near the prior (room
-    866: 75 points at 10 deg off against 10 on the far wall)."""
+    agree on anywhere in its window, so a wide window lets points that agree on a heading
+    many sigmas off outvote the few true wall points near the prior (room 866: 75 points
+    at 10 deg off against 10 on the far wall)."""
     for sigmas in windows:
         fix = fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg, pan_deg,
                                 heading_sigmas=sigmas)
