@@ -1089,9 +1089,7 @@ class Drive:
             if head:
                 cmds = shortcut_first_leg(cmds, est)
             seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
-                              prof.width_ft / 2 + prof.margin_ft,
-                              prof.length_ft / 2 + prof.margin_ft,
-                              pivot_r, pivot_sweep, pan if head else None,
+                              *prof.grown_half_ft, pivot_r, pivot_sweep, pan if head else None,
                               min_pivot_deg=cfg.min_pivot_deg)
             left = path_length(pts)
             if cfg.look_ahead and not head and _moves(seg):

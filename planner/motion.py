@@ -476,8 +476,7 @@ def back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProf
     if dist <= 0.05:
         return []
     behind = State(est.x, est.z, wrap(est.heading_deg + 180.0))
-    seg = safe_prefix([Forward(dist)], behind, safe, seen, dist, None,
-                       prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
+    seg = safe_prefix([Forward(dist)], behind, safe, seen, dist, None, *prof.grown_half_ft,
                        0.0)
     d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
     return [Back(round(d, 3))] if d > 0.05 else []
@@ -501,11 +500,10 @@ def forward_to_turn(fm: FloorMap, est: State, aims, safe: Passable, seen, prof: 
     floor nearest it, which the fixed rig never shows (nearer than
     :func:`near_visible_ft`); a little way on, the circle lies over floor
     the looks behind have shown."""
-    half_w, half_l = prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft
     n = int(math.floor(prof.step_ft / step_ft + 1e-9))
     for k in range(1, n + 1):
         d = k * step_ft
-        seg = safe_prefix([Forward(d)], est, safe, seen, d, None, half_w, half_l, 0.0)
+        seg = safe_prefix([Forward(d)], est, safe, seen, d, None, *prof.grown_half_ft, 0.0)
         if sum(c.distance_ft for c in seg if isinstance(c, Forward)) < d - 1e-6:
             return None                    # the move itself is refused from here on
         end = advance(est, Forward(d))
@@ -559,8 +557,7 @@ def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft:
     if vp is None or len(vp) < 2:
         return None
     cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
-    seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, None,
-                       prof.width_ft / 2 + prof.margin_ft, prof.length_ft / 2 + prof.margin_ft,
+    seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, None, *prof.grown_half_ft,
                        pivot_radius_ft(prof, cfg.pivot == "margin"),
                        min_pivot_deg=cfg.min_pivot_deg)
     if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):

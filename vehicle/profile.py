@@ -72,6 +72,13 @@ class VehicleProfile:
         return math.hypot(self.width_ft, self.length_ft) / 2
 
     @property
+    def grown_half_ft(self) -> tuple[float, float]:
+        """Half the footprint's width and half its length, each grown by the margin: the
+        band a forward move sweeps either side and the nose ahead of it that must be
+        seen free (planner.motion.safe_prefix)."""
+        return (self.width_ft / 2 + self.margin_ft, self.length_ft / 2 + self.margin_ft)
+
+    @property
     def planning_radius_ft(self) -> float:
         return self.radius_ft + self.margin_ft
 
