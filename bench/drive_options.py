@@ -34,10 +34,11 @@ from pathlib import Path
 # the 1985 matcher, one-cell gaps kept unknown, every turn a pivot, no step back to
 # learn the floor, the fix's window never widened, the pivot's disc, the goal planned
 # to as a point, 8 looks without progress, each look's hits as the map's obstacles, no
-# move on to turn and the seen map alone (the improved matcher, the fill, the smallest
-# turns unchecked, the step back, the widening, the swept pivot, the goal's disc, 16
-# looks, the fused features, forward to turn and the walls' map where the seen one has no
-# way are the defaults since 2026-12-05); the two heads.  (Expiry acts only
+# move on to turn, the seen map alone and the margin's ring seen free (the improved
+# matcher, the fill, the smallest turns unchecked, the step back, the widening, the swept
+# pivot, the goal's disc, 16 looks, the fused features, forward to turn, the walls' map
+# where the seen one has no way and the ring's never-seen cells away from anything seen
+# are the defaults since 2026-12-05); the two heads.  (Expiry acts only
 # on each look's hits, so it is measured with them.)
 OPTIONS = [
     "--clearance-at anywhere-exact",
@@ -82,6 +83,7 @@ OPTIONS = [
     "--occupied looks",
     "--turn-room off",
     "--map-extent seen",
+    "--pivot swept",
     "--head assist",
     "--head pan-tilt",
 ]

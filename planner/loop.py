@@ -141,7 +141,7 @@ from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
-    near_visible_ft, pivot_allowed, pivot_radius_ft, SMALL_TURN_DEG
+    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -154,7 +154,7 @@ LOOK_AROUNDS = ("sweep", "evidence")
 TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
-PIVOTS = ("disc", "margin", "swept", "small-swept")  # what a pivot needs seen free (.pivot)
+PIVOTS = ("disc", "margin", "swept", "small-swept", "swept-ring")  # what a pivot needs seen free (.pivot)
 EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
@@ -255,7 +255,7 @@ class DriveConfig:
     safety: str = "swept"                 # "strict": the whole pivot disc seen free;
                                           # "swept": the swept width seen free, no known
                                           # obstacle within the radius
-    pivot: str = "swept"                  # what a pivot in place needs seen free: "disc"
+    pivot: str = "swept-ring"             # what a pivot in place needs seen free: "disc"
                                           # (the default before 2026-12-05 09:30): its whole
                                           # circle (the footprint's half diagonal), whatever
                                           # the angle, without the margin forward moves keep
@@ -266,9 +266,15 @@ class DriveConfig:
                                           # estimate's error (motion.pivot_radius_ft); "swept":
                                           # the cells the footprint, grown by the margin, sweeps
                                           # through the angle (_pivot_seen_free; the default
-                                          # since 2026-12-05 09:30); "small-swept":
+                                          # 2026-12-05 09:30-19:10); "small-swept":
                                           # a turn up to SMALL_TURN_DEG (5) by its sweep, a
-                                          # larger one by the disc (motion._pivot_ok)
+                                          # larger one by the disc (motion._pivot_ok);
+                                          # "swept-ring" (not 1985; the default since
+                                          # 2026-12-05 19:10): the bare footprint's sweep
+                                          # seen free, a cell of the margin's ring never
+                                          # seen will do where nothing a look placed lies
+                                          # within the planning radius of it (room 523;
+                                          # rooms 774 and 857 without that radius)
     min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this
                                           # needs no pivot circle seen free (not 1985; the
                                           # default since 2026-12-05 08:00; 0: every turn
@@ -874,8 +880,11 @@ class Drive:
         self.odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
             if noise is not None else (0.0, 0.0)
         self.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
-        self.pivot_sweep = (prof.footprint, prof.margin_ft) if cfg.pivot == "swept" else \
-            (prof.footprint, prof.margin_ft, SMALL_TURN_DEG) if cfg.pivot == "small-swept" else None
+        self.pivot_sweep = PivotSweep(prof.footprint, prof.margin_ft) if cfg.pivot == "swept" \
+            else PivotSweep(prof.footprint, prof.margin_ft, SMALL_TURN_DEG) \
+            if cfg.pivot == "small-swept" \
+            else PivotSweep(prof.footprint, prof.margin_ft, ring="known") \
+            if cfg.pivot == "swept-ring" else None
         self.pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
         self.tried: dict = {}                 # blocker cell -> places it was looked at from
         self.ahead_cells: set = set()         # cells the look-ahead has turned to (each once)

@@ -19,6 +19,7 @@ shown free.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import cv2
 import numpy as np
@@ -27,7 +28,7 @@ from vehicle.commands import Back, Forward, Pan, Tilt, Turn
 from vehicle.profile import VehicleProfile
 from vehicle.sim import State, advance
 from .floormap import FloorMap
-from .octree import FREE, UNCERTAIN, UNKNOWN
+from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from .planning import escape_start
 from .search import NoPath, Passable, astar, clearance_at, clearance_map, segment_samples
 from .trajectory import heading_to, next_segment, shorten, to_commands, wrap
@@ -121,29 +122,63 @@ def pivot_radius_ft(prof: VehicleProfile, margin: bool = False) -> float:
 
 
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
-                     footprint, margin_ft: float, step_deg: float = 2.0) -> bool:
+                     footprint, margin_ft: float, step_deg: float = 2.0,
+                     ring: str = "seen") -> bool:
     """Every cell the footprint (``(width, length)``, grown by ``margin_ft`` on
     each side) covers while it pivots about (x, z) from ``heading_deg``
     through ``angle_deg`` is FREE: sampled a quarter cell apart over the
     rectangle (its edges included) at headings at most ``step_deg`` apart.  A
     turn of a degree sweeps hardly more than the footprint itself, where the
     whole disc of :func:`_disc_seen_free` asks for every cell within the half
-    diagonal whatever the angle."""
-    hw = footprint[0] / 2 + margin_ft
-    hl = footprint[1] / 2 + margin_ft
-    q = fm.cell / 4
-    a = np.linspace(-hw, hw, int(math.ceil(2 * hw / q)) + 1)
-    b = np.linspace(-hl, hl, int(math.ceil(2 * hl / q)) + 1)
-    across, along = (g.ravel() for g in np.meshgrid(a, b))
-    n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
-    hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
-    px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
-    pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
-    i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
-    j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
-    if ((i < 0) | (j < 0) | (i >= fm.shape[0]) | (j >= fm.shape[1])).any():
+    diagonal whatever the angle.  With ``ring="known"`` (``pivot="swept-ring"``)
+    only the bare footprint's cells must be FREE; a cell only the margin's
+    ring covers may instead be one never seen, provided no look has placed
+    anything (occupied, uncertain) within the planning radius of it.  The
+    fixed rig never shows the floor beside the vehicle (nearer than
+    :func:`near_visible_ft`), and in room 523 a pivot it needed swept one
+    such cell 0.94 ft from its centre, beyond the bare footprint's 0.64 ft
+    reach, 4 ft from anything seen.  The margin stands for the estimate's
+    error, and a never-seen cell beside something seen may be that thing's
+    unseen part: without the radius, room 857's pivot (the estimate 0.2 ft
+    off) hit a box whose far part's uncertain cells lay 0.5 ft beyond the
+    ring's cells (docs/planner.md, "The margin's ring")."""
+    def cells(grow):
+        # the rectangle grown by ``grow``, its edges included, at every heading
+        hw, hl = footprint[0] / 2 + grow, footprint[1] / 2 + grow
+        q = fm.cell / 4
+        a = np.linspace(-hw, hw, int(math.ceil(2 * hw / q)) + 1)
+        b = np.linspace(-hl, hl, int(math.ceil(2 * hl / q)) + 1)
+        across, along = (g.ravel() for g in np.meshgrid(a, b))
+        n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
+        hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
+        px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
+        pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
+        i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
+        j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
+        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+        return i, j, bool(inside.all())
+
+    i, j, on_map = cells(margin_ft)
+    if not on_map:
         return False
-    return bool(_proven_free(fm, i, j).all())
+    free = _proven_free(fm, i, j)
+    if ring == "seen":
+        return bool(free.all())
+    bi, bj, _ = cells(0.0)
+    if not _proven_free(fm, bi, bj).all():
+        return False
+    # the ring's cells not seen free: each clear of anything a look placed, by the
+    # footprint's half diagonal grown by the margin (the planning radius)
+    ui, uj = i[~free], j[~free]
+    if not len(ui):
+        return True
+    reach = math.hypot(*footprint) / 2 + margin_ft
+    n = int(math.ceil(reach / fm.cell))
+    i0, j0 = max(int(ui.min()) - n, 0), max(int(uj.min()) - n, 0)
+    window = fm.cells[i0:int(ui.max()) + n + 1, j0:int(uj.max()) + n + 1]
+    ki, kj = np.nonzero((window == OCCUPIED) | (window == UNCERTAIN))
+    d2 = (ui[:, None] - (ki + i0)[None]) ** 2 + (uj[:, None] - (kj + j0)[None]) ** 2
+    return not (d2 * fm.cell ** 2 <= reach ** 2 + 1e-9).any()
 
 
 def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
@@ -162,17 +197,27 @@ def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfi
 SMALL_TURN_DEG = 5.0         # pivot="small-swept": a turn this small needs only its sweep
 
 
+class PivotSweep(NamedTuple):
+    """What a pivot judged by its sweep needs (:func:`_pivot_seen_free`):
+    the footprint ``(width, length)`` grown by ``margin_ft``, for turns up to
+    ``up_to_deg`` (larger ones by the disc), the margin's ``ring`` "seen"
+    free or only "known" clear (``DriveConfig.pivot``: "swept",
+    "small-swept", "swept-ring")."""
+    footprint: tuple[float, float]
+    margin_ft: float
+    up_to_deg: float = math.inf
+    ring: str = "seen"
+
+
 def _pivot_ok(fm: FloorMap, x: float, z: float, h: float, angle_deg: float, pivot_ft: float,
-              pivot_sweep=None) -> bool:
-    """The pivot rule: ``pivot_sweep`` ``(footprint, margin_ft)`` or
-    ``(footprint, margin_ft, up_to_deg)`` given and the turn no larger than
-    ``up_to_deg`` (all turns without it): the cells the grown footprint
-    sweeps (:func:`_pivot_seen_free`); otherwise the circle of ``pivot_ft``
-    seen free (:func:`_disc_seen_free`; none for ``pivot_ft`` 0)."""
-    if pivot_sweep is not None:
-        up_to = pivot_sweep[2] if len(pivot_sweep) > 2 else math.inf
-        if abs(angle_deg) <= up_to:
-            return _pivot_seen_free(fm, x, z, h, angle_deg, pivot_sweep[0], pivot_sweep[1])
+              pivot_sweep: PivotSweep | None = None) -> bool:
+    """The pivot rule: ``pivot_sweep`` given and the turn no larger than its
+    ``up_to_deg``: the cells the grown footprint sweeps
+    (:func:`_pivot_seen_free`); otherwise the circle of ``pivot_ft`` seen
+    free (:func:`_disc_seen_free`; none for ``pivot_ft`` 0)."""
+    if pivot_sweep is not None and abs(angle_deg) <= pivot_sweep.up_to_deg:
+        return _pivot_seen_free(fm, x, z, h, angle_deg, pivot_sweep.footprint,
+                                pivot_sweep.margin_ft, ring=pivot_sweep.ring)
     return pivot_ft <= 0 or _disc_seen_free(fm, x, z, pivot_ft)
 
 

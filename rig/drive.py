@@ -235,9 +235,11 @@ def add_loop_options(p) -> None:
         help="what a pivot in place needs seen free: disc: the whole circle of the "
              "footprint's half diagonal, whatever the angle (the default before "
              "2026-12-05); margin: that circle grown by the planning margin against the "
-             "estimate's error; swept (default): the cells the footprint, grown by the "
-             "margin, sweeps through the angle; small-swept: a turn up to 5 deg by its "
-             "sweep, a larger one by the disc")
+             "estimate's error; swept: the cells the footprint, grown by the margin, "
+             "sweeps through the angle; small-swept: a turn up to 5 deg by its sweep, a "
+             "larger one by the disc; swept-ring (default): the bare footprint's sweep "
+             "seen free, a cell of the margin's ring never seen where nothing seen lies "
+             "within the planning radius of it")
     opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
         default=C.clearance_at,
         help="where in a passable cell the vehicle's centre may be: anywhere (the "

@@ -11,7 +11,7 @@ import pytest
 
 from planner.floormap import FloorMap
 from planner.loop import DriveConfig
-from planner.motion import _blocker, fetch_evidence, _viewpoint, near_visible_ft
+from planner.motion import PivotSweep, _blocker, fetch_evidence, _viewpoint, near_visible_ft
 from planner.planning import plan
 from planner.octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN
 from planner.search import clearance_map
@@ -181,7 +181,7 @@ def test_forward_to_turn_moves_on_until_the_pivot_clears_a_never_seen_notch(monk
     fm.cells[i0:i1, j0:j1] = UNKNOWN
     safe = clearance_map(fm, R, "free", uncertain="blocked")
     seen = fm.cells != UNKNOWN
-    sweep, pivot_ft = (DEFAULT.footprint, DEFAULT.margin_ft), pivot_radius_ft(DEFAULT)
+    sweep, pivot_ft = PivotSweep(DEFAULT.footprint, DEFAULT.margin_ft), pivot_radius_ft(DEFAULT)
     reach = math.hypot(DEFAULT.width_ft / 2 + DEFAULT.margin_ft,
                        DEFAULT.length_ft / 2 + DEFAULT.margin_ft)
     assert math.hypot(0.75, 0.25) < reach < math.hypot(0.75, 0.5)
@@ -207,12 +207,14 @@ def test_room_385_moves_on_to_turn_where_it_stood_before():
     turn", standing where every pivot it needs sweeps floor no look has shown; with it
     (the default since 2026-12-05 15:00) a cycle moves on and turns, and the goal is
     reached by the true pose too, without a collision (the world's exact geometry).  Both
-    drives on the seen map alone (the default before 2026-12-05 16:30), as traced."""
+    drives on the seen map alone (the default before 2026-12-05 16:30) and with the
+    margin's ring seen free (pivot="swept", the default before 19:10), as traced."""
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import assert_reached_by_the_truth, bench_task
     room, start, goal = bench_task(385)
-    res = {how: run(room, start, DriveConfig(goal=goal, turn_room=how, map_extent="seen"),
+    res = {how: run(room, start, DriveConfig(goal=goal, turn_room=how, map_extent="seen",
+                                             pivot="swept"),
                     keep_maps=False,
                     noise=OdometryNoise(seed=385)) for how in ("off", "forward")}
     off, on = res["off"], res["forward"]
