@@ -55,6 +55,7 @@ OPTIONS = [
     "--growth across",
     "--rejoin waypoint",
     "--wall-fix-first base",
+    "--move-ring known",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",

@@ -40,6 +40,10 @@ class FloorMap:
     drift_kept: np.ndarray | None = None   # (nz, nx) bool: FREE until the drift's erosion took
                                         # it (DriveConfig.free_drift="moves"): a pivot's cells
                                         # may be these where still UNKNOWN (motion._proven_free)
+    move_ring: np.ndarray | None = None    # (nz, nx) bool: never seen, nothing a look placed
+                                        # within the planning radius (motion.clear_unseen;
+                                        # DriveConfig.move_ring="known"): a forward move's
+                                        # band beyond the bare footprint may cross these
 
     @property
     def shape(self):

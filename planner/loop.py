@@ -141,7 +141,7 @@ from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
-    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG
+    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -151,6 +151,7 @@ from .trajectory import heading_to, wrap
 
 POSES = ("fused", "dead_reckoning", "walls")
 LOOK_AROUNDS = ("sweep", "evidence")
+MOVE_RINGS = ("seen", "known")        # DriveConfig.move_ring: a move's band beyond the footprint
 TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
@@ -275,6 +276,13 @@ class DriveConfig:
                                           # seen will do where nothing a look placed lies
                                           # within the planning radius of it (room 523;
                                           # rooms 774 and 857 without that radius)
+    move_ring: str = "seen"               # a forward move's swept band beyond the bare
+                                          # footprint (the margin's ring): "seen" (every
+                                          # cell seen); "known" (not 1985): a never-seen
+                                          # cell will do where nothing a look placed lies
+                                          # within the planning radius of it
+                                          # (FloorMap.move_ring, motion.clear_unseen), as
+                                          # pivot="swept-ring" lets a pivot's ring
     min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this
                                           # needs no pivot circle seen free (not 1985; the
                                           # default since 2026-12-05 08:00; 0: every turn
@@ -696,7 +704,7 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS),
-                          ("turn_room", TURN_ROOMS),
+                          ("turn_room", TURN_ROOMS), ("move_ring", MOVE_RINGS),
                           ("progress", PROGRESSES), ("uncertain", UNCERTAIN_PLANS),
                           ("track_free", TRACK_FREES), ("goal_region", GOALS),
                           ("floor_eyes", FLOOR_EYES), ("blank_carve", ("unknown", "always")),
@@ -1038,6 +1046,8 @@ class Drive:
             bx0, bx1, bz0, bz1 = self.room.bounds
             gx, gz = wall_growth(self.dead_cov) if cfg.plan_walls == "grown" else (0.0, 0.0)
             mark_walls(fm, (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz))
+        if cfg.move_ring == "known":
+            fm.move_ring = clear_unseen(fm, prof.planning_radius_ft)
         return fm
 
     def map_to_plan_on(self, fm: FloorMap, est: State) -> FloorMap:
@@ -1099,7 +1109,7 @@ class Drive:
                 cmds = shortcut_first_leg(cmds, est)
             seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
                               *prof.grown_half_ft, pivot_r, pivot_sweep, pan if head else None,
-                              min_pivot_deg=cfg.min_pivot_deg)
+                              min_pivot_deg=cfg.min_pivot_deg, margin_ft=prof.margin_ft)
             left = path_length(pts)
             if cfg.look_ahead and not head and _moves(seg):
                 # its pivot is the look: no sweep instead

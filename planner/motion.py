@@ -181,6 +181,20 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     return not (d2 * fm.cell ** 2 <= reach ** 2 + 1e-9).any()
 
 
+def clear_unseen(fm: FloorMap, reach_ft: float) -> np.ndarray:
+    """(nz, nx) bool: the never-seen cells of ``fm`` with no occupied or
+    uncertain cell within ``reach_ft`` of them, centre to centre (the map's
+    edge counts as nothing placed).  ``DriveConfig.move_ring="known"`` lets a
+    forward move's band beyond the bare footprint cross these, as the pivot's
+    rule under ``pivot="swept-ring"`` lets its ring (:func:`_pivot_seen_free`)."""
+    placed = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
+    if not placed.any():
+        return fm.cells == UNKNOWN
+    dist = cv2.distanceTransform((~placed).astype(np.uint8), cv2.DIST_L2,
+                                 cv2.DIST_MASK_PRECISE) * fm.cell
+    return (fm.cells == UNKNOWN) & (dist > reach_ft + 1e-9)
+
+
 def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
                   pivot_sweep=None, pivot_ft: float | None = None) -> bool:
     """A pivot of ``angle_deg`` where the estimate stands may be made: by the
@@ -367,7 +381,8 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
 def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
                  seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
                  nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None,
-                 looked_deg: float | None = None, min_pivot_deg: float = 0.0):
+                 looked_deg: float | None = None, min_pivot_deg: float = 0.0,
+                 margin_ft: float = 0.0):
     """The first ``step`` ft of ``cmds``, each FORWARD cut where the vehicle
     would come nearer than its radius to an occupied or uncertain cell
     (``safe``), or where its swept width (``half_width`` each side) would
@@ -417,8 +432,17 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
         m = int(math.ceil(nose_ft / step_s))
         ext = np.vstack([s, end + (np.arange(1, m + 1) * step_s)[:, None] *
                          np.array([math.sin(hr), math.cos(hr)])[None, :]])
-        bs = _band_seen(known, fm, ext, hr, half_width)
-        run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+        if fm.move_ring is None or margin_ft <= 0:
+            bs = _band_seen(known, fm, ext, hr, half_width)
+            run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+        else:
+            # the band out to the margin seen or in FloorMap.move_ring; the bare
+            # footprint's band, to its own nose, seen
+            bs = _band_seen(known | fm.move_ring, fm, ext, hr, half_width)
+            run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+            mb = int(math.ceil((nose_ft - margin_ft) / step_s))
+            bs = _band_seen(known, fm, ext[:len(s) + mb], hr, half_width - margin_ft)
+            run_ok &= np.convolve(~bs, np.ones(mb + 1), mode="full")[mb:mb + len(s)] == 0
         seen_band = run_ok
         ok = np.zeros(len(s), bool)
         near = np.zeros(len(s), bool)
@@ -522,7 +546,7 @@ def back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProf
         return []
     behind = State(est.x, est.z, wrap(est.heading_deg + 180.0))
     seg = safe_prefix([Forward(dist)], behind, safe, seen, dist, None, *prof.grown_half_ft,
-                       0.0)
+                       0.0, margin_ft=prof.margin_ft)
     d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
     return [Back(round(d, 3))] if d > 0.05 else []
 
@@ -548,7 +572,8 @@ def forward_to_turn(fm: FloorMap, est: State, aims, safe: Passable, seen, prof: 
     n = int(math.floor(prof.step_ft / step_ft + 1e-9))
     for k in range(1, n + 1):
         d = k * step_ft
-        seg = safe_prefix([Forward(d)], est, safe, seen, d, None, *prof.grown_half_ft, 0.0)
+        seg = safe_prefix([Forward(d)], est, safe, seen, d, None, *prof.grown_half_ft, 0.0,
+                          margin_ft=prof.margin_ft)
         if sum(c.distance_ft for c in seg if isinstance(c, Forward)) < d - 1e-6:
             return None                    # the move itself is refused from here on
         end = advance(est, Forward(d))
@@ -604,7 +629,7 @@ def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft:
     cmds = to_commands(vp, est.heading_deg, prof.turning_radius_ft, seen_only)
     seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, None, *prof.grown_half_ft,
                        pivot_radius_ft(prof, cfg.pivot == "margin"),
-                       min_pivot_deg=cfg.min_pivot_deg)
+                       min_pivot_deg=cfg.min_pivot_deg, margin_ft=prof.margin_ft)
     if not any(isinstance(c, Forward) or abs(c.angle_deg) >= 1.0 for c in seg):
         return None
     return seg, (f" (to look at ({u[0]:.1f}, {u[1]:.1f}) from "
@@ -719,7 +744,7 @@ def looked_ahead(seg, est: State, fm: FloorMap, pts, near_ft: float, safe, seen,
     ok = safe_prefix(new, est, safe, seen, prof.step_ft, seen_eyes, half_width,
                       prof.length_ft / 2 + prof.margin_ft,
                       pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep,
-                      min_pivot_deg=min_pivot_deg)
+                      min_pivot_deg=min_pivot_deg, margin_ft=prof.margin_ft)
     if len(ok) != len(new) or any(type(a) is not type(b) for a, b in zip(ok, new)):
         return None                       # its pivot (or move) breaks the safety rules
     done.add(fm.index(*cell))
@@ -918,7 +943,7 @@ def disc_approach(est: State, goal, radius: float, safe: Passable, seen: np.ndar
             continue                      # its line never enters the disc
         reach = math.floor(min(prof.step_ft, along) * 100) / 100
         seg = safe_prefix([Forward(reach)], State(est.x, est.z, h), safe, seen, reach,
-                          None, half_width, nose, 0.0)
+                          None, half_width, nose, 0.0, margin_ft=prof.margin_ft)
         d = sum(c.distance_ft for c in seg if isinstance(c, Forward))
         end = (est.x + d * ux, est.z + d * uz)
         off = math.hypot(end[0] - goal[0], end[1] - goal[1])

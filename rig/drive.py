@@ -182,7 +182,7 @@ LOOP_OPTION_GROUPS = (
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
-     ("--pivot", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
+     ("--pivot", "--move-ring", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
       "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
 )
 
@@ -191,7 +191,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-        TURN_ROOMS, \
+        TURN_ROOMS, MOVE_RINGS, \
     MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
@@ -240,6 +240,11 @@ def add_loop_options(p) -> None:
              "larger one by the disc; swept-ring (default): the bare footprint's sweep "
              "seen free, a cell of the margin's ring never seen where nothing seen lies "
              "within the planning radius of it")
+    opt("--move-ring", choices=MOVE_RINGS, default=C.move_ring,
+        help="a forward move's swept band beyond the bare footprint (the margin's ring): "
+             "seen (default): every cell seen; known: a never-seen cell will do where "
+             "nothing seen lies within the planning radius of it, as --pivot swept-ring "
+             "lets a pivot's")
     opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
         default=C.clearance_at,
         help="where in a passable cell the vehicle's centre may be: anywhere (the "
@@ -542,6 +547,7 @@ def loop_config(args, goal, fail):
                        match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
+                       move_ring=args.move_ring,
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, turn_room=args.turn_room,

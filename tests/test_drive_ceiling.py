@@ -189,6 +189,59 @@ def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
     assert res["swept"].collisions == 0 and "hit something" not in res["swept"].reason
 
 
+def test_a_move_s_band_beyond_the_footprint_may_cross_never_seen_cells_under_move_ring():
+    # FORWARD 1 from the origin facing +z over a map seen free but for one cell,
+    # x -0.75..-0.5, z 0.5..0.75: inside the band grown by the margin (0.55 ft each
+    # side), outside the bare footprint's (0.4 ft).  motion.clear_unseen marks it
+    # while nothing placed lies within the planning radius (0.79 ft) of its centre
+    # (-0.625, 0.625): an uncertain cell at (-1.375, 0.625) is 0.75 ft off, one at
+    # (-1.625, 0.625) 1.0 ft
+    from planner.motion import clear_unseen
+    fm = free_map()
+    cell = fm.index(-0.6, 0.6)
+    fm.cells[cell] = UNKNOWN
+    est, move = State(0.0, 0.0, 0.0), [Forward(1.0)]
+
+    def driven():
+        safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
+        got = safe_prefix(move, est, safe, fm.cells != UNKNOWN, 1.5, None, HALF, NOSE,
+                          margin_ft=DEFAULT.margin_ft)
+        return sum(c.distance_ft for c in got)
+
+    assert driven() < 0.5                                  # the band's rule: every cell seen
+    fm.move_ring = clear_unseen(fm, DEFAULT.planning_radius_ft)
+    assert fm.move_ring[cell] and fm.move_ring.sum() == 1
+    assert driven() == 1.0
+    fm.cells[fm.index(-1.4, 0.6)] = UNCERTAIN
+    fm.move_ring = clear_unseen(fm, DEFAULT.planning_radius_ft)
+    assert not fm.move_ring.any() and driven() < 0.5
+    fm.cells[fm.index(-1.4, 0.6)] = FREE
+    fm.cells[fm.index(-1.6, 0.6)] = UNCERTAIN
+    fm.move_ring = clear_unseen(fm, DEFAULT.planning_radius_ft)
+    assert fm.move_ring[cell] and driven() == 1.0
+    # a never-seen cell the bare footprint's band crosses (x -0.5..-0.25): refused
+    fm.cells[fm.index(-0.4, 0.6)] = UNKNOWN
+    fm.move_ring = clear_unseen(fm, DEFAULT.planning_radius_ft)
+    assert driven() < 0.5
+
+
+def test_room_540_is_reached_when_a_move_s_ring_may_be_never_seen():
+    # the defaults, odometry noise seed 540 (bench/drive.py's room 540): with every
+    # cell of a move's grown band seen (move_ring="seen") the kept path is not driven
+    # and 16 looks pass without progress; with the ring's never-seen cells allowed away
+    # from anything seen (move_ring="known") the goal is reached in 8 looks.  The
+    # world's exact geometry judges it.
+    from world.odometry import OdometryNoise
+    from rigtools import assert_reached_by_the_truth, bench_task
+    room, start, goal = bench_task(540)
+    res = {how: run(room, start, DriveConfig(goal=goal, move_ring=how),
+                    noise=OdometryNoise(seed=540), keep_maps=False) for how in ("seen", "known")}
+    assert not res["seen"].reached and res["seen"].collisions == 0
+    assert "16 looks without progress" in res["seen"].reason
+    assert_reached_by_the_truth(res["known"], goal)
+    assert len(res["known"].cycles) == 8
+
+
 def test_rooms_774_and_857_do_not_pivot_into_their_boxes_under_swept_ring():
     # the two pivots a ring that asked only "nothing placed in it" let through
     # (measured, docs/planner.md "The margin's ring"): room 774 under the per-look
@@ -234,6 +287,8 @@ def test_rig_drive_and_the_bench_take_the_pivot_rules(monkeypatch, tmp_path):
     assert drive_config(monkeypatch, tmp_path, "--pivot", "disc").pivot == "disc"
     assert drive_config(monkeypatch, tmp_path, "--pivot", "small-swept").pivot == "small-swept"
     assert drive_config(monkeypatch, tmp_path, "--pivot", "swept-ring").pivot == "swept-ring"
+    assert drive_config(monkeypatch, tmp_path, "--move-ring", "known").move_ring == "known"
+    assert drive_config(monkeypatch, tmp_path).move_ring == DriveConfig.move_ring
 
 
 # --- 2. paths that keep to what was in view ---------------------------------------
