@@ -366,9 +366,12 @@ def unseen_in_circle(fm: FloorMap, x: float, z: float, radius: float):
 def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad: float,
                half_width: float) -> np.ndarray:
     """For each sample of a straight move: every cell across the vehicle's
-    swept width (``half_width`` each side of the centre line) has been seen."""
+    swept width (``half_width`` each side of the centre line, both edges
+    sampled, at most half a cell apart) has been seen.  (Until 2026-12-05
+    19:50 the samples ran from the left edge in steps of half a cell and
+    stopped short of the right one: 0.45 ft of the grown 0.55.)"""
     right = np.array([math.cos(heading_rad), -math.sin(heading_rad)])
-    offs = np.arange(-half_width, half_width + 1e-9, fm.cell / 2)
+    offs = np.linspace(-half_width, half_width, int(math.ceil(2 * half_width / (fm.cell / 2))) + 1)
     pts = samples[:, None, :] + offs[None, :, None] * right[None, None, :]
     i = np.floor((pts[..., 1] - fm.z0) / fm.cell).astype(int)
     j = np.floor((pts[..., 0] - fm.x0) / fm.cell).astype(int)
@@ -639,14 +642,15 @@ def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft:
 def first_unseen_on_band(fm: FloorMap, pts, half_width: float, ahead_ft: float):
     """The first cell along the planned path ``pts`` (a polyline from the
     vehicle) whose square the vehicle's swept width (``half_width`` each side of
-    the centre line, sampled a quarter cell apart along and across, as
-    :func:`_band_seen` does) enters within the first ``ahead_ft`` of the path,
+    the centre line, sampled at most a quarter cell apart along and across, both
+    edges included, as :func:`_band_seen` does) enters within the first
+    ``ahead_ft`` of the path,
     and that no look has ever seen (UNKNOWN): its centre (x, z), or None when
     that whole band has been seen (cells off the map are left to
     :func:`safe_prefix`)."""
     left = ahead_ft
     q = fm.cell / 4
-    offs = np.arange(-half_width, half_width + 1e-9, q)
+    offs = np.linspace(-half_width, half_width, int(math.ceil(2 * half_width / q)) + 1)
     for a, b in zip(pts[:-1], pts[1:]):
         a, b = np.asarray(a, float), np.asarray(b, float)
         length = float(np.hypot(*(b - a)))

@@ -67,12 +67,15 @@ def test_a_pivot_needs_the_margin_seen_free_too():
 
 
 def test_a_turn_under_min_pivot_deg_needs_no_pivot_circle():
-    # the pivot circle (0.64 ft) holds a never-seen cell 0.5 ft to the right of the
-    # vehicle; the swept band ahead is seen free.  A 0.1 deg alignment (the bundled
-    # lab's, seed 0) moves the footprint's far corner 0.64 * 0.1 * pi / 180 = 0.0011 ft:
-    # under min_pivot_deg 1 it passes; as a pivot (0, before) the move is refused
+    # the pivot circle (0.64 ft) holds a never-seen cell behind the vehicle's right
+    # side, x 0.5..0.75, z -0.5..-0.25 (its nearest point 0.56 ft off); the swept band
+    # ahead (from z 0) is seen free.  A 0.1 deg alignment (the bundled lab's, seed 0)
+    # moves the footprint's far corner 0.64 * 0.1 * pi / 180 = 0.0011 ft: under
+    # min_pivot_deg 1 it passes; as a pivot (0, before) the move is refused.  (Until
+    # 2026-12-05 19:50 the cell was x 0.5..0.75, z -0.25..0, inside the band's right
+    # edge, which the band's samples did not reach.)
     fm = free_map()
-    fm.cells[fm.index(0.6, -0.1)] = UNKNOWN
+    fm.cells[fm.index(0.6, -0.35)] = UNKNOWN
     est = State(0.0, 0.0, 0.0)
     safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
     seen = fm.cells != UNKNOWN
@@ -187,6 +190,26 @@ def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
     assert res["disc"].collisions == 1 and "hit something" in res["disc"].reason
     assert res["disc"].cycles[-1].command == "TURN -70"
     assert res["swept"].collisions == 0 and "hit something" not in res["swept"].reason
+
+
+def test_a_move_s_band_is_checked_out_to_both_of_its_edges():
+    # FORWARD 1 from the origin facing +z over a map seen free but for one cell
+    # beside the nose: the band grown by the margin reaches 0.55 ft each side, so a
+    # never-seen cell x 0.5..0.75 (right) or x -0.75..-0.5 (left), z 0.5..0.75, lies
+    # in it from the start (the nose reaches z 0.65).  Until 2026-12-05 19:50 the
+    # samples across stopped at x 0.45 on the right, and the right one passed.
+    for x in (0.6, -0.6):
+        fm = free_map()
+        fm.cells[fm.index(x, 0.6)] = UNKNOWN
+        safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
+        assert safe_prefix([Forward(1.0)], State(0.0, 0.0, 0.0), safe, fm.cells != UNKNOWN,
+                           1.5, None, HALF, NOSE) == [], x
+    # one cell farther out (x 0.75..1.0) lies outside the band: the move is made
+    fm = free_map()
+    fm.cells[fm.index(0.8, 0.6)] = UNKNOWN
+    safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
+    assert safe_prefix([Forward(1.0)], State(0.0, 0.0, 0.0), safe, fm.cells != UNKNOWN,
+                       1.5, None, HALF, NOSE) == [Forward(1.0)]
 
 
 def test_a_move_s_band_beyond_the_footprint_may_cross_never_seen_cells_under_move_ring():
