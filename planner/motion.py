@@ -402,7 +402,10 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     look the new way first; ``looked_deg`` (a head's pan at the look just
     taken, ``DriveConfig.head``) lets the move on when the turns' net angle
     ends within ``EYES_TURN_DEG`` of the way that look faced: the head has
-    looked the new way already."""
+    looked the new way already.  ``margin_ft`` (the planning margin in
+    ``half_width`` and ``nose_ft``), on a map with :attr:`FloorMap.move_ring`
+    (``DriveConfig.move_ring="known"``): the band beyond the bare footprint may
+    cross the cells it marks."""
     out = []
     x, z, h = est.x, est.z, est.heading_deg
     turned = 0.0
