@@ -888,11 +888,11 @@ class Drive:
         self.odo = (getattr(noise, "distance_fraction", 0.0), getattr(noise, "turn_deg", 0.0)) \
             if noise is not None else (0.0, 0.0)
         self.near_ft = near_visible_ft(prof, cfg.lowest_obstacle_ft)
-        self.pivot_sweep = PivotSweep(prof.footprint, prof.margin_ft) if cfg.pivot == "swept" \
-            else PivotSweep(prof.footprint, prof.margin_ft, SMALL_TURN_DEG) \
-            if cfg.pivot == "small-swept" \
-            else PivotSweep(prof.footprint, prof.margin_ft, ring="known") \
-            if cfg.pivot == "swept-ring" else None
+        self.pivot_sweep = {                  # (None: the disc, motion._pivot_ok)
+            "swept": PivotSweep(prof.footprint, prof.margin_ft),
+            "small-swept": PivotSweep(prof.footprint, prof.margin_ft, SMALL_TURN_DEG),
+            "swept-ring": PivotSweep(prof.footprint, prof.margin_ft, ring="known"),
+        }.get(cfg.pivot)
         self.pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
         self.tried: dict = {}                 # blocker cell -> places it was looked at from
         self.ahead_cells: set = set()         # cells the look-ahead has turned to (each once)

@@ -173,12 +173,23 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     if not len(ui):
         return True
     reach = math.hypot(*footprint) / 2 + margin_ft
+    # (on the window that holds every cell within reach of them: a pivot check is
+    # made many times a cycle)
     n = int(math.ceil(reach / fm.cell))
     i0, j0 = max(int(ui.min()) - n, 0), max(int(uj.min()) - n, 0)
     window = fm.cells[i0:int(ui.max()) + n + 1, j0:int(uj.max()) + n + 1]
-    ki, kj = np.nonzero((window == OCCUPIED) | (window == UNCERTAIN))
-    d2 = (ui[:, None] - (ki + i0)[None]) ** 2 + (uj[:, None] - (kj + j0)[None]) ** 2
-    return not (d2 * fm.cell ** 2 <= reach ** 2 + 1e-9).any()
+    return bool(_far_from_placed(window, fm.cell, reach)[ui - i0, uj - j0].all())
+
+
+def _far_from_placed(cells: np.ndarray, cell_ft: float, reach_ft: float) -> np.ndarray:
+    """Bool like ``cells``: no occupied or uncertain cell within ``reach_ft``,
+    centre to centre (beyond the array's edge counts as nothing placed)."""
+    placed = (cells == OCCUPIED) | (cells == UNCERTAIN)
+    if not placed.any():
+        return np.ones(cells.shape, bool)
+    dist = cv2.distanceTransform((~placed).astype(np.uint8), cv2.DIST_L2,
+                                 cv2.DIST_MASK_PRECISE) * cell_ft
+    return dist > reach_ft + 1e-9
 
 
 def clear_unseen(fm: FloorMap, reach_ft: float) -> np.ndarray:
@@ -187,12 +198,7 @@ def clear_unseen(fm: FloorMap, reach_ft: float) -> np.ndarray:
     edge counts as nothing placed).  ``DriveConfig.move_ring="known"`` lets a
     forward move's band beyond the bare footprint cross these, as the pivot's
     rule under ``pivot="swept-ring"`` lets its ring (:func:`_pivot_seen_free`)."""
-    placed = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
-    if not placed.any():
-        return fm.cells == UNKNOWN
-    dist = cv2.distanceTransform((~placed).astype(np.uint8), cv2.DIST_L2,
-                                 cv2.DIST_MASK_PRECISE) * fm.cell
-    return (fm.cells == UNKNOWN) & (dist > reach_ft + 1e-9)
+    return (fm.cells == UNKNOWN) & _far_from_placed(fm.cells, fm.cell, reach_ft)
 
 
 def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile,
