@@ -38,8 +38,8 @@ from pathlib import Path
 # matcher, the fill, the smallest turns unchecked, the step back, the widening, the swept
 # pivot, the goal's disc, 16 looks, the fused features, forward to turn, the walls' map
 # where the seen one has no way and the ring's never-seen cells away from anything seen
-# are the defaults since 2026-12-05); the two heads.  (Expiry acts only
-# on each look's hits, so it is measured with them.)
+# are the defaults since 2026-12-05); the two heads.  Expiry is measured on each
+# look's hits and on the fused features.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
@@ -49,6 +49,7 @@ OPTIONS = [
     "--refute-hits through",
     "--refute-hits under",
     "--expire-uncertain 3 --occupied looks",
+    "--expire-uncertain 2",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

@@ -32,7 +32,7 @@ from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, flo
     raised_ends, reads_floor, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
-from .features import FloorFeatures, pose_point_covariance
+from .features import FloorFeatures, mahalanobis2, pose_point_covariance
 from .floormap import FLOOR_Y, FloorMap, project_octree
 from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
@@ -345,7 +345,10 @@ class Perception:
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
         self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
         self.expired: dict[int, float] = {}   # packed key -> its log-odds when it expired
-        self.expired_total = 0            # expiries so far (a cell hit again may expire anew)
+        self.expired_total = 0            # expiries so far (a cell hit again may expire anew;
+                                          # under occupied="model", the features retired)
+        self.feature_unseen = np.zeros(0, int)   # per floor feature: looks that had it in
+                                          # view and did not locate it (occupied="model")
         self.lowest_ft = 0.8              # DriveConfig.lowest_obstacle_ft
         self.floor_hist = np.zeros(16)    # greys of the pixels known to show floor, all looks
         self.vetoed = 0                   # located points the floor in view contradicted
@@ -603,14 +606,21 @@ class Perception:
                 obs_cov = fs.hit_cov[:, [0, 2]][:, :, [0, 2]]
                 if pose_cov is not None and self.feature_pose == "absolute":
                     obs_cov = obs_cov + pose_point_covariance(obs, (est.x, est.z), pose_cov)
-                self.features.add_look(obs, obs_cov, fs.spans, near=(est.x, est.z),
-                                       near_ft=self.max_range_ft + 3.0,
-                                       drift_cov=pose_cov if self.feature_pose == "drift"
-                                       and pose_cov is not None else None)
+                ids = self.features.add_look(obs, obs_cov, fs.spans, near=(est.x, est.z),
+                                             near_ft=self.max_range_ft + 3.0,
+                                             drift_cov=pose_cov if self.feature_pose == "drift"
+                                             and pose_cov is not None else None)
+                if self.expire_uncertain:
+                    self.expire_features_in_view(fs, R, left, ids)
+            elif self.expire_uncertain and self.occupied == "model":
+                self.expire_features_in_view(fs, R, left, np.zeros(0, int))
             if self.occupied == "model":
                 self.retire(left, self.max_range_ft + 3.0)
-        elif self.expire_uncertain and self.occupied == "looks":
-            self.expire_in_view(fs, R, left, np.zeros(0, np.int64))   # it located nothing
+        elif self.expire_uncertain:                   # it located nothing
+            if self.occupied == "looks":
+                self.expire_in_view(fs, R, left, np.zeros(0, np.int64))
+            else:
+                self.expire_features_in_view(fs, R, left, np.zeros(0, int))
         self.points = np.vstack([self.points, fs.hits])
         self._extend(fs.hits[:, [0, 2]] if len(fs.hits) else np.zeros((0, 2)))
         if self.look_free is not None:
@@ -865,16 +875,10 @@ class Perception:
         UNKNOWN on the map (:meth:`floor_map`), never free, until a hit raises
         its log-odds again.  Returns the cells expired by this look.
 
-        In view: in the picture's columns (the floor scan's own placement of
-        a column's range, ``place="axis"``, inverted), from ``near_ft`` on
-        (nearer, the lowest obstacle is below the picture) to ``max_range_ft``,
-        and nearer by a cell than the column's bound in this look — its hit, or
-        the end of its free sight line between two hits — in the cell's
-        column and the one each side (a column showing nothing at all has no
-        bound).  A cell within one cell of anything this look hit
-        (``look_keys``: its grown hit cells) is not counted and starts over:
-        a real corner seen again from near by shows again.  Cells whose state
-        is already OCCUPIED never expire."""
+        In view: :meth:`_in_view_clear`.  A cell within one cell of anything
+        this look hit (``look_keys``: its grown hit cells) is not counted and
+        starts over: a real corner seen again from near by shows again.  Cells
+        whose state is already OCCUPIED never expire."""
         res = self.tree.getResolution()
         cand = self._uncertain_keys(left, res)
         if not len(cand):
@@ -887,11 +891,35 @@ class Perception:
         for di in (-1, 0, 1):
             for dj in (-1, 0, 1):
                 near_hit |= np.isin(pack(k + np.array([di, 0, dj])), look_keys)
-        # the column of each cell: v = s * (u * a + b), a, b the levelled
+        counted = self._in_view_clear(xyz[:, [0, 2]], fs, R, left, res) & ~near_hit
+        for key in cand[near_hit]:
+            self.unseen.pop(int(key), None)
+        expired = 0
+        for key in cand[counted]:
+            key = int(key)
+            n = self.unseen.get(key, 0) + 1
+            self.unseen[key] = n
+            if n >= self.expire_uncertain and key not in self.expired:
+                self.expired[key] = float("nan")      # its log-odds, read after this look
+                expired += 1
+        self.expired_total += expired
+        return expired
+
+    def _in_view_clear(self, xz, fs, R, left, res: float) -> np.ndarray:
+        """Which floor points ``xz`` ((N, 2) room x, z) this look had IN VIEW
+        with nothing located before them: in the picture's columns (the floor
+        scan's own placement of a column's range, ``place="axis"``, inverted),
+        from ``near_ft`` on (nearer, the lowest obstacle is below the picture)
+        to ``max_range_ft``, and nearer by a cell than the column's bound in
+        this look (its hit, or the end of its free sight line between two
+        hits) in the point's column and the one each side; a column showing
+        nothing at all has no bound."""
+        xz = np.asarray(xz, float).reshape(-1, 2)
+        # the column of each point: v = s * (u * a + b), a, b the levelled
         # right and forward axes of the camera (floor_scan's "axis" placement)
         a = R[[0, 2], 0]
         b = R[[0, 2], 2]
-        v = xyz[:, [0, 2]] - left[[0, 2]]
+        v = xz - left[[0, 2]]
         M = np.array([[a[0], b[0]], [a[1], b[1]]])
         su, s = np.linalg.solve(M, v.T)
         d = np.hypot(v[:, 0], v[:, 1])
@@ -912,19 +940,50 @@ class Perception:
             np.minimum.at(bound, cc[sel], dist[sel])
         cs = np.clip(c, 1, 128)
         nearest = np.minimum(np.minimum(bound[cs - 1], bound[cs]), bound[cs + 1])
-        counted = inview & (d <= nearest - res) & ~near_hit
-        for key in cand[near_hit]:
-            self.unseen.pop(int(key), None)
-        expired = 0
-        for key in cand[counted]:
-            key = int(key)
-            n = self.unseen.get(key, 0) + 1
-            self.unseen[key] = n
-            if n >= self.expire_uncertain and key not in self.expired:
-                self.expired[key] = float("nan")      # its log-odds, read after this look
-                expired += 1
-        self.expired_total += expired
-        return expired
+        return inview & (d <= nearest - res)
+
+    def expire_features_in_view(self, fs, R, left, ids) -> int:
+        """``expire_uncertain`` under ``occupied="model"``: count this look
+        against every alive floor feature fused from fewer than
+        ``confirm_looks`` looks (drawn UNCERTAIN) that it had in view
+        (:meth:`_in_view_clear`) without locating it, and retire the feature
+        after ``expire_uncertain`` such looks.  Its cells then show what the
+        octree holds (as after :meth:`retire`): the hit's own cell UNKNOWN
+        (hit cells count only as seen), the grown ones free only where sight
+        lines carved them, as they were before the feature covered them.  A feature
+        this look fused (``ids``, :meth:`FloorFeatures.add_look`), or with one
+        of this look's hits within two standard deviations and a cell of it,
+        starts its count over: a real corner seen again shows again.
+        Confirmed features never expire.  Returns the features retired."""
+        f = self.features
+        if not len(f.mean):
+            return 0
+        res = self.tree.getResolution()
+        if len(self.feature_unseen) < len(f.mean):
+            self.feature_unseen = np.concatenate(
+                [self.feature_unseen, np.zeros(len(f.mean) - len(self.feature_unseen), int)])
+        seen = np.zeros(len(f.mean), bool)
+        ids = np.asarray(ids, int)
+        seen[ids[ids >= 0]] = True
+        cand = np.flatnonzero(f.alive & (f.looks < self.confirm_looks) & ~seen)
+        cand = cand[np.hypot(f.mean[cand, 0] - left[0], f.mean[cand, 1] - left[2])
+                    <= self.max_range_ft + res]
+        if len(cand) and len(fs.hits):
+            near = mahalanobis2(f.mean[cand], f.cov[cand] + res ** 2 * np.eye(2),
+                                fs.hits[:, [0, 2]], np.zeros((len(fs.hits), 2, 2)))
+            close = (near <= 4.0).any(1)
+            seen[cand[close]] = True
+            cand = cand[~close]
+        self.feature_unseen[seen] = 0
+        if not len(cand):
+            return 0
+        counted = cand[self._in_view_clear(f.mean[cand], fs, R, left, res)]
+        self.feature_unseen[counted] += 1
+        gone = np.zeros(len(f.mean), bool)
+        gone[counted[self.feature_unseen[counted] >= self.expire_uncertain]] = True
+        n = f.retire(gone)
+        self.expired_total += n
+        return n
 
     def _uncertain_keys(self, left, res: float) -> np.ndarray:
         """Packed keys of the floor-slab cells any look hit that are UNCERTAIN

@@ -379,7 +379,9 @@ class DriveConfig:
                                           # sight lines clear it; N (a named option, not
                                           # 1985): after N later looks had it in view and
                                           # located nothing there, it shows UNKNOWN (never
-                                          # free) on the map (Perception.expire_in_view)
+                                          # free) on the map (Perception.expire_in_view);
+                                          # under occupied="model" the floor feature seen
+                                          # once is retired (expire_features_in_view)
     uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
                                           # toward the reachable cell nearest the goal;
                                           # "look" (measured, not adopted): plan through
@@ -594,6 +596,7 @@ class DriveResult:
     features: FloorFeatures | None = None     # the floor features under occupied="model"
     floor: dict = field(default_factory=dict)  # under floor_eyes: what the floor in view did
     expired_uncertain: int | None = None       # under expire_uncertain: the cells expired
+                                               # (the floor features, under occupied="model")
     wall_fixes: int | None = None              # under pose="walls": the looks that gave a fix
     drift_eroded: int | None = None            # under free_drift "erode", "moves": the FREE cells the
                                                # last map gave up to the drift
@@ -764,10 +767,6 @@ def _check_config(cfg: DriveConfig) -> None:
             cfg.expire_uncertain, bool) or cfg.expire_uncertain < 0:
         raise ValueError(f"expire_uncertain must be a whole number of looks >= 0 (0: off), "
                          f"not {cfg.expire_uncertain!r}")
-    if cfg.expire_uncertain and cfg.occupied != "looks":
-        # the fused features are drawn afresh each cycle; expiry shows the per-look cells
-        raise ValueError(f"expire_uncertain acts on each look's hit cells: it needs "
-                         f"occupied 'looks', not {cfg.occupied!r}")
 
 
 def map_around(est: State, goal, bounds, extent: str = "seen") -> list:

@@ -294,7 +294,8 @@ def add_loop_options(p) -> None:
              "out located points the floor in view contradicts")
     opt("--expire-uncertain", type=int, default=C.expire_uncertain, metavar="N",
         help="an uncertain (once-hit, unconfirmed) cell goes back to UNKNOWN (never "
-             "free) after N later looks had it in view and located nothing there "
+             "free) after N later looks had it in view and located nothing there; "
+             "under --occupied model the floor feature one look placed is retired so "
              "(not 1985; default 0: off, it stays until sight lines clear it)")
     opt("--cell-ft", type=float, default=None, metavar="FT",
         help="the octree's finest cell: the fewest levels over the 32 ft volume of "

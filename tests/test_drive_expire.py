@@ -1,6 +1,8 @@
 """An uncertain (once-hit) cell that later looks had in view without locating
 anything there expires to UNKNOWN (``DriveConfig.expire_uncertain``,
-``Perception.expire_in_view``), on hand-made looks of a level camera."""
+``Perception.expire_in_view``), on hand-made looks of a level camera; under
+``occupied="model"`` the floor feature one look placed is retired so
+(``Perception.expire_features_in_view``), and the same looks give the same map."""
 
 import pytest
 
@@ -20,11 +22,15 @@ def _edge(col, dp, ep=0.05):
     return [Point(line, 1, col, col - 10, dp, 0.0, 0.0, ep, 0.01, 0.01) for line in (50, 52)]
 
 
-def _model(expire=2):
+MAPS = ["looks", "model"]
+
+
+def _model(expire=2, occupied="looks"):
     m = Perception(VolumeOfInterest(32.0, 7), DriveConfig.band, 12.0, 2, 1,
                    near_ft=2.3, blank_ft=8.0)
     m.blank_carve = "unknown"              # the loop's default: assumption never past a hit
     m.expire_uncertain = expire
+    m.occupied = occupied
     return m
 
 
@@ -39,8 +45,9 @@ def _first_hit(m):
     return (hit[0], hit[2]), hit
 
 
-def test_a_cell_hit_once_and_then_in_view_of_two_blank_looks_is_unknown():
-    m = _model(2)
+@pytest.mark.parametrize("occupied", MAPS)
+def test_a_cell_hit_once_and_then_in_view_of_two_blank_looks_is_unknown(occupied):
+    m = _model(2, occupied)
     fm = _look(m, _edge(64, 5.0), 0.0, 0.0)
     xz, p = _first_hit(m)
     assert abs(xz[1] - 5.0) < 1e-9 and fm.state_at(*xz) == UNCERTAIN
@@ -54,14 +61,15 @@ def test_a_cell_hit_once_and_then_in_view_of_two_blank_looks_is_unknown():
     assert query(m.tree, p) == UNCERTAIN
     assert m.expired_total >= 1
     # off: the same looks leave it uncertain
-    off = _model(0)
+    off = _model(0, occupied)
     for pts, z in ((_edge(64, 5.0), 0.0), ([], 1.0), ([], 1.0)):
         fm = _look(off, pts, 0.0, z)
     assert fm.state_at(*xz) == UNCERTAIN
 
 
-def test_a_cell_located_again_is_occupied_and_never_expires():
-    m = _model(2)
+@pytest.mark.parametrize("occupied", MAPS)
+def test_a_cell_located_again_is_occupied_and_never_expires(occupied):
+    m = _model(2, occupied)
     _look(m, _edge(64, 5.0), 0.0, 0.0)
     xz, _ = _first_hit(m)
     fm = _look(m, _edge(64, 4.0), 0.0, 1.0)                # the same edge, 1 ft nearer
@@ -71,20 +79,48 @@ def test_a_cell_located_again_is_occupied_and_never_expires():
     assert fm.state_at(*xz) == OCCUPIED                    # confirmed: stays
 
 
-def test_an_expired_cell_located_again_comes_back():
-    m = _model(2)
+@pytest.mark.parametrize("occupied", MAPS)
+def test_an_expired_cell_located_again_comes_back(occupied):
+    m = _model(2, occupied)
     _look(m, _edge(64, 5.0), 0.0, 0.0)
     xz, _ = _first_hit(m)
     for _ in range(2):
         fm = _look(m, [], 0.0, 1.0)
     assert fm.state_at(*xz) == UNKNOWN
     fm = _look(m, _edge(64, 4.0), 0.0, 1.0)
-    assert fm.state_at(*xz) == OCCUPIED
+    # the cell's log-odds reach the confirmed level; a retired feature stays
+    # retired, so the corner comes back as a new feature seen once
+    assert fm.state_at(*xz) == (OCCUPIED if occupied == "looks" else UNCERTAIN)
 
 
+def test_a_feature_a_look_located_again_starts_its_count_over():
+    # blank, located again (fused: confirmed, never expires) ...
+    m = _model(2, "model")
+    _look(m, _edge(64, 5.0), 0.0, 0.0)
+    xz, _ = _first_hit(m)
+    _look(m, [], 0.0, 1.0)
+    assert m.feature_unseen[0] == 1
+    fm = _look(m, _edge(64, 4.0), 0.0, 1.0)
+    assert m.feature_unseen[0] == 0 and m.features.looks[0] == 2
+    for _ in range(3):
+        fm = _look(m, [], 0.0, 1.0)
+    assert fm.state_at(*xz) == OCCUPIED and m.expired_total == 0
+    # ... and a hit within two standard deviations and a cell of a feature it
+    # is not fused into counts as seeing it: two corners located 5 ft away with
+    # a 0.2 ft range error, then one hit between them 0.5 ft farther, which
+    # starts a feature of its own (their lateral error is 0.005 ft)
+    m = _model(2, "model")
+    _look(m, _edge(60, 5.0, 0.4) + _edge(68, 5.0, 0.4), 0.0, 0.0)
+    for _ in range(2):
+        _look(m, _edge(64, 4.5), 0.0, 1.0)
+    assert m.features.looks.tolist() == [1, 1, 2]
+    assert m.expired_total == 0 and m.features.alive.all()
+
+
+@pytest.mark.parametrize("occupied", MAPS)
 @pytest.mark.parametrize("where", ["behind", "hidden", "too near", "too far"])
-def test_a_cell_out_of_view_stays_uncertain(where):
-    m = _model(2)
+def test_a_cell_out_of_view_stays_uncertain(where, occupied):
+    m = _model(2, occupied)
     _look(m, _edge(64, 5.0), 0.0, 0.0)
     xz, _ = _first_hit(m)
     for _ in range(3):
@@ -99,10 +135,11 @@ def test_a_cell_out_of_view_stays_uncertain(where):
         assert fm.state_at(*xz) == UNCERTAIN
 
 
-def test_a_look_through_a_blank_face_between_two_edges_does_not_count():
+@pytest.mark.parametrize("occupied", MAPS)
+def test_a_look_through_a_blank_face_between_two_edges_does_not_count(occupied):
     # the columns between two edges 4 ft away are bounded by them (a face may
     # stand between): the cell 5 ft away, behind, is not in view
-    m = _model(2)
+    m = _model(2, occupied)
     _look(m, _edge(64, 5.0), 0.0, 0.0)
     xz, _ = _first_hit(m)
     for _ in range(3):
@@ -116,16 +153,17 @@ def test_expire_uncertain_checked_and_passed_by_rig_drive(tmp_path, monkeypatch)
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, expire_uncertain=-1))
     assert drive_config(monkeypatch, tmp_path, "--expire-uncertain", "2", "--occupied",
                         "looks").expire_uncertain == 2
+    assert drive_config(monkeypatch, tmp_path, "--expire-uncertain", "3").expire_uncertain == 3
     assert drive_config(monkeypatch, tmp_path).expire_uncertain == 0
 
 
-def test_the_tiny_room_is_reached_with_expiry():
+@pytest.mark.parametrize("occupied", MAPS)
+def test_the_tiny_room_is_reached_with_expiry(occupied):
     from world.odometry import OdometryNoise
     # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
-    # expiry acts on the per-look octree's cells (occupied="looks"), not the fused features
     res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, eyes="truth",
                                                              expire_uncertain=2, sight_lines="band",
-                                                             occupied="looks"),
+                                                             occupied=occupied),
               noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0

@@ -34,9 +34,6 @@ def test_an_unknown_value_is_refused_by_name_before_the_room_is_read(field):
     (dict(expire_uncertain=-2), "expire_uncertain must be a whole number"),
     (dict(expire_uncertain=1.5), "expire_uncertain must be a whole number"),
     (dict(expire_uncertain=True), "expire_uncertain must be a whole number"),
-    # expiry shows the per-look octree's cells; the fused features (the default) are redrawn
-    (dict(expire_uncertain=3), "expire_uncertain acts on each look's hit cells: it needs "
-                               "occupied 'looks', not 'model'"),
     (dict(head="assist", pose="fused"), "head 'assist' with pose 'fused'"),
     (dict(head="pan-tilt", pose="fused"), "head 'pan-tilt' with pose 'fused'"),
     # 2.0 ft back and the turn's 0.64 ft circle there leave the 2.5 ft clear spot
