@@ -355,6 +355,8 @@ class Perception:
         self.floor_cells = 0              # cells the floor in view proved free
         self.confirm_looks = confirm_looks
         self.features = FloorFeatures()
+        self.draw_core = False            # DriveConfig.uncertain="core": floor_map marks the
+                                          # uncertain features' one-sigma cells (FloorMap.uncertain_core)
         self.retired = 0
         self.hit_keys = np.zeros(0, np.int64)   # cells of the floor slab any look has hit
         self.free_looks = free_looks
@@ -1113,10 +1115,18 @@ class Perception:
         fm.cells[(fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)] = UNKNOWN
         occ, unc = self.features.cells(fm.cell, self.confirm_looks)
         i0, j0 = int(round(fm.z0 / fm.cell)), int(round(fm.x0 / fm.cell))
-        for cells, st in ((unc, UNCERTAIN), (occ, OCCUPIED)):        # occupied wins
+
+        def at(cells):
             i, j = cells[:, 1] - i0, cells[:, 0] - j0
             ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
-            fm.cells[i[ok], j[ok]] = st
+            return i[ok], j[ok]
+        for cells, st in ((unc, UNCERTAIN), (occ, OCCUPIED)):        # occupied wins
+            fm.cells[at(cells)] = st
+        if self.draw_core:
+            fm.uncertain_core = np.zeros(fm.shape, bool)
+            one_sigma = self.features.cells(fm.cell, self.confirm_looks, sigmas=1.0)[1]
+            fm.uncertain_core[at(one_sigma)] = True
+            fm.uncertain_core &= fm.cells == UNCERTAIN
 
 
 def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:

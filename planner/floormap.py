@@ -40,6 +40,10 @@ class FloorMap:
     drift_kept: np.ndarray | None = None   # (nz, nx) bool: FREE until the drift's erosion took
                                         # it (DriveConfig.free_drift="moves"): a pivot's cells
                                         # may be these where still UNKNOWN (motion._proven_free)
+    uncertain_core: np.ndarray | None = None   # (nz, nx) bool: the UNCERTAIN cells an
+                                        # uncertain floor feature covers within ONE standard
+                                        # deviation (or its span): what plan(uncertain="core")
+                                        # still plans round (Perception._draw_features)
     move_ring: np.ndarray | None = None    # (nz, nx) bool: never seen, nothing a look placed
                                         # within the planning radius (motion.clear_unseen;
                                         # DriveConfig.move_ring="known"): a forward move's

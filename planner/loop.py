@@ -382,10 +382,15 @@ class DriveConfig:
                                           # free) on the map (Perception.expire_in_view);
                                           # under occupied="model" the floor feature seen
                                           # once is retired (expire_features_in_view)
-    uncertain: str = "blocked"            # no path avoids the uncertain cells: "blocked":
-                                          # toward the reachable cell nearest the goal;
-                                          # "look" (measured, not adopted): plan through
-                                          # them and look again, never driven near (plan())
+    uncertain: str = "core"               # no path avoids the uncertain cells: "core" (the
+                                          # default since 2026-12-05 22:40, not 1985): plan
+                                          # round only the uncertain features' one-sigma
+                                          # cells and look again from nearer, never driven
+                                          # near any (plan(); under occupied="looks", with
+                                          # no features, every uncertain cell, as
+                                          # "blocked"); "blocked": toward the reachable cell
+                                          # nearest the goal; "look" (measured, not
+                                          # adopted): plan through them all, the same way
     seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
                                           # (a named option, not the dissertation's; measured,
                                           # not adopted): A* where a cell within the pivot
@@ -811,6 +816,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
     model.expire_uncertain = int(cfg.expire_uncertain)
+    model.draw_core = cfg.uncertain == "core"
     model.lowest_ft = cfg.lowest_obstacle_ft
     if cfg.head == "assist" and cfg.assist_pivot_ft is not None:   # a pivot's cells proven,
         model.pivot_proof = cfg.assist_pivot_ft                      # not assumed (room 45)

@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 SEARCHES = {"dissertation": hierarchical_search, "astar": astar}
 
 
-UNCERTAIN_PLANS = ("blocked", "look")
+UNCERTAIN_PLANS = ("blocked", "look", "core")
 
 
 GOALS = ("point", "disc")             # what the planner plans to: the goal point, or the
@@ -150,12 +150,18 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     than ``keep_ft`` longer than a new one (no dithering between two ways round).
 
     Uncertain cells (hit by one look, not yet confirmed by a second) block the
-    path; when none avoids them (``cfg.uncertain="blocked"``, the default) the
-    vehicle heads for the reachable cell nearest the goal.  With ``"look"`` (a
+    path; when none avoids them (``cfg.uncertain="blocked"``, the default until
+    2026-12-05 22:40) the vehicle heads for the reachable cell nearest the goal.
+    With ``"look"`` (a
     named option, measured and not adopted: docs/planner.md) the path may pass
     through them: the vehicle drives toward them (never nearer than its
     radius: the execution still treats them as obstacles) and looks again, so
-    a second look confirms or clears them."""
+    a second look confirms or clears them.  With ``"core"`` (the default since
+    2026-12-05 22:40) only the uncertain features' cells within one standard deviation
+    (``fm.uncertain_core``) are planned round: the path may pass between two
+    features one look saw where their two-sigma growth closes the way, and the
+    vehicle, driven only as the whole map allows, looks again from nearer,
+    which fuses them into features of smaller covariance."""
     if cfg.uncertain not in UNCERTAIN_PLANS:
         raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
                          f"{', '.join(UNCERTAIN_PLANS)}")
@@ -169,8 +175,11 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
         return _plan(fm, est, goal, cfg, prev, "blocked", nearest=False)
     except NoPath as exc:
         try:
-            pts, cmds, _ = _plan(fm, est, goal, cfg, prev, "free", nearest=False)
-            return pts, cmds, f"{exc}; through uncertain cells, to look at them"
+            through = "free" if cfg.uncertain == "look" else "core"
+            pts, cmds, _ = _plan(fm, est, goal, cfg, prev, through, nearest=False)
+            return pts, cmds, (f"{exc}; through uncertain cells, to look at them"
+                               if through == "free" else
+                               f"{exc}; past uncertain features' outer sigma, to look again")
         except NoPath:
             return _plan(fm, est, goal, cfg, prev, "blocked")
 

@@ -61,7 +61,9 @@ def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
                   uncertain: str | None = None, at: str = "anywhere") -> Passable:
     """Grow the blocked cells by ``radius`` (the vehicle's cross section).  The
     map's border counts as blocked.  Uncertain cells follow ``unknown`` unless
-    ``uncertain`` says otherwise.
+    ``uncertain`` says otherwise; ``"core"``: only those within one standard
+    deviation of an uncertain feature (``fm.uncertain_core``; all of them on a
+    map without it) block.
 
     ``at="anywhere"`` (the dissertation's: the cross section passes anywhere in
     a passable block): a cell is passable when the distance from any point of
@@ -90,8 +92,10 @@ def clearance_map(fm: FloorMap, radius: float, unknown: str = "blocked",
     blocked = fm.cells == OCCUPIED
     if unknown == "blocked":
         blocked = blocked | (fm.cells == UNKNOWN)
-    if uncertain == "blocked":
+    if uncertain == "blocked" or (uncertain == "core" and fm.uncertain_core is None):
         blocked = blocked | (fm.cells == UNCERTAIN)
+    elif uncertain == "core":
+        blocked = blocked | ((fm.cells == UNCERTAIN) & fm.uncertain_core)
     if at == "anywhere-exact":
         clearance = square_gap_cells(blocked) * fm.cell
     else:

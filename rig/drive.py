@@ -309,8 +309,12 @@ def add_loop_options(p) -> None:
         help="what resets the count of looks without progress: any motion (default), "
              "or a shorter way left than ever or new free space seen")
     opt("--uncertain", choices=UNCERTAIN_PLANS, default=C.uncertain,
-        help="no path avoids the uncertain cells (hit by one look): head for the "
-             "reachable cell nearest the goal (default), or plan through them and look")
+        help="no path avoids the uncertain cells (hit by one look): plan past the "
+             "uncertain features' cells beyond one standard deviation and look again from "
+             "nearer (core, the default since 2026-12-05 22:40; under --occupied looks, "
+             "which draws no features, as blocked); head for the reachable cell nearest "
+             "the goal (blocked, the default before); or plan through them all and look "
+             "(look).  The moves keep clear of every uncertain cell")
     opt("--reverse", choices=("off", "on"), default="off",
         help="the vehicle may BACK straight over space seen free (default off)")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,

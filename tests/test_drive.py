@@ -258,7 +258,8 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     c = drive_config(monkeypatch, tmp_path)
     assert c.clearance_at == "anywhere" and c.growth == "covariance"
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
-        ("evidence", "moved", "blocked", "poses", False)     # look_around: since 2026-12-04
+        ("evidence", "moved", "core", "poses", False)   # look_around: since 2026-12-04;
+                                                        # uncertain: since 2026-12-05
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--growth", "sideways"])
 

@@ -124,7 +124,8 @@ def test_plan_passes_uncertain_cells_only_when_no_way_avoids_them():
     """A wall across the map with one gap, an uncertain cell in the gap: the
     dissertation's plan (uncertain blocked) finds no way; ``uncertain="look"``
     plans through the gap to look again; the executed moves still treat the
-    cell as an obstacle (the safe map blocks it)."""
+    cell as an obstacle (the safe map blocks it).  (A map with no features'
+    core drawn: "core", the default, plans as "blocked".)"""
     cells = np.full((60, 60), FREE, np.uint8)
     fm = FloorMap(cells, -7.5, -7.5, 0.25)
     i, _ = fm.index(0.0, 0.0)
@@ -348,3 +349,81 @@ def test_bench_counts_success_by_the_slack_a_task_leaves():
     assert got == {"0-0.25 ft": {"reached": 1, "rooms": 2, "rate": 0.5},
                    "0.25-0.5 ft": {"reached": 1, "rooms": 2, "rate": 0.5},
                    ">=0.5 ft": {"reached": 2, "rooms": 2, "rate": 1.0}}
+
+
+def test_plan_core_passes_only_the_uncertain_cells_beyond_one_sigma():
+    """``uncertain="core"``: a wall across the map with a 3 ft gap, each of
+    its ends an uncertain feature grown 0.5 ft into it (two sigma), leaving
+    8 free cells (2 ft), fewer than the 9 the vehicle of 1.58 ft needs on
+    0.25 ft cells (clearance_map); their one-sigma cells reach 0.25 ft in and
+    leave 10.  The default heads for the nearest reachable
+    cell; "core" plans through the gap; the moves' safe map still blocks every
+    uncertain cell.  With the one-sigma cells across the whole gap, or on a
+    map that has no core drawn, "core" is the default."""
+    cells = np.full((60, 60), FREE, np.uint8)
+    fm = FloorMap(cells, -7.5, -7.5, 0.25)
+    i, _ = fm.index(0.0, 0.0)
+    cells[i - 1:i + 1, :] = OCCUPIED
+    _, j0 = fm.index(-1.5, 0.0)
+    _, j1 = fm.index(1.5, 0.0)
+    cells[i - 1:i + 1, j0:j1] = UNCERTAIN              # the gap, ...
+    cells[i - 1:i + 1, j0 + 2:j1 - 2] = FREE           # ... 0.5 ft of it at each end uncertain
+    core = np.zeros(cells.shape, bool)
+    core[i - 1:i + 1, j0:j0 + 1] = core[i - 1:i + 1, j1 - 1:j1] = True
+    fm.uncertain_core = core
+    est = State(0.0, -5.0, 0.0)
+    goal = (0.0, 5.0)
+    assert plan(fm, est, goal, DriveConfig(goal=goal, uncertain="blocked"))[2].startswith(
+        "goal not reachable")
+    pts, cmds, note = plan(fm, est, goal, DriveConfig(goal=goal))
+    assert "past uncertain features' outer sigma" in note
+    assert all(abs(p[0]) < 0.3 for p in pts if abs(p[1]) < 0.5)     # through the gap's middle
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    _, jm = fm.index(0.0, 0.0)
+    assert not safe.ok[i, jm]                          # the moves may not pass it yet
+    for where in ("whole", "none"):
+        if where == "whole":
+            fm.uncertain_core = (cells == UNCERTAIN) | core
+            fm.uncertain_core[i - 1:i + 1, j0:j1] = True
+        else:
+            fm.uncertain_core = None
+        assert plan(fm, est, goal, DriveConfig(goal=goal, uncertain="core"))[2].startswith(
+            "goal not reachable")
+
+
+def test_the_core_drawn_is_the_uncertain_features_one_sigma():
+    """Perception._draw_features: a feature seen once, sigma 0.5 ft along z and
+    0.05 ft along x, is UNCERTAIN out to 1 ft along z and core out to 0.5 ft;
+    a confirmed one is OCCUPIED and no core."""
+    from planner.evidence import Perception
+    from planner.octree import VolumeOfInterest
+    m = Perception(VolumeOfInterest(32.0, 7), DriveConfig.band, 12.0, 2, 1)
+    m.draw_core = True                                  # (the loop's, under uncertain="core")
+    cov = np.diag([0.05 ** 2, 0.5 ** 2])
+    m.features.add_look(np.array([[0.1, 5.1], [3.1, 5.1]]), np.array([cov, cov]))
+    m.features.looks[1] = 2                             # confirmed
+    fm = FloorMap(np.full((40, 40), UNKNOWN, np.uint8), -5.0, 0.0, 0.25)
+    m._draw_features(fm)
+    for z, state, core in ((5.1, UNCERTAIN, True), (5.5, UNCERTAIN, True),
+                           (5.8, UNCERTAIN, False), (6.05, UNCERTAIN, False), (6.4, UNKNOWN, False)):
+        assert fm.state_at(0.1, z) == state, z
+        assert fm.uncertain_core[fm.index(0.1, z)] == core, z
+    assert fm.state_at(3.1, 5.1) == OCCUPIED and not fm.uncertain_core[fm.index(3.1, 5.1)]
+
+
+def test_room_3_is_reached_when_the_plan_may_pass_the_outer_sigma():
+    # the defaults, odometry noise seed 3 (bench/drive.py's room 3): no way round
+    # the once-seen features' two-sigma cells, 16 looks pass without progress;
+    # with uncertain="core" the plan passes their outer sigma, the vehicle looks
+    # again from nearer, and the goal is reached.  The world's exact geometry
+    # judges it.
+    from planner.loop import run
+    from world.odometry import OdometryNoise
+    from rigtools import assert_reached_by_the_truth, bench_task
+    room, start, goal = bench_task(3)
+    res = {how: run(room, start, DriveConfig(goal=goal, uncertain=how),
+                    noise=OdometryNoise(seed=3), keep_maps=False) for how in ("blocked", "core")}
+    assert not res["blocked"].reached and res["blocked"].collisions == 0
+    assert "16 looks without progress" in res["blocked"].reason
+    assert_reached_by_the_truth(res["core"], goal)
+    assert any("past uncertain features' outer sigma" in c.note for c in res["core"].cycles)
