@@ -279,6 +279,18 @@ def bench_task(seed: int):
     return room, start, random_goal(room, start, DEFAULT, np.random.default_rng(seed))
 
 
+def bench_drives(seed: int, option: str, values, **fixed):
+    """``bench/drive.py``'s room ``seed`` (:func:`bench_task`) driven once for each of
+    ``values`` of the DriveConfig field ``option``, the other fields ``fixed`` or the
+    defaults, under the room's own odometry noise (seed ``seed``), as the bench drives it:
+    (goal, {value: DriveResult})."""
+    from planner.loop import DriveConfig, run
+    from world.odometry import OdometryNoise
+    room, start, goal = bench_task(seed)
+    return goal, {v: run(room, start, DriveConfig(goal=goal, **{option: v}, **fixed),
+                         noise=OdometryNoise(seed=seed), keep_maps=False) for v in values}
+
+
 def assert_reached_by_the_truth(res, goal) -> None:
     """A drive's result reached ``goal`` without a collision, and its TRUE end (the world's
     exact geometry, not the estimate it stopped on) lies within the goal's tolerance."""

@@ -254,11 +254,8 @@ def test_room_540_is_reached_when_a_move_s_ring_may_be_never_seen():
     # and 16 looks pass without progress; with the ring's never-seen cells allowed away
     # from anything seen (move_ring="known") the goal is reached in 8 looks.  The
     # world's exact geometry judges it.
-    from world.odometry import OdometryNoise
-    from rigtools import assert_reached_by_the_truth, bench_task
-    room, start, goal = bench_task(540)
-    res = {how: run(room, start, DriveConfig(goal=goal, move_ring=how),
-                    noise=OdometryNoise(seed=540), keep_maps=False) for how in ("seen", "known")}
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(540, "move_ring", ("seen", "known"))
     assert not res["seen"].reached and res["seen"].collisions == 0
     assert "16 looks without progress" in res["seen"].reason
     assert_reached_by_the_truth(res["known"], goal)

@@ -212,14 +212,9 @@ def test_room_170_moves_on_to_turn_where_it_stood_before():
     margin's ring seen free (pivot="swept", the default before 19:10).  (Room 385 showed
     it until a move's band was checked to both edges, 19:50: its drive without turning
     room now reaches the goal.)"""
-    from planner.loop import run
-    from world.odometry import OdometryNoise
-    from rigtools import assert_reached_by_the_truth, bench_task
-    room, start, goal = bench_task(170)
-    res = {how: run(room, start, DriveConfig(goal=goal, turn_room=how, map_extent="seen",
-                                             pivot="swept"),
-                    keep_maps=False,
-                    noise=OdometryNoise(seed=170)) for how in ("off", "forward")}
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(170, "turn_room", ("off", "forward"), map_extent="seen",
+                             pivot="swept")
     off, on = res["off"], res["forward"]
     assert not off.reached and "cannot turn: space within its radius" in off.reason
     assert off.collisions == 0
@@ -417,12 +412,8 @@ def test_room_3_is_reached_when_the_plan_may_pass_the_outer_sigma():
     # with uncertain="core" the plan passes their outer sigma, the vehicle looks
     # again from nearer, and the goal is reached.  The world's exact geometry
     # judges it.
-    from planner.loop import run
-    from world.odometry import OdometryNoise
-    from rigtools import assert_reached_by_the_truth, bench_task
-    room, start, goal = bench_task(3)
-    res = {how: run(room, start, DriveConfig(goal=goal, uncertain=how),
-                    noise=OdometryNoise(seed=3), keep_maps=False) for how in ("blocked", "core")}
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(3, "uncertain", ("blocked", "core"))
     assert not res["blocked"].reached and res["blocked"].collisions == 0
     assert "16 looks without progress" in res["blocked"].reason
     assert_reached_by_the_truth(res["core"], goal)

@@ -235,14 +235,9 @@ def test_room_538_reached_round_the_far_side_where_the_seen_map_stops():
     the goal, by its true pose too, without a collision (the world's exact geometry).
     Both under ``uncertain="blocked"``, the default then: under "core" the seen map's
     run plans past the narrow way's once-seen features and uses up the 24 looks."""
-    from planner.loop import run
-    from world.odometry import OdometryNoise
-    from rigtools import assert_reached_by_the_truth, bench_task
-    room, start, goal = bench_task(538)
-    res = {how: run(room, start, DriveConfig(goal=goal, map_extent=how, max_looks=24,
-                                             uncertain="blocked"),
-                    noise=OdometryNoise(seed=538), keep_maps=False)
-           for how in ("seen", "fallback")}
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(538, "map_extent", ("seen", "fallback"), max_looks=24,
+                             uncertain="blocked")
     seen, fallback = res["seen"], res["fallback"]
     assert not seen.reached and "narrower than the vehicle" in seen.reason, seen.reason
     assert seen.collisions == 0
