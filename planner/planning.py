@@ -152,16 +152,16 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     Uncertain cells (hit by one look, not yet confirmed by a second) block the
     path; when none avoids them (``cfg.uncertain="blocked"``, the default until
     2026-12-05 22:40) the vehicle heads for the reachable cell nearest the goal.
-    With ``"look"`` (a
-    named option, measured and not adopted: docs/planner.md) the path may pass
-    through them: the vehicle drives toward them (never nearer than its
-    radius: the execution still treats them as obstacles) and looks again, so
-    a second look confirms or clears them.  With ``"core"`` (the default since
-    2026-12-05 22:40) only the uncertain features' cells within one standard deviation
-    (``fm.uncertain_core``) are planned round: the path may pass between two
-    features one look saw where their two-sigma growth closes the way, and the
-    vehicle, driven only as the whole map allows, looks again from nearer,
-    which fuses them into features of smaller covariance."""
+    With ``"look"`` (a named option, measured and not adopted: docs/planner.md)
+    the path may pass through them: the vehicle drives toward them (never
+    nearer than its radius: the execution still treats them as obstacles) and
+    looks again, so a second look confirms or clears them.  With ``"core"``
+    (the default since 2026-12-05 22:40) only the uncertain features' cells
+    within one standard deviation (``fm.uncertain_core``) are planned round,
+    the same way: the path may pass between two features one look saw where
+    their two-sigma growth closes the way, and the vehicle, driven only as the
+    whole map allows, looks again from nearer, which fuses them into features
+    of smaller covariance."""
     if cfg.uncertain not in UNCERTAIN_PLANS:
         raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
                          f"{', '.join(UNCERTAIN_PLANS)}")
