@@ -951,9 +951,9 @@ class Perception:
         (:meth:`_in_view_clear`) without locating it, and retire the feature
         after ``expire_uncertain`` such looks.  Its cells then show what the
         octree holds (as after :meth:`retire`): the hit's own cell UNKNOWN
-        (hit cells count only as seen), the grown ones free only where sight
-        lines carved them, as they were before the feature covered them.  A feature
-        this look fused (``ids``, :meth:`FloorFeatures.add_look`), or with one
+        (hit cells count only as seen), the grown ones free only where the
+        looks carved them, as they were before the feature covered them.  A
+        feature this look fused (``ids``, :meth:`FloorFeatures.add_look`), or with one
         of this look's hits within two standard deviations and a cell of it,
         starts its count over: a real corner seen again shows again.
         Confirmed features never expire.  Returns the features retired."""
