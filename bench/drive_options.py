@@ -35,13 +35,12 @@ from pathlib import Path
 # learn the floor, the fix's window never widened, the pivot's disc, the goal planned
 # to as a point, 8 looks without progress, each look's hits as the map's obstacles, no
 # move on to turn, the seen map alone, the margin's ring seen free and the plan
-# stopped by the outer sigma (the improved
-# matcher, the fill, the smallest turns unchecked, the step back, the widening, the swept
-# pivot, the goal's disc, 16 looks, the fused features, forward to turn, the walls' map
-# where the seen one has no way, the ring's never-seen cells away from anything seen
-# and the plan past the once-seen features' outer sigma are the defaults since
-# 2026-12-05); the two heads.  Expiry is measured on each
-# look's hits and on the fused features.
+# stopped by the outer sigma (the improved matcher, the fill, the smallest turns
+# unchecked, the step back, the widening, the swept pivot, the goal's disc, 16 looks,
+# the fused features, forward to turn, the walls' map where the seen one has no way,
+# the ring's never-seen cells away from anything seen and the plan past the once-seen
+# features' outer sigma are the defaults since 2026-12-05); the two heads.  Expiry is
+# measured on each look's hits and on the fused features.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",

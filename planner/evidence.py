@@ -599,6 +599,7 @@ class Perception:
                 self._claim(grown, fs.hits, fs.hit_drop)
             if self.refute_hits == "through" and fs.hit_xyz is not None and len(fs.hits):
                 self._remember_hits(fs, cov, left, res)
+            ids = np.zeros(0, int)            # the features this look fused into
             if self.occupied == "looks":
                 if len(grown):
                     mark_occupied(self.tree, grown)
@@ -612,11 +613,9 @@ class Perception:
                                              near_ft=self.max_range_ft + 3.0,
                                              drift_cov=pose_cov if self.feature_pose == "drift"
                                              and pose_cov is not None else None)
+            if self.occupied == "model":
                 if self.expire_uncertain:
                     self.expire_features_in_view(fs, R, left, ids)
-            elif self.expire_uncertain and self.occupied == "model":
-                self.expire_features_in_view(fs, R, left, np.zeros(0, int))
-            if self.occupied == "model":
                 self.retire(left, self.max_range_ft + 3.0)
         elif self.expire_uncertain:                   # it located nothing
             if self.occupied == "looks":
@@ -1124,7 +1123,7 @@ class Perception:
             fm.cells[at(cells)] = st
         if self.draw_core:
             fm.uncertain_core = np.zeros(fm.shape, bool)
-            one_sigma = self.features.cells(fm.cell, self.confirm_looks, sigmas=1.0)[1]
+            one_sigma = self.features.uncertain_cells(fm.cell, self.confirm_looks, 1.0)
             fm.uncertain_core[at(one_sigma)] = True
             fm.uncertain_core &= fm.cells == UNCERTAIN
 

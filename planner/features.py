@@ -247,17 +247,25 @@ class FloorFeatures:
         by its fused covariance, and of the spans between alive features
         (occupied when ``confirm_looks`` looks saw the span).  A cell in both
         is occupied."""
-        conf = self.alive & (self.looks >= confirm_looks)
-        unc = self.alive & ~conf
-        occ = [ellipse_cells(self.mean[conf], self.cov[conf], res, sigmas)]
-        und = [ellipse_cells(self.mean[unc], self.cov[unc], res, sigmas)]
+        return (self._cells(res, confirm_looks, sigmas, confirmed=True),
+                self._cells(res, confirm_looks, sigmas, confirmed=False))
+
+    def uncertain_cells(self, res: float, confirm_looks: int, sigmas: float) -> np.ndarray:
+        """The uncertain part of :meth:`cells` alone (drawn at another
+        ``sigmas``: ``DriveConfig.uncertain="core"``'s one sigma)."""
+        return self._cells(res, confirm_looks, sigmas, confirmed=False)
+
+    def _cells(self, res: float, confirm_looks: int, sigmas: float, confirmed: bool):
+        sure = self.alive & (self.looks >= confirm_looks)
+        sel = sure if confirmed else self.alive & ~sure
+        out = [ellipse_cells(self.mean[sel], self.cov[sel], res, sigmas)]
         if self.spans:
             pairs = np.array(list(self.spans.keys()), int)
             seen = np.array(list(self.spans.values()), int)
-            ok = self.alive[pairs[:, 0]] & self.alive[pairs[:, 1]]
-            for sel, out in ((ok & (seen >= confirm_looks), occ), (ok & (seen < confirm_looks), und)):
-                out.append(segment_cells(self.mean[pairs[sel, 0]], self.mean[pairs[sel, 1]], res))
-        return np.vstack(occ), np.vstack(und)
+            ok = self.alive[pairs[:, 0]] & self.alive[pairs[:, 1]] & \
+                ((seen >= confirm_looks) == confirmed)
+            out.append(segment_cells(self.mean[pairs[ok, 0]], self.mean[pairs[ok, 1]], res))
+        return np.vstack(out)
 
 
 def honesty(features: FloorFeatures, outline, near_ft: float = 1.0, min_looks: int = 2):

@@ -121,6 +121,14 @@ def pivot_radius_ft(prof: VehicleProfile, margin: bool = False) -> float:
     return prof.radius_ft + (prof.margin_ft if margin else 0.0)
 
 
+def _edge_to_edge(half: float, spacing: float) -> np.ndarray:
+    """Offsets from ``-half`` to ``+half``, both edges included, at most
+    ``spacing`` apart: how a footprint's or a band's width is sampled (a
+    range stepped from one edge stops short of the other; the band's did,
+    until 2026-12-05 19:50)."""
+    return np.linspace(-half, half, int(math.ceil(2 * half / spacing)) + 1)
+
+
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
                      footprint, margin_ft: float, step_deg: float = 2.0,
                      ring: str = "seen") -> bool:
@@ -146,9 +154,8 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
         # the rectangle grown by ``grow``, its edges included, at every heading
         hw, hl = footprint[0] / 2 + grow, footprint[1] / 2 + grow
         q = fm.cell / 4
-        a = np.linspace(-hw, hw, int(math.ceil(2 * hw / q)) + 1)
-        b = np.linspace(-hl, hl, int(math.ceil(2 * hl / q)) + 1)
-        across, along = (g.ravel() for g in np.meshgrid(a, b))
+        across, along = (g.ravel() for g in np.meshgrid(_edge_to_edge(hw, q),
+                                                         _edge_to_edge(hl, q)))
         n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
         hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
         px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
@@ -377,7 +384,7 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
     19:50 the samples ran from the left edge in steps of half a cell and
     stopped short of the right one: 0.45 ft of the grown 0.55.)"""
     right = np.array([math.cos(heading_rad), -math.sin(heading_rad)])
-    offs = np.linspace(-half_width, half_width, int(math.ceil(2 * half_width / (fm.cell / 2))) + 1)
+    offs = _edge_to_edge(half_width, fm.cell / 2)
     pts = samples[:, None, :] + offs[None, :, None] * right[None, None, :]
     i = np.floor((pts[..., 1] - fm.z0) / fm.cell).astype(int)
     j = np.floor((pts[..., 0] - fm.x0) / fm.cell).astype(int)
@@ -444,18 +451,18 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
         m = int(math.ceil(nose_ft / step_s))
         ext = np.vstack([s, end + (np.arange(1, m + 1) * step_s)[:, None] *
                          np.array([math.sin(hr), math.cos(hr)])[None, :]])
+
+        def band_ok(cells_known, half, nose_n):
+            # each position's band (``half`` each side) seen on to ``nose_n`` samples ahead
+            bs = _band_seen(cells_known, fm, ext[:len(s) + nose_n], hr, half)
+            return np.convolve(~bs, np.ones(nose_n + 1), mode="full")[nose_n:nose_n + len(s)] == 0
         if fm.move_ring is None or margin_ft <= 0:
-            bs = _band_seen(known, fm, ext, hr, half_width)
-            run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
+            seen_band = band_ok(known, half_width, m)
         else:
             # the band out to the margin seen or in FloorMap.move_ring; the bare
             # footprint's band, to its own nose, seen
-            bs = _band_seen(known | fm.move_ring, fm, ext, hr, half_width)
-            run_ok = np.convolve(~bs, np.ones(m + 1), mode="full")[m:m + len(s)] == 0
-            mb = int(math.ceil((nose_ft - margin_ft) / step_s))
-            bs = _band_seen(known, fm, ext[:len(s) + mb], hr, half_width - margin_ft)
-            run_ok &= np.convolve(~bs, np.ones(mb + 1), mode="full")[mb:mb + len(s)] == 0
-        seen_band = run_ok
+            seen_band = band_ok(known | fm.move_ring, half_width, m) & band_ok(
+                known, half_width - margin_ft, int(math.ceil((nose_ft - margin_ft) / step_s)))
         ok = np.zeros(len(s), bool)
         near = np.zeros(len(s), bool)
         if safe.at == "centre":
@@ -659,7 +666,7 @@ def first_unseen_on_band(fm: FloorMap, pts, half_width: float, ahead_ft: float):
     :func:`safe_prefix`)."""
     left = ahead_ft
     q = fm.cell / 4
-    offs = np.linspace(-half_width, half_width, int(math.ceil(2 * half_width / q)) + 1)
+    offs = _edge_to_edge(half_width, q)
     for a, b in zip(pts[:-1], pts[1:]):
         a, b = np.asarray(a, float), np.asarray(b, float)
         length = float(np.hypot(*(b - a)))
