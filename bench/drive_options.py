@@ -51,6 +51,7 @@ OPTIONS = [
     "--refute-hits under",
     "--expire-uncertain 3 --occupied looks",
     "--expire-uncertain 2",
+    "--goal-evidence look-expire",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

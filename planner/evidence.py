@@ -343,6 +343,9 @@ class Perception:
         self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
+        self.expire_within = None         # ((x, z), r): only the features whose two-sigma
+                                          # ellipse reaches that disc expire
+                                          # (DriveConfig.goal_evidence="look-expire")
         self.unseen: dict[int, int] = {}  # packed key -> looks that had it in view, no hit
         self.expired: dict[int, float] = {}   # packed key -> its log-odds when it expired
         self.expired_total = 0            # expiries so far (a cell hit again may expire anew;
@@ -969,6 +972,11 @@ class Perception:
         cand = np.flatnonzero(f.alive & (f.looks < self.confirm_looks) & ~seen)
         cand = cand[np.hypot(f.mean[cand, 0] - left[0], f.mean[cand, 1] - left[2])
                     <= self.max_range_ft + res]
+        if self.expire_within is not None and len(cand):
+            # only the features whose two-sigma growth reaches that disc (the goal's)
+            (gx, gz), r = self.expire_within
+            reach = 2.0 * np.sqrt(np.linalg.eigvalsh(f.cov[cand])[:, -1])
+            cand = cand[np.hypot(f.mean[cand, 0] - gx, f.mean[cand, 1] - gz) - reach <= r]
         if len(cand) and len(fs.hits):
             near = mahalanobis2(f.mean[cand], f.cov[cand] + res ** 2 * np.eye(2),
                                 fs.hits[:, [0, 2]], np.zeros((len(fs.hits), 2, 2)))

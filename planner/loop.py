@@ -141,7 +141,7 @@ from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
-    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen
+    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen, goal_blocker, look_at
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -178,6 +178,8 @@ FLOOR_END_CHECKS = ("off", "stereo")   # DriveConfig.floor_end_check: a floor en
 PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops the floor's proof
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
+GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
+GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
 
 
 @dataclass
@@ -391,6 +393,16 @@ class DriveConfig:
                                           # "blocked"); "blocked": toward the reachable cell
                                           # nearest the goal; "look" (measured, not
                                           # adopted): plan through them all, the same way
+    goal_evidence: str = "off"            # no path reaches the goal: look round ("off"); "look"
+                                          # (a named option, not 1985): first look at the
+                                          # uncertain cell nearest the goal within the planning
+                                          # radius, from where a look shows it (the path's
+                                          # evidence's turn or viewpoint): a feature one look
+                                          # placed at the goal, too near to show (room 113);
+                                          # "look-expire": that, and such a feature whose
+                                          # two-sigma ellipse reaches the goal's planning
+                                          # radius expires after GOAL_EXPIRE_LOOKS looks
+                                          # (expire_uncertain's rule, under occupied="model")
     seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
                                           # (a named option, not the dissertation's; measured,
                                           # not adopted): A* where a cell within the pivot
@@ -726,7 +738,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS),
                           ("wall_points", WALL_POINTS), ("wall_fix_first", WALL_FIX_FIRSTS),
                           ("proof_heading", PROOF_HEADINGS),
-                          ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS)):
+                          ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS),
+                          ("goal_evidence", GOAL_EVIDENCES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     for name in ("max_looks", "max_stuck"):
@@ -816,6 +829,9 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
     model.expire_uncertain = int(cfg.expire_uncertain)
+    if cfg.goal_evidence == "look-expire" and not cfg.expire_uncertain and cfg.occupied == "model":
+        model.expire_uncertain = GOAL_EXPIRE_LOOKS
+        model.expire_within = (tuple(map(float, cfg.goal)), prof.planning_radius_ft)
     model.draw_core = cfg.uncertain == "core"
     model.lowest_ft = cfg.lowest_obstacle_ft
     if cfg.head == "assist" and cfg.assist_pivot_ft is not None:   # a pivot's cells proven,
@@ -1137,6 +1153,9 @@ class Drive:
                 seg, note, fetching = _take(
                     fetch_evidence(fm, safe, seen, est, pts, self.near_ft, prof, cfg, self.tried),
                     seg, note, fetching)
+            if not fetching and not _moves(seg) and note.startswith("goal not reachable"):
+                seg, note, fetching = _take(self.look_at_goal(fm, safe, seen, est), seg,
+                                            note, fetching)
             if not fetching and not _moves(seg):
                 # nothing known free ahead: face the path and look again
                 first = pts[1] if len(pts) > 1 else goal
@@ -1152,10 +1171,24 @@ class Drive:
         except NoPath as exc:
             pts, left, note, seg = [], None, str(exc), []
             self.last_reason = str(exc)
+            seg, note, fetching = _take(self.look_at_goal(fm, safe, seen, est), seg, note,
+                                        fetching)
         if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
                                             for c in seg)):
             seg, note = self.look_round(fm, est, safe, seen, note, pts)
         return Decision(pts, seg, note, left, fetching, safe, fm)
+
+    def look_at_goal(self, fm: FloorMap, safe, seen, est: State):
+        """Under ``goal_evidence="look"``, where no path reaches the goal: a look
+        at the uncertain cell nearest the goal within the planning radius
+        (:func:`planner.motion.goal_blocker`), fetched as the path's evidence is
+        (:func:`planner.motion.look_at`); (commands, note) or None."""
+        if self.cfg.goal_evidence == "off":
+            return None
+        u = goal_blocker(fm, self.goal, self.prof.planning_radius_ft)
+        if u is None:
+            return None
+        return look_at(u, fm, safe, seen, est, self.near_ft, self.prof, self.cfg, self.tried)
 
     def look_round(self, fm: FloorMap, est: State, safe, seen, note: str, pts=()):
         """No motion: turn to look, toward the goal first, then sweep (+35, -70 deg);
@@ -1320,7 +1353,7 @@ class Drive:
                            cfg.unknown, cfg.search, self.est_track, cfg.pose, cfg.match,
                            model.features if cfg.occupied == "model" else None,
                            floor_stats(model) if cfg.floor_eyes != "off" else {},
-                           model.expired_total if cfg.expire_uncertain else None,
+                           model.expired_total if model.expire_uncertain else None,
                            self.wall_fixes if self.walls else None,
                            self.drift_eroded if cfg.free_drift != "off" else None)
 

@@ -622,6 +622,30 @@ def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft:
     u = _blocker(fm, safe, pts, near_ft)
     if u is None:
         return None
+    return look_at(u, fm, safe, seen, est, near_ft, prof, cfg, tried)
+
+
+def goal_blocker(fm: FloorMap, goal, radius: float):
+    """The uncertain cell (hit by one look) nearest the goal among those within
+    ``radius`` of it (centre distance), the one the refusal of a goal too near an
+    obstacle on the map may owe most to: its centre (x, z), or None."""
+    gi, gj = fm.index(*goal)
+    n = int(math.ceil(radius / fm.cell)) + 1
+    ii, jj = np.mgrid[max(gi - n, 0):min(gi + n + 1, fm.shape[0]),
+                      max(gj - n, 0):min(gj + n + 1, fm.shape[1])]
+    m = fm.cells[ii, jj] == UNCERTAIN
+    if not m.any():
+        return None
+    cx, cz = fm.centre(ii[m], jj[m])
+    d = np.hypot(cx - goal[0], cz - goal[1])
+    q = int(np.argmin(d))
+    return (float(cx[q]), float(cz[q])) if d[q] <= radius else None
+
+
+def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,
+            prof: VehicleProfile, cfg, tried: dict):
+    """(commands, note) that get a look at the cell ``u`` (fetch_evidence's
+    turn, look again, back off or viewpoint), or None."""
     tried = tried.setdefault(fm.index(*u), [])
     here = (est.x, est.z)
     d = math.hypot(u[0] - here[0], u[1] - here[1])

@@ -180,6 +180,7 @@ LOOP_OPTION_GROUPS = (
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
+      "--goal-evidence",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--move-ring", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
@@ -192,7 +193,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, \
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
@@ -315,6 +316,13 @@ def add_loop_options(p) -> None:
              "which draws no features, as blocked); head for the reachable cell nearest "
              "the goal (blocked, the default before); or plan through them all and look "
              "(look).  The moves keep clear of every uncertain cell")
+    opt("--goal-evidence", choices=GOAL_EVIDENCES, default=C.goal_evidence,
+        help="no path reaches the goal: look round (off, the default), or first look at "
+             "the uncertain cell nearest the goal from where a look shows it (look, not "
+             "1985); look-expire: that, and a feature one look placed whose two-sigma "
+             "ellipse reaches the goal's planning radius is retired after "
+             f"{GOAL_EXPIRE_LOOKS} looks that had it in view and did not locate it "
+             "(--occupied model)")
     opt("--reverse", choices=("off", "on"), default="off",
         help="the vehicle may BACK straight over space seen free (default off)")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,
@@ -577,6 +585,7 @@ def loop_config(args, goal, fail):
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
+                       goal_evidence=args.goal_evidence,
                        wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:
