@@ -52,6 +52,8 @@ OPTIONS = [
     "--expire-uncertain 3 --occupied looks",
     "--expire-uncertain 2",
     "--goal-evidence look-expire",
+    "--wall-runs foot",
+    "--wall-runs past",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

@@ -309,17 +309,44 @@ def past_walls(rays: FloorRays, top: np.ndarray, within, heading_sd: float = 0.0
 
 
 def floor_end(rays: FloorRays, top: np.ndarray, within=None,
-              heading_sd: float = 0.0) -> np.ndarray:
+              heading_sd: float = 0.0, wall_runs: str = "none") -> np.ndarray:
     """(128,) how far each column's floor in view shows its end
     (:func:`run_reach`), 0 where it shows none: a run up to the picture's
     top row (the floor, or a face of its grey, goes on out of the picture)
     or, with the plan's walls ``within``, one that ends past them
-    (:func:`past_walls`, ``heading_sd`` the estimate's)."""
+    (:func:`past_walls`, ``heading_sd`` the estimate's).  ``wall_runs="foot"``
+    (a named option, not 1985): such a run shows its end at the walls' foot
+    instead (:func:`wall_foot_reach`), as a wall of the floor's grey would
+    show it.  A box face of that grey it cannot tell from such a wall, and
+    it proves the floor through the box (five rooms of seeds 1-900 collide,
+    docs/planner.md).  ``"past"``: only a run that ends past the walls
+    (below the picture's top row) does."""
     reach = run_reach(rays, top)
-    reach[top <= 1] = 0.0
-    if within is not None:
-        reach[past_walls(rays, top, within, heading_sd)] = 0.0
+    to_top = top <= 1
+    past = past_walls(rays, top, within, heading_sd) & ~to_top if within is not None \
+        else np.zeros(COLS, bool)
+    reach[to_top | past] = 0.0
+    if wall_runs != "none" and within is not None:
+        foot = past | to_top if wall_runs == "foot" else past
+        reach[foot] = wall_foot_reach(rays, within, heading_sd)[foot]
     return reach
+
+
+def wall_foot_reach(rays: FloorRays, within, heading_sd: float = 0.0) -> np.ndarray:
+    """(128,) the farthest floor distance (ft) of each column whose floor
+    point lies inside ``within`` (the plan's walls less the estimate's
+    growth) by more than :func:`past_walls` lets a run's end be off by: a
+    row's floor footprint and twice the heading's standard deviation times
+    its distance.  0 where none does."""
+    d = rays.dist
+    up = np.vstack([d[:1], d[:-1]])
+    down = np.vstack([d[1:], d[-1:]])
+    with np.errstate(invalid="ignore"):
+        slack = np.abs(up - down) + 2.0 * heading_sd * d
+        x0, x1, z0, z1 = within
+        inside = np.isfinite(d) & (rays.x > x0 + slack) & (rays.x < x1 - slack) & \
+            (rays.z > z0 + slack) & (rays.z < z1 - slack)
+    return np.where(inside, d, 0.0).max(0)
 
 
 def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,

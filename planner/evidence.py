@@ -343,6 +343,7 @@ class Perception:
         self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
+        self.wall_runs = "none"           # or "past", "foot" (DriveConfig.wall_runs)
         self.expire_within = None         # ((x, z), r): only the features whose two-sigma
                                           # ellipse reaches that disc expire
                                           # (DriveConfig.goal_evidence="look-expire")
@@ -558,7 +559,8 @@ class Perception:
             ends_start = (fstart[assumed] if len(ends) else np.zeros(0)) if low else None
             heading_sd = math.sqrt(max(float(pose_cov[2, 2]), 0.0)) \
                 if pose_cov is not None else None
-            reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0) \
+            reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0,
+                              self.wall_runs) \
                 if top is not None and bounded else None
             if reach is not None and self.floor_end_check != "off" and depth is None:
                 # a located point in a floor run, nearer than its floor: the run went up a face

@@ -179,6 +179,7 @@ PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
+WALL_RUNS = ("none", "past", "foot")   # DriveConfig.wall_runs: a floor run up a wall of its grey
 GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
 
 
@@ -529,6 +530,13 @@ class DriveConfig:
                                           # the default since 2026-12-05): a box nearer
                                           # than the picture's bottom row
                                           # with a face of the floor's grey (room 293)
+    wall_runs: str = "none"               # under floor_eyes "bound"/"bound-add", a column whose
+                                          # floor run goes on up past the plan's walls or to the
+                                          # picture's top: it shows no floor's end ("none");
+                                          # "foot" (a named option, not 1985): its end is the
+                                          # walls' foot less their growth (a wall of the
+                                          # floor's grey, room 341); "past": only for a run
+                                          # that ends past the walls, not one to the top
     floor_end_check: str = "stereo"       # under floor_eyes "bound"/"bound-add": "off", or
                                           # "stereo" (not 1985; the default since
                                           # 2026-12-05): a located point in a
@@ -739,7 +747,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("wall_points", WALL_POINTS), ("wall_fix_first", WALL_FIX_FIRSTS),
                           ("proof_heading", PROOF_HEADINGS),
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS),
-                          ("goal_evidence", GOAL_EVIDENCES)):
+                          ("goal_evidence", GOAL_EVIDENCES), ("wall_runs", WALL_RUNS)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     for name in ("max_looks", "max_stuck"):
@@ -828,6 +836,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.floor_eyes = cfg.floor_eyes
     model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
+    model.wall_runs = cfg.wall_runs
     model.expire_uncertain = int(cfg.expire_uncertain)
     if cfg.goal_evidence == "look-expire" and not cfg.expire_uncertain and cfg.occupied == "model":
         model.expire_uncertain = GOAL_EXPIRE_LOOKS

@@ -176,7 +176,7 @@ LOOP_OPTION_GROUPS = (
     ("the map: what is free", "what a look proves free, and what is assumed free",
      ("--floor-eyes", "--sight-lines", "--blank-ft", "--blank-carve", "--carve", "--blank-px",
       "--blank-limit", "--blank-sides", "--sides-apart", "--stand-in", "--learn-floor",
-      "--proof-hits", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
+      "--proof-hits", "--wall-runs", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
@@ -193,7 +193,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, \
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
@@ -487,6 +487,12 @@ def add_loop_options(p) -> None:
              "stretch an 0.8 ft obstacle would hide; 'line' (not 1985; default): anywhere on "
              "its line from the camera, so a box nearer than the picture's bottom "
              "row with a face of the floor's grey proves nothing behind it")
+    opt("--wall-runs", choices=WALL_RUNS, default=C.wall_runs,
+        help="under --floor-eyes bound or bound-add, a column whose floor's grey runs on "
+             "past the plan's walls or to the picture's top: it shows no floor's end "
+             "('none', default), or its end is the walls' foot less their growth ('foot', "
+             "not 1985): a wall of the floor's grey; 'past': only where the run ends past "
+             "the walls, not where it reaches the picture's top")
     opt("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
         help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
              "(not 1985; default): where the eyes locate a point in a column's floor run "
@@ -585,7 +591,7 @@ def loop_config(args, goal, fail):
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
-                       goal_evidence=args.goal_evidence,
+                       goal_evidence=args.goal_evidence, wall_runs=args.wall_runs,
                        wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:
