@@ -1188,10 +1188,11 @@ class Drive:
         return Decision(pts, seg, note, left, fetching, safe, fm)
 
     def look_at_goal(self, fm: FloorMap, safe, seen, est: State):
-        """Under ``goal_evidence="look"``, where no path reaches the goal: a look
-        at the uncertain cell nearest the goal within the planning radius
-        (:func:`planner.motion.goal_blocker`), fetched as the path's evidence is
-        (:func:`planner.motion.look_at`); (commands, note) or None."""
+        """Under ``goal_evidence`` "look" or "look-expire", where no path
+        reaches the goal: a look at the uncertain cell nearest the goal within
+        the planning radius (:func:`planner.motion.goal_blocker`), fetched as
+        the path's evidence is (:func:`planner.motion.look_at`); (commands,
+        note) or None."""
         if self.cfg.goal_evidence == "off":
             return None
         u = goal_blocker(fm, self.goal, self.prof.planning_radius_ft)
