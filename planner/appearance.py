@@ -284,6 +284,18 @@ def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,
     return out
 
 
+def end_slack(rays: FloorRays, heading_sd: float = 0.0) -> np.ndarray:
+    """(120, 128) how far (ft) a floor run's end at each pixel may be off: the
+    floor footprint of the rows either side of it (inf at the last row
+    that still meets the floor) and twice the heading's standard deviation
+    ``heading_sd`` (rad) times its distance."""
+    d = rays.dist
+    rows = np.arange(ROWS)
+    up, down = d[np.maximum(rows - 1, 0)], d[np.minimum(rows + 1, ROWS - 1)]
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isfinite(up), up - down, np.inf) + 2.0 * heading_sd * d
+
+
 def past_walls(rays: FloorRays, top: np.ndarray, within, heading_sd: float = 0.0) -> np.ndarray:
     """(128,) bool: the columns whose floor run ends outside ``within``
     ((x0, x1, z0, z1): the floor plan's walls grown by the estimate's x, z
@@ -299,9 +311,7 @@ def past_walls(rays: FloorRays, top: np.ndarray, within, heading_sd: float = 0.0
     r = np.minimum(top, ROWS - 1)
     x = np.where(has, rays.x[r, cols], np.nan)
     z = np.where(has, rays.z[r, cols], np.nan)
-    up, down = rays.dist[np.maximum(r - 1, 0), cols], rays.dist[np.minimum(r + 1, ROWS - 1), cols]
-    with np.errstate(invalid="ignore"):
-        slack = np.where(np.isfinite(up), up - down, np.inf) + 2.0 * heading_sd * rays.dist[r, cols]
+    slack = end_slack(rays, heading_sd)[r, cols]
     x0, x1, z0, z1 = within
     with np.errstate(invalid="ignore"):
         inside = (x > x0 - slack) & (x < x1 + slack) & (z > z0 - slack) & (z < z1 + slack)
@@ -335,14 +345,11 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
 def wall_foot_reach(rays: FloorRays, within, heading_sd: float = 0.0) -> np.ndarray:
     """(128,) the farthest floor distance (ft) of each column whose floor
     point lies inside ``within`` (the plan's walls less the estimate's
-    growth) by more than :func:`past_walls` lets a run's end be off by: a
-    row's floor footprint and twice the heading's standard deviation times
-    its distance.  0 where none does."""
+    growth) by more than a run's end may be off (:func:`end_slack`).  0
+    where none does."""
     d = rays.dist
-    up = np.vstack([d[:1], d[:-1]])
-    down = np.vstack([d[1:], d[-1:]])
+    slack = end_slack(rays, heading_sd)
     with np.errstate(invalid="ignore"):
-        slack = np.abs(up - down) + 2.0 * heading_sd * d
         x0, x1, z0, z1 = within
         inside = np.isfinite(d) & (rays.x > x0 + slack) & (rays.x < x1 - slack) & \
             (rays.z > z0 + slack) & (rays.z < z1 - slack)

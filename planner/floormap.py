@@ -60,6 +60,12 @@ class FloorMap:
     def centre(self, i, j):
         return self.x0 + (np.asarray(j) + 0.5) * self.cell, self.z0 + (np.asarray(i) + 0.5) * self.cell
 
+    def square_around(self, i: int, j: int, n: int):
+        """(rows, columns) index grids of the cells at most ``n`` rows and
+        columns from cell (i, j), cut to the map."""
+        return np.mgrid[max(i - n, 0):min(i + n + 1, self.cells.shape[0]),
+                        max(j - n, 0):min(j + n + 1, self.cells.shape[1])]
+
     def inside(self, i: int, j: int) -> bool:
         return 0 <= i < self.cells.shape[0] and 0 <= j < self.cells.shape[1]
 

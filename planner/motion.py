@@ -512,8 +512,7 @@ def _blocker(fm: FloorMap, safe: Passable, pts, near_ft: float):
             if not inside[k]:
                 return None
             i0, j0 = i[k], j[k]
-            ii, jj = np.mgrid[max(i0 - n, 0):min(i0 + n + 1, fm.shape[0]),
-                              max(j0 - n, 0):min(j0 + n + 1, fm.shape[1])]
+            ii, jj = fm.square_around(i0, j0, n)
             m = look_at[ii, jj]
             if not m.any():
                 continue                  # near a confirmed obstacle: nothing to look at
@@ -631,8 +630,7 @@ def goal_blocker(fm: FloorMap, goal, radius: float):
     obstacle on the map may owe most to: its centre (x, z), or None."""
     gi, gj = fm.index(*goal)
     n = int(math.ceil(radius / fm.cell)) + 1
-    ii, jj = np.mgrid[max(gi - n, 0):min(gi + n + 1, fm.shape[0]),
-                      max(gj - n, 0):min(gj + n + 1, fm.shape[1])]
+    ii, jj = fm.square_around(gi, gj, n)
     m = fm.cells[ii, jj] == UNCERTAIN
     if not m.any():
         return None

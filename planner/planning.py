@@ -203,8 +203,7 @@ def goal_target(p: Passable, start, goal, radius: float):
     if fm.inside(gi, gj) and p.ok[gi, gj] and comp[gi, gj] == here:
         return tuple(map(float, goal))
     n = int(math.ceil(radius / fm.cell)) + 1
-    ii, jj = np.mgrid[max(gi - n, 0):min(gi + n + 1, fm.shape[0]),
-                      max(gj - n, 0):min(gj + n + 1, fm.shape[1])]
+    ii, jj = fm.square_around(gi, gj, n)
     cx, cz = fm.centre(ii, jj)
     d = np.hypot(cx - goal[0], cz - goal[1])
     cand = (d <= radius) & p.ok[ii, jj] & (comp[ii, jj] == here)
