@@ -52,6 +52,7 @@ OPTIONS = [
     "--expire-uncertain 3 --occupied looks",
     "--expire-uncertain 2",
     "--goal-evidence look-expire",
+    "--wall-runs none",
     "--wall-runs foot",
     "--wall-runs past",
     "--pivot small-swept",

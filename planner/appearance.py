@@ -40,6 +40,11 @@ top row, or past the walls) proves nothing.  Under the loop's low sight
 lines a point high on a wall proves its line only near the wall; the floor
 in view proves the floor before it.
 
+A wall of a floor grey ends no run either, and the floor before it stays
+unproven (room 341).  On a tiled floor the tiles tell the wall from a face:
+both stand past the last tile seen, so ``wall_runs="texture"`` (the loop's
+default, :func:`texture_end`) proves such a column's floor to there.
+
 ``veto`` (:func:`vetoed`): a located point whose floor point just behind it
 shows inside the floor runs of its column and both neighbours is contradicted
 by the picture (an obstacle standing there would hide that floor) and is left
@@ -319,7 +324,8 @@ def past_walls(rays: FloorRays, top: np.ndarray, within, heading_sd: float = 0.0
 
 
 def floor_end(rays: FloorRays, top: np.ndarray, within=None,
-              heading_sd: float = 0.0, wall_runs: str = "none") -> np.ndarray:
+              heading_sd: float = 0.0, wall_runs: str = "none",
+              texture: np.ndarray | None = None) -> np.ndarray:
     """(128,) how far each column's floor in view shows its end
     (:func:`run_reach`), 0 where it shows none: a run up to the picture's
     top row (the floor, or a face of its grey, goes on out of the picture)
@@ -330,16 +336,47 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
     show it.  A box face of that grey it cannot tell from such a wall, and
     it proves the floor through the box (five rooms of seeds 1-900 collide,
     docs/planner.md).  ``"past"``: only a run that ends past the walls
-    (below the picture's top row) does."""
+    (below the picture's top row) does.  ``"texture"`` (a named option, not
+    1985): such a run shows its end where the floor's texture is last seen
+    in it (``texture``, :func:`texture_end`; no farther than the walls'
+    foot): a face of a tile's grey has none, a flat floor none either."""
     reach = run_reach(rays, top)
     to_top = top <= 1
     past = past_walls(rays, top, within, heading_sd) & ~to_top if within is not None \
         else np.zeros(COLS, bool)
     reach[to_top | past] = 0.0
-    if wall_runs != "none" and within is not None:
+    if wall_runs == "texture" and texture is not None:
+        shown = (to_top | past) & (texture < ROWS)
+        cols = np.flatnonzero(shown)
+        reach[cols] = rays.dist[texture[cols], cols]
+        if within is not None:
+            reach[cols] = np.minimum(reach[cols], wall_foot_reach(rays, within, heading_sd)[cols])
+    elif wall_runs in ("foot", "past") and within is not None:
         foot = past | to_top if wall_runs == "foot" else past
         reach[foot] = wall_foot_reach(rays, within, heading_sd)[foot]
     return reach
+
+
+def texture_end(picture, greys, top: np.ndarray, rows: int = 3, step: int = 2) -> np.ndarray:
+    """(128,) per column the nearest row of the farthest window of ``rows``
+    rows inside its floor run (rows ``top[c]``..119) that holds two floor
+    greys ``greys`` at least ``step`` levels apart: the floor's texture (a
+    tiled floor's two greys, g and g + 2) is seen to there.  120 where the
+    run shows none.  A flat floor shows none: its learned greys are one (the
+    sensor noise moves under 1 % of its pixels a level, far below
+    :data:`MIN_SHARE`), and so is a flat face of a floor grey.  Whatever
+    stands on the floor with one of its greys ends the texture at its foot,
+    so the floor is the floor to there."""
+    pic = np.clip(np.asarray(picture), 0, GREYS - 1).astype(float)
+    is_floor = np.asarray(greys, bool)[pic.astype(int)]
+    lo = np.where(is_floor, pic, np.inf)
+    hi = np.where(is_floor, pic, -np.inf)
+    win_lo = np.lib.stride_tricks.sliding_window_view(lo, rows, axis=0).min(-1)
+    win_hi = np.lib.stride_tricks.sliding_window_view(hi, rows, axis=0).max(-1)
+    starts = np.arange(ROWS - rows + 1)[:, None]
+    seen = (win_hi - win_lo >= step) & (starts >= np.asarray(top)[None, :])
+    first = np.where(seen.any(0), seen.argmax(0), ROWS)
+    return np.where(first < ROWS, first + rows - 1, ROWS)
 
 
 def wall_foot_reach(rays: FloorRays, within, heading_sd: float = 0.0) -> np.ndarray:

@@ -29,7 +29,7 @@ import numpy as np
 from vehicle.sim import State
 from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
     BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed, \
-    raised_ends, reads_floor, within_heading
+    raised_ends, reads_floor, texture_end, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance
@@ -343,7 +343,7 @@ class Perception:
         self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
-        self.wall_runs = "none"           # or "past", "foot" (DriveConfig.wall_runs)
+        self.wall_runs = "none"           # or "texture", "past", "foot" (DriveConfig.wall_runs)
         self.expire_within = None         # ((x, z), r): only the features whose two-sigma
                                           # ellipse reaches that disc expire
                                           # (DriveConfig.goal_evidence="look-expire")
@@ -490,7 +490,7 @@ class Perception:
         res = self.tree.getResolution()
         if self.refute_hits == "through" and depth is None and len(scan_points):
             self._refute_through(scan_points, R, left, res)
-        rays = top = proof_top = None
+        rays = top = proof_top = learned = None
         bounded = self.floor_eyes in BOUNDING
         if picture is not None and reads_floor(self.floor_eyes, depth is not None):
             rays = floor_rays(R, left)
@@ -559,8 +559,11 @@ class Perception:
             ends_start = (fstart[assumed] if len(ends) else np.zeros(0)) if low else None
             heading_sd = math.sqrt(max(float(pose_cov[2, 2]), 0.0)) \
                 if pose_cov is not None else None
+            texture = texture_end(picture, learned, top) \
+                if self.wall_runs == "texture" and learned is not None and top is not None \
+                else None
             reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0,
-                              self.wall_runs) \
+                              self.wall_runs, texture) \
                 if top is not None and bounded else None
             if reach is not None and self.floor_end_check != "off" and depth is None:
                 # a located point in a floor run, nearer than its floor: the run went up a face

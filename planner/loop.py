@@ -179,7 +179,7 @@ PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
-WALL_RUNS = ("none", "past", "foot")   # DriveConfig.wall_runs: a floor run up a wall of its grey
+WALL_RUNS = ("none", "past", "foot", "texture")   # DriveConfig.wall_runs: a floor run up a wall of its grey
 GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
 
 
@@ -530,13 +530,16 @@ class DriveConfig:
                                           # the default since 2026-12-05): a box nearer
                                           # than the picture's bottom row
                                           # with a face of the floor's grey (room 293)
-    wall_runs: str = "none"               # under floor_eyes "bound"/"bound-add", a column whose
+    wall_runs: str = "texture"            # under floor_eyes "bound"/"bound-add", a column whose
                                           # floor run goes on up past the plan's walls or to the
                                           # picture's top: it shows no floor's end ("none");
+                                          # "texture" (not 1985; the default since 2026-12-06):
+                                          # its end is where the floor's tiles are last seen in
+                                          # it (appearance.texture_end; a wall of a tile's
+                                          # grey, room 341, a box face of it, room 773);
                                           # "foot" (a named option, not 1985): its end is the
-                                          # walls' foot less their growth (a wall of the
-                                          # floor's grey, room 341); "past": only for a run
-                                          # that ends past the walls, not one to the top
+                                          # walls' foot less their growth; "past": that only
+                                          # for a run that ends past the walls
     floor_end_check: str = "stereo"       # under floor_eyes "bound"/"bound-add": "off", or
                                           # "stereo" (not 1985; the default since
                                           # 2026-12-05): a located point in a

@@ -489,10 +489,14 @@ def add_loop_options(p) -> None:
              "row with a face of the floor's grey proves nothing behind it")
     opt("--wall-runs", choices=WALL_RUNS, default=C.wall_runs,
         help="under --floor-eyes bound or bound-add, a column whose floor's grey runs on "
-             "past the plan's walls or to the picture's top: it shows no floor's end "
-             "('none', default), or its end is the walls' foot less their growth ('foot', "
-             "not 1985): a wall of the floor's grey; 'past': only where the run ends past "
-             "the walls, not where it reaches the picture's top")
+             "past the plan's walls or to the picture's top: 'texture' (not 1985; "
+             "default): its end is where a tiled floor's two greys are last seen in it, "
+             "no farther than the walls' foot (a wall or a box face of a tile's grey "
+             "stands past the last tile; a flat floor's column shows none); 'none': it "
+             "shows no floor's end; 'foot' (not 1985): its end is the walls' foot less "
+             "their growth, as a wall of the floor's grey shows it (a box face of that "
+             "grey too: it collides); 'past': that only where the run ends past the "
+             "walls, not where it reaches the picture's top")
     opt("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
         help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
              "(not 1985; default): where the eyes locate a point in a column's floor run "

@@ -737,22 +737,104 @@ def test_a_run_up_a_wall_of_the_floors_grey_ends_at_the_walls_foot_under_foot():
     assert past[64] == foot[64] and past[60] == foot[60] and past[100] == 0.0
 
 
-def test_room_341_is_reached_when_a_run_up_a_wall_of_the_floors_grey_ends_at_its_foot(
+def test_room_341_is_reached_when_a_run_up_a_wall_of_a_tiles_grey_ends_before_it(
         monkeypatch, tmp_path):
     # bench/drive.py's room 341 under its own odometry noise: the floor's tiles are of
     # greys 3 and 5, the right wall of 5, and the goal lies 5.8 ft before that wall.
     # Every run toward it goes on up the wall, so under "none" nothing there is proven
-    # and the 60 looks are used up; under "foot" the goal is reached.  The world's
-    # exact geometry judges it.  (The option is not the default: a box of the floor's
-    # grey before such a wall it proves free as well, rooms 95 and 248, docs/planner.md.)
+    # and the 60 looks are used up; under "foot" (its end at the walls' foot) and
+    # "texture" (the default: its end where the tiles are last seen) the goal is
+    # reached.  The world's exact geometry judges it.  ("foot" is not the default: a
+    # box of the floor's grey before such a wall it proves free as well, rooms 95 and
+    # 248, docs/planner.md.)
     from planner.loop import DriveConfig, _check_config
     from rigtools import assert_reached_by_the_truth, bench_drives, drive_config
-    assert drive_config(monkeypatch, tmp_path).wall_runs == "none"
+    assert drive_config(monkeypatch, tmp_path).wall_runs == "texture"
     assert drive_config(monkeypatch, tmp_path, "--wall-runs", "foot").wall_runs == "foot"
+    assert drive_config(monkeypatch, tmp_path, "--wall-runs", "none").wall_runs == "none"
     with pytest.raises(ValueError, match="wall_runs"):
         _check_config(DriveConfig(goal=(0.0, 7.0), wall_runs="wall"))
     monkeypatch.undo()                                  # (drive_config stubs the loop)
-    goal, res = bench_drives(341, "wall_runs", ("none", "foot"))
+    goal, res = bench_drives(341, "wall_runs", ("none", "foot", "texture"))
     assert not res["none"].reached and "60 looks used up" in res["none"].reason
     assert res["none"].collisions == 0
     assert_reached_by_the_truth(res["foot"], goal)
+    assert_reached_by_the_truth(res["texture"], goal)
+
+
+def test_the_floors_texture_ends_at_the_foot_of_a_face_of_one_of_its_greys():
+    """texture_end by hand: a floor tiled in greys 4 and 6 (tiles 6 rows tall in
+    the picture) up to row 70, and above it a face of grey 6 spotted with 5s (the
+    noise moves a pixel one level; the condensing truncates): the texture is
+    seen to the last tile edge below the face, the nearest row of the window
+    holding it.  A flat floor (greys 3 and 4) shows none, and no window above
+    the run's top counts."""
+    from planner.appearance import texture_end
+    rows = np.arange(ROWS)[:, None]
+    pic = np.where((rows // 6) % 2, 4, 6) * np.ones((1, 128), int)
+    pic[:70] = 6
+    pic[:70:7, ::3] = 5
+    pic[:, 100:] = np.where((rows + np.arange(28)) % 5 == 0, 3, 4)      # flat, noisy
+    greys = np.zeros(16, bool)
+    greys[[3, 4, 5, 6]] = True
+    top = np.zeros(128, int)
+    end = texture_end(pic, greys, top)
+    # the face (rows up to 69) stands on a tile of grey 4 (rows 70-71): the last
+    # window holding both greys is rows 68-70, and its nearest row is 70
+    assert np.all(end[:100] == 70)
+    assert np.all(end[100:] == ROWS)
+    top[:50] = 90
+    assert np.all(texture_end(pic, greys, top)[:50] == 96)    # rows 90-95 are 4, 96- 6
+    not_floor = greys.copy()
+    not_floor[4] = False                                      # grey 4 is not the floor's
+    assert np.all(texture_end(pic, not_floor, np.zeros(128, int)) == ROWS)
+
+
+def test_a_face_of_a_tile_grey_keeps_the_floors_texture_proof_before_its_foot():
+    """``wall_runs="texture"`` on a rendered look of bench/drive.py's room 773: its
+    floor is tiled in greys 3 and 5, and the camera stands 4.3 ft before box 4,
+    whose front shows a tile grey.  The face's columns run up to the picture's top
+    row.  ``foot`` ends those runs at the walls' foot, 19 ft out, through the box.
+    ``texture`` ends them where the tiles are last seen, and the world's truth
+    shows floor at every such end, and none of the column's floor out to it in the
+    box.  A column whose run has its
+    own end keeps it."""
+    from planner.appearance import texture_end
+    from world.room import generate_room
+    room = generate_room(773)
+    box = room.obstacles[3]
+    pose = Pose(0.2, box[2] - 4.3, 0.0, PITCH)
+    look = render_look(room, pose, seed=3, supersample=2)
+    pic = look.left_bi
+    floor = [i for i, q in enumerate(room.quads) if q.name == "floor"][0]
+    greys = floor_greys(np.bincount(pic[look.surface_left == floor].astype(int), minlength=16))
+    assert list(np.flatnonzero(greys)) == [3, 5]
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    top = floor_run(pic, greys, bridge=True)
+    texture = texture_end(pic, greys, top)
+    within = (-6.065, 4.135, -4.521, 20.235)                # the room's walls
+    none = floor_end(rays, top, within)
+    foot = floor_end(rays, top, within, wall_runs="foot")
+    tex = floor_end(rays, top, within, wall_runs="texture", texture=texture)
+    face = [c for c in range(128) if top[c] <= 1 and
+            room.quads[look.surface_left[0, c]].name == "box 4 front"]
+    assert len(face) > 30
+    cols = np.arange(128)
+    own = none > 0
+    assert np.array_equal(tex[own], none[own]) and np.all(none[face] == 0)
+    def proven_in_box(c, reach):
+        # the floor points of the column's pixels out to ``reach`` (a pixel's bearing
+        # changes with its row under the camera's pitch), inside box 4
+        rows = np.flatnonzero(rays.dist[:, c] <= reach)
+        return [box[0] < rays.x[r, c] < box[1] and box[2] < rays.z[r, c] < box[3] for r in rows]
+    # through the box (but at the face's right end, where the lower pixels' floor
+    # points bear past the box's side)
+    through = [c for c in face if any(proven_in_box(c, foot[c]))]
+    assert len(through) > 50 and through == face[:len(through)]
+    shown = [c for c in face if tex[c] > 0]
+    assert len(shown) > 20
+    for c in shown:
+        row = int(texture[c])
+        assert room.quads[look.surface_left[row, c]].name == "floor"
+        assert tex[c] == rays.dist[row, c]
+        assert not any(proven_in_box(c, tex[c]))          # before the face, or beside it
