@@ -55,6 +55,7 @@ OPTIONS = [
     "--wall-runs none",
     "--wall-runs foot",
     "--wall-runs past",
+    "--tile-edges blend",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

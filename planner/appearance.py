@@ -176,7 +176,7 @@ def nearest_greys(picture, rows: int = 4, min_share: float = MIN_SHARE) -> np.nd
     return floor_greys(hist, min_samples=0, min_share=min_share)
 
 
-def floor_run(picture, greys, bridge: bool = False) -> np.ndarray:
+def floor_run(picture, greys, bridge: bool = False, blend: bool = False) -> np.ndarray:
     """(128,) int: per column the topmost row r such that rows r - 1..119
     all show a floor grey (120: fewer than two rows do).  The run's own top
     pixel is left out: the condensed picture averages 2x2 pixels, so the
@@ -184,9 +184,22 @@ def floor_run(picture, greys, bridge: bool = False) -> np.ndarray:
     grey while its centre shows the other surface.  ``bridge`` counts a
     lone pixel of another grey between two of the floor's (or on the bottom
     row under one) as floor: the sensor noise moves single pixels, and what
-    stands on the floor shows as more than one row."""
+    stands on the floor shows as more than one row.  ``blend`` counts as
+    floor a pixel whose grey lies strictly between those of the floor pixels
+    right above and below it: a tile's edge, which the 2x2 condensing
+    averages (greys g and g + 2 meet in a row of g + 1, under a tenth of the
+    floor's pixels and so not learned); a face of that grey is more than a
+    row and has no tile above it."""
     pic = np.asarray(picture)
     is_floor = np.asarray(greys, bool)[np.clip(pic, 0, GREYS - 1)]
+    if blend:
+        g = np.clip(pic, 0, GREYS - 1).astype(int)
+        up = np.full(g.shape, -1)
+        down = np.full(g.shape, -1)
+        up[1:] = np.where(is_floor[:-1], g[:-1], -1)
+        down[:-1] = np.where(is_floor[1:], g[1:], -1)
+        lo, hi = np.minimum(up, down), np.maximum(up, down)
+        is_floor = is_floor | ((lo >= 0) & (lo < g) & (g < hi))
     if bridge:
         above = np.vstack([np.zeros((1, pic.shape[1]), bool), is_floor[:-1]])
         below = np.vstack([is_floor[1:], np.ones((1, pic.shape[1]), bool)])
@@ -336,10 +349,11 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
     show it.  A box face of that grey it cannot tell from such a wall, and
     it proves the floor through the box (five rooms of seeds 1-900 collide,
     docs/planner.md).  ``"past"``: only a run that ends past the walls
-    (below the picture's top row) does.  ``"texture"`` (a named option, not
-    1985): such a run shows its end where the floor's texture is last seen
-    in it (``texture``, :func:`texture_end`; no farther than the walls'
-    foot): a face of a tile's grey has none, a flat floor none either."""
+    (below the picture's top row) does.  ``"texture"`` (not 1985; the
+    loop's default): such a run shows its end where the floor's texture is
+    last seen in it (``texture``, :func:`texture_end`; no farther than the
+    walls' foot): a face of a tile's grey has none, a flat floor none
+    either."""
     reach = run_reach(rays, top)
     to_top = top <= 1
     past = past_walls(rays, top, within, heading_sd) & ~to_top if within is not None \

@@ -344,6 +344,7 @@ class Perception:
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
         self.wall_runs = "none"           # or "texture", "past", "foot" (DriveConfig.wall_runs)
+        self.tile_edges = "break"         # or "blend" (DriveConfig.tile_edges)
         self.expire_within = None         # ((x, z), r): only the features whose two-sigma
                                           # ellipse reaches that disc expire
                                           # (DriveConfig.goal_evidence="look-expire")
@@ -502,7 +503,7 @@ class Perception:
             learned = floor_greys(self.floor_hist)
             if learned is not None and self.floor_eyes == "bound-add":
                 # only the learned grey proves; the stand-in only bounds
-                proof_top = floor_run(pic, learned)
+                proof_top = floor_run(pic, learned, blend=self.tile_edges == "blend")
             greys = self.bounding_greys(pic) if bounded else learned
             if greys is not None:
                 top = floor_run(pic, greys, bridge=bounded)

@@ -179,7 +179,8 @@ PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
-WALL_RUNS = ("none", "past", "foot", "texture")   # DriveConfig.wall_runs: a floor run up a wall of its grey
+WALL_RUNS = ("none", "past", "foot", "texture")
+TILE_EDGES = ("break", "blend")        # DriveConfig.tile_edges: a tile's averaged edge in a proof   # DriveConfig.wall_runs: a floor run up a wall of its grey
 GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
 
 
@@ -540,6 +541,12 @@ class DriveConfig:
                                           # "foot" (a named option, not 1985): its end is the
                                           # walls' foot less their growth; "past": that only
                                           # for a run that ends past the walls
+    tile_edges: str = "break"             # under floor_eyes "bound-add", the proof's run of the
+                                          # learned greys: a pixel of another grey ends it
+                                          # ("break"), or (a named option, not 1985; "blend")
+                                          # a lone pixel between greys of the floor pixels
+                                          # above and below it does not: a tiled floor's edge
+                                          # (appearance.floor_run)
     floor_end_check: str = "stereo"       # under floor_eyes "bound"/"bound-add": "off", or
                                           # "stereo" (not 1985; the default since
                                           # 2026-12-05): a located point in a
@@ -750,7 +757,8 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("wall_points", WALL_POINTS), ("wall_fix_first", WALL_FIX_FIRSTS),
                           ("proof_heading", PROOF_HEADINGS),
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS),
-                          ("goal_evidence", GOAL_EVIDENCES), ("wall_runs", WALL_RUNS)):
+                          ("goal_evidence", GOAL_EVIDENCES), ("wall_runs", WALL_RUNS),
+                          ("tile_edges", TILE_EDGES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
     for name in ("max_looks", "max_stuck"):
@@ -839,7 +847,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.floor_eyes = cfg.floor_eyes
     model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
-    model.wall_runs = cfg.wall_runs
+    model.wall_runs, model.tile_edges = cfg.wall_runs, cfg.tile_edges
     model.expire_uncertain = int(cfg.expire_uncertain)
     if cfg.goal_evidence == "look-expire" and not cfg.expire_uncertain and cfg.occupied == "model":
         model.expire_uncertain = GOAL_EXPIRE_LOOKS

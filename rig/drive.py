@@ -176,7 +176,7 @@ LOOP_OPTION_GROUPS = (
     ("the map: what is free", "what a look proves free, and what is assumed free",
      ("--floor-eyes", "--sight-lines", "--blank-ft", "--blank-carve", "--carve", "--blank-px",
       "--blank-limit", "--blank-sides", "--sides-apart", "--stand-in", "--learn-floor",
-      "--proof-hits", "--wall-runs", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
+      "--proof-hits", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
@@ -193,7 +193,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, \
+    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
@@ -497,6 +497,11 @@ def add_loop_options(p) -> None:
              "their growth, as a wall of the floor's grey shows it (a box face of that "
              "grey too: it collides); 'past': that only where the run ends past the "
              "walls, not where it reaches the picture's top")
+    opt("--tile-edges", choices=TILE_EDGES, default=C.tile_edges,
+        help="under --floor-eyes bound-add, the floor's proof up each column's run of its "
+             "learned greys: 'break' (default): a pixel of another grey ends it; 'blend' "
+             "(not 1985): a lone pixel whose grey lies between those of the floor pixels "
+             "above and below it does not (a tiled floor's edge, averaged by the condensing)")
     opt("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
         help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
              "(not 1985; default): where the eyes locate a point in a column's floor run "
@@ -596,6 +601,7 @@ def loop_config(args, goal, fail):
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
                        goal_evidence=args.goal_evidence, wall_runs=args.wall_runs,
+                       tile_edges=args.tile_edges,
                        wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)
     try:

@@ -838,3 +838,25 @@ def test_a_face_of_a_tile_grey_keeps_the_floors_texture_proof_before_its_foot():
         assert room.quads[look.surface_left[row, c]].name == "floor"
         assert tex[c] == rays.dist[row, c]
         assert not any(proven_in_box(c, tex[c]))          # before the face, or beside it
+
+
+def test_blend_passes_a_tiles_averaged_edge_and_not_a_face_of_its_grey():
+    """floor_run(blend=True) by hand, the floor's greys 3 and 5 (a tiled floor):
+    a lone 4 between a 3 below and a 5 above (a tile's edge the condensing
+    averaged) continues the run; a 4 between two 3s, two 4s in a row (a face of
+    grey 4 standing on the floor), and a 4 under a 6 (not a floor grey) end it."""
+    greys = np.zeros(16, bool)
+    greys[[3, 5]] = True
+    pic = np.full((ROWS, 128), 3)
+    pic[:60, :] = 5
+    pic[60, 0] = 4                       # the edge between the 5s above and the 3s below
+    pic[80, 1] = 4                       # a 4 within the 3s
+    pic[59:61, 2] = 4                    # two rows of 4
+    pic[60, 3], pic[59, 3] = 4, 6        # a 4 under a grey the floor does not have
+    plain = floor_run(pic, greys)
+    blend = floor_run(pic, greys, blend=True)
+    assert plain[0] == 62 and blend[0] == 1                 # (row 0's top left out)
+    assert plain[1] == blend[1] == 82
+    assert plain[2] == blend[2] == 62
+    assert plain[3] == blend[3] == 62
+    assert blend[5] == plain[5] == 1                        # a sharp edge, 5 on 3
