@@ -63,6 +63,7 @@ OPTIONS = [
     "--rejoin waypoint",
     "--wall-fix-first base",
     "--move-ring known",
+    "--move-ring seen",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",

@@ -48,6 +48,8 @@ class FloorMap:
                                         # within the planning radius (motion.clear_unseen;
                                         # DriveConfig.move_ring="known"): a forward move's
                                         # band beyond the bare footprint may cross these
+    move_ring_start: bool = False          # (DriveConfig.move_ring="start") only where the
+                                        # grown footprint stands at the move's start
 
     @property
     def shape(self):

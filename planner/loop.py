@@ -151,7 +151,7 @@ from .trajectory import heading_to, wrap
 
 POSES = ("fused", "dead_reckoning", "walls")
 LOOK_AROUNDS = ("sweep", "evidence")
-MOVE_RINGS = ("seen", "known")        # DriveConfig.move_ring: a move's band beyond the footprint
+MOVE_RINGS = ("seen", "known", "start")   # DriveConfig.move_ring: a move's band beyond the footprint
 TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
@@ -179,8 +179,8 @@ PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
-WALL_RUNS = ("none", "past", "foot", "texture")
-TILE_EDGES = ("break", "blend")        # DriveConfig.tile_edges: a tile's averaged edge in a proof   # DriveConfig.wall_runs: a floor run up a wall of its grey
+WALL_RUNS = ("none", "past", "foot", "texture")   # DriveConfig.wall_runs: a floor run up a wall of its grey
+TILE_EDGES = ("break", "blend")        # DriveConfig.tile_edges: a tile's averaged edge in a proof
 GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
 
 
@@ -280,13 +280,17 @@ class DriveConfig:
                                           # seen will do where nothing a look placed lies
                                           # within the planning radius of it (room 523;
                                           # rooms 774 and 857 without that radius)
-    move_ring: str = "seen"               # a forward move's swept band beyond the bare
+    move_ring: str = "start"              # a forward move's swept band beyond the bare
                                           # footprint (the margin's ring): "seen" (every
                                           # cell seen); "known" (not 1985): a never-seen
                                           # cell will do where nothing a look placed lies
                                           # within the planning radius of it
                                           # (FloorMap.move_ring, motion.clear_unseen), as
-                                          # pivot="swept-ring" lets a pivot's ring
+                                          # pivot="swept-ring" lets a pivot's ring; "start"
+                                          # (not 1985; the default since 2026-12-06): that
+                                          # only where the grown footprint stands at the
+                                          # move's start, which every pivot there sweeps
+                                          # too (room 105)
     min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this
                                           # needs no pivot circle seen free (not 1985; the
                                           # default since 2026-12-05 08:00; 0: every turn
@@ -1087,8 +1091,9 @@ class Drive:
             bx0, bx1, bz0, bz1 = self.room.bounds
             gx, gz = wall_growth(self.dead_cov) if cfg.plan_walls == "grown" else (0.0, 0.0)
             mark_walls(fm, (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz))
-        if cfg.move_ring == "known":
+        if cfg.move_ring in ("known", "start"):
             fm.move_ring = clear_unseen(fm, prof.planning_radius_ft)
+            fm.move_ring_start = cfg.move_ring == "start"
         return fm
 
     def map_to_plan_on(self, fm: FloorMap, est: State) -> FloorMap:

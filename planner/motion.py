@@ -129,6 +129,25 @@ def _edge_to_edge(half: float, spacing: float) -> np.ndarray:
     return np.linspace(-half, half, int(math.ceil(2 * half / spacing)) + 1)
 
 
+def _swept_cells(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
+                 half_width: float, half_length: float, step_deg: float = 2.0):
+    """(i, j, on_map): the cells a rectangle of ``half_width`` by
+    ``half_length`` about (x, z) covers, its edges included (sampled a quarter
+    cell apart), while it turns from ``heading_deg`` through ``angle_deg``
+    (at headings at most ``step_deg`` apart; 0: where it stands)."""
+    q = fm.cell / 4
+    across, along = (g.ravel() for g in np.meshgrid(_edge_to_edge(half_width, q),
+                                                     _edge_to_edge(half_length, q)))
+    n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
+    hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
+    px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
+    pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
+    i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
+    j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
+    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    return i, j, bool(inside.all())
+
+
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
                      footprint, margin_ft: float, step_deg: float = 2.0,
                      ring: str = "seen") -> bool:
@@ -151,19 +170,8 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     off) hit a box whose far part's uncertain cells lay 0.5 ft beyond the
     ring's cells (docs/planner.md, "The margin's ring")."""
     def cells(grow):
-        # the rectangle grown by ``grow``, its edges included, at every heading
-        hw, hl = footprint[0] / 2 + grow, footprint[1] / 2 + grow
-        q = fm.cell / 4
-        across, along = (g.ravel() for g in np.meshgrid(_edge_to_edge(hw, q),
-                                                         _edge_to_edge(hl, q)))
-        n = max(1, int(math.ceil(abs(angle_deg) / step_deg)))
-        hs = np.radians(heading_deg + np.linspace(0.0, angle_deg, n + 1))
-        px = x + across[None] * np.cos(hs)[:, None] + along[None] * np.sin(hs)[:, None]
-        pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
-        i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
-        j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
-        inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
-        return i, j, bool(inside.all())
+        return _swept_cells(fm, x, z, heading_deg, angle_deg,
+                            footprint[0] / 2 + grow, footprint[1] / 2 + grow, step_deg)
 
     i, j, on_map = cells(margin_ft)
     if not on_map:
@@ -459,9 +467,17 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
         if fm.move_ring is None or margin_ft <= 0:
             seen_band = band_ok(known, half_width, m)
         else:
-            # the band out to the margin seen or in FloorMap.move_ring; the bare
-            # footprint's band, to its own nose, seen
-            seen_band = band_ok(known | fm.move_ring, half_width, m) & band_ok(
+            # the band out to the margin seen or in FloorMap.move_ring (under
+            # move_ring_start only where the grown footprint stands at the move's
+            # start, as a pivot there may sweep it); the bare footprint's band, to
+            # its own nose, seen
+            ring = fm.move_ring
+            if fm.move_ring_start:
+                ring = np.zeros_like(ring)
+                ci, cj, _ = _swept_cells(fm, x, z, h, 0.0, half_width, nose_ft)
+                ok_ij = (ci >= 0) & (cj >= 0) & (ci < fm.shape[0]) & (cj < fm.shape[1])
+                ring[ci[ok_ij], cj[ok_ij]] = fm.move_ring[ci[ok_ij], cj[ok_ij]]
+            seen_band = band_ok(known | ring, half_width, m) & band_ok(
                 known, half_width - margin_ft, int(math.ceil((nose_ft - margin_ft) / step_s)))
         ok = np.zeros(len(s), bool)
         near = np.zeros(len(s), bool)

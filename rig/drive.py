@@ -243,9 +243,10 @@ def add_loop_options(p) -> None:
              "within the planning radius of it")
     opt("--move-ring", choices=MOVE_RINGS, default=C.move_ring,
         help="a forward move's swept band beyond the bare footprint (the margin's ring): "
-             "seen (default): every cell seen; known: a never-seen cell will do where "
+             "seen: every cell seen; known (not 1985): a never-seen cell will do where "
              "nothing seen lies within the planning radius of it, as --pivot swept-ring "
-             "lets a pivot's")
+             "lets a pivot's; start (not 1985; default): that only where the grown "
+             "footprint stands at the move's start, which every pivot there sweeps too")
     opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
         default=C.clearance_at,
         help="where in a passable cell the vehicle's centre may be: anywhere (the "

@@ -248,6 +248,33 @@ def test_a_move_s_band_beyond_the_footprint_may_cross_never_seen_cells_under_mov
     assert driven() < 0.5
 
 
+def test_under_move_ring_start_only_the_ring_where_the_move_starts_may_be_never_seen():
+    # FORWARD 1 from the origin facing +z, as above.  A never-seen cell clear of
+    # anything placed beside the vehicle (x -0.75..-0.5, z 0.5..0.75: the grown
+    # footprint where it stands reaches x -0.55 and z 0.65) will do under "start",
+    # as a pivot there may sweep it; the same cell farther on (z 1.25..1.5), which
+    # only the band's later stretch crosses, will not: the move stops where its
+    # grown nose (0.65 ft) would reach it.  Under "known" both will do.
+    from planner.motion import clear_unseen
+    est, move = State(0.0, 0.0, 0.0), [Forward(1.0)]
+
+    def driven(fm, start):
+        fm.move_ring = clear_unseen(fm, DEFAULT.planning_radius_ft)
+        fm.move_ring_start = start
+        safe = clearance_map(fm, DEFAULT.planning_radius_ft, "free", uncertain="blocked")
+        got = safe_prefix(move, est, safe, fm.cells != UNKNOWN, 1.5, None, HALF, NOSE,
+                          margin_ft=DEFAULT.margin_ft)
+        return sum(c.distance_ft for c in got)
+
+    beside = free_map()
+    beside.cells[beside.index(-0.6, 0.6)] = UNKNOWN
+    assert driven(beside, True) == driven(beside, False) == 1.0
+    ahead = free_map()
+    ahead.cells[ahead.index(-0.6, 1.3)] = UNKNOWN
+    assert driven(ahead, False) == 1.0
+    assert 0.5 <= driven(ahead, True) <= 1.25 - 0.65
+
+
 def test_room_540_is_reached_when_a_move_s_ring_may_be_never_seen():
     # the defaults, odometry noise seed 540 (bench/drive.py's room 540): with every
     # cell of a move's grown band seen (move_ring="seen") the kept path is not driven
