@@ -210,9 +210,10 @@ def _far_from_placed(cells: np.ndarray, cell_ft: float, reach_ft: float) -> np.n
 def clear_unseen(fm: FloorMap, reach_ft: float) -> np.ndarray:
     """(nz, nx) bool: the never-seen cells of ``fm`` with no occupied or
     uncertain cell within ``reach_ft`` of them, centre to centre (the map's
-    edge counts as nothing placed).  ``DriveConfig.move_ring="known"`` lets a
-    forward move's band beyond the bare footprint cross these, as the pivot's
-    rule under ``pivot="swept-ring"`` lets its ring (:func:`_pivot_seen_free`)."""
+    edge counts as nothing placed).  ``DriveConfig.move_ring`` "known" (or
+    "start": where the move starts) lets a forward move's band beyond the bare
+    footprint cross these, as the pivot's rule under ``pivot="swept-ring"``
+    lets its ring (:func:`_pivot_seen_free`)."""
     return (fm.cells == UNKNOWN) & _far_from_placed(fm.cells, fm.cell, reach_ft)
 
 
@@ -426,7 +427,9 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     looked the new way already.  ``margin_ft`` (the planning margin in
     ``half_width`` and ``nose_ft``), on a map with :attr:`FloorMap.move_ring`
     (``DriveConfig.move_ring="known"``): the band beyond the bare footprint may
-    cross the cells it marks."""
+    cross the cells it marks; with :attr:`FloorMap.move_ring_start`
+    (``"start"``, the default) only where the grown footprint stands at the
+    move's start, which any pivot there sweeps as well."""
     out = []
     x, z, h = est.x, est.z, est.heading_deg
     turned = 0.0
