@@ -381,6 +381,9 @@ def texture_end(picture, greys, top: np.ndarray, rows: int = 3, step: int = 2) -
     :data:`MIN_SHARE`), and so is a flat face of a floor grey.  Whatever
     stands on the floor with one of its greys ends the texture at its foot,
     so the floor is the floor to there."""
+    learned = np.flatnonzero(greys)
+    if len(learned) < 2 or learned[-1] - learned[0] < step:
+        return np.full(COLS, ROWS)            # (a flat floor: no window can hold both)
     pic = np.clip(np.asarray(picture), 0, GREYS - 1).astype(float)
     is_floor = np.asarray(greys, bool)[pic.astype(int)]
     lo = np.where(is_floor, pic, np.inf)

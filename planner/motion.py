@@ -131,10 +131,11 @@ def _edge_to_edge(half: float, spacing: float) -> np.ndarray:
 
 def _swept_cells(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
                  half_width: float, half_length: float, step_deg: float = 2.0):
-    """(i, j, on_map): the cells a rectangle of ``half_width`` by
+    """(i, j, inside): the cells a rectangle of ``half_width`` by
     ``half_length`` about (x, z) covers, its edges included (sampled a quarter
     cell apart), while it turns from ``heading_deg`` through ``angle_deg``
-    (at headings at most ``step_deg`` apart; 0: where it stands)."""
+    (at headings at most ``step_deg`` apart; 0: where it stands), and which
+    of them lie on the map."""
     q = fm.cell / 4
     across, along = (g.ravel() for g in np.meshgrid(_edge_to_edge(half_width, q),
                                                      _edge_to_edge(half_length, q)))
@@ -144,8 +145,7 @@ def _swept_cells(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg
     pz = z - across[None] * np.sin(hs)[:, None] + along[None] * np.cos(hs)[:, None]
     i = np.floor((pz.ravel() - fm.z0) / fm.cell).astype(int)
     j = np.floor((px.ravel() - fm.x0) / fm.cell).astype(int)
-    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
-    return i, j, bool(inside.all())
+    return i, j, (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
 
 
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
@@ -174,7 +174,7 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
                             footprint[0] / 2 + grow, footprint[1] / 2 + grow, step_deg)
 
     i, j, on_map = cells(margin_ft)
-    if not on_map:
+    if not on_map.all():
         return False
     free = _proven_free(fm, i, j)
     if ring == "seen":
@@ -477,9 +477,9 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
             ring = fm.move_ring
             if fm.move_ring_start:
                 ring = np.zeros_like(ring)
-                ci, cj, _ = _swept_cells(fm, x, z, h, 0.0, half_width, nose_ft)
-                ok_ij = (ci >= 0) & (cj >= 0) & (ci < fm.shape[0]) & (cj < fm.shape[1])
-                ring[ci[ok_ij], cj[ok_ij]] = fm.move_ring[ci[ok_ij], cj[ok_ij]]
+                ci, cj, on_map = _swept_cells(fm, x, z, h, 0.0, half_width, nose_ft)
+                ci, cj = ci[on_map], cj[on_map]
+                ring[ci, cj] = fm.move_ring[ci, cj]
             seen_band = band_ok(known | ring, half_width, m) & band_ok(
                 known, half_width - margin_ft, int(math.ceil((nose_ft - margin_ft) / step_s)))
         ok = np.zeros(len(s), bool)
