@@ -124,6 +124,7 @@ the map it keeps is :mod:`planner.evidence`, what the vehicle may drive on it
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -145,12 +146,13 @@ from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn,
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
-from .planning import GOAL_SLACK_FT, GOALS, UNCERTAIN_PLANS, plan as plan_path, true_optimum
+from .planning import GOAL_SLACK_FT, GOALS, PASSAGES, UNCERTAIN_PLANS, plan as plan_path, true_optimum
 from .search import NoPath, clearance_map, path_length
 from .trajectory import heading_to, wrap
 
 POSES = ("fused", "dead_reckoning", "walls")
 LOOK_AROUNDS = ("sweep", "evidence")
+STRAIGHT_AFTER = 4                    # passage="stuck": looks without progress before a narrow way
 MOVE_RINGS = ("seen", "known", "start")   # DriveConfig.move_ring: a move's band beyond the footprint
 TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
 PROGRESSES = ("moved", "evidence")
@@ -291,6 +293,19 @@ class DriveConfig:
                                           # only where the grown footprint stands at the
                                           # move's start, which every pivot there sweeps
                                           # too (room 105)
+    passage: str = "moves"                # where the vehicle may pass (planner.passage):
+                                          # "circle": paths and forward moves alike where
+                                          # the pivot circle and the margin fit (before
+                                          # 2026-12-06); "moves" (not 1985; the default
+                                          # since 2026-12-06): the circle's paths, and a
+                                          # forward move may also cross cells where only
+                                          # its grown width fits, out to its grown nose
+                                          # (room 516); "straight" (not 1985): and where the
+                                          # circle finds no way to the goal, paths through
+                                          # such cells on straight lines from and to cells
+                                          # the circle fits in; "stuck" (not 1985): those
+                                          # paths only after STRAIGHT_AFTER looks without
+                                          # progress
     min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this
                                           # needs no pivot circle seen free (not 1985; the
                                           # default since 2026-12-05 08:00; 0: every turn
@@ -747,6 +762,7 @@ def _check_config(cfg: DriveConfig) -> None:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS),
                           ("turn_room", TURN_ROOMS), ("move_ring", MOVE_RINGS),
+                          ("passage", PASSAGES),
                           ("progress", PROGRESSES), ("uncertain", UNCERTAIN_PLANS),
                           ("track_free", TRACK_FREES), ("goal_region", GOALS),
                           ("floor_eyes", FLOOR_EYES), ("blank_carve", ("unknown", "always")),
@@ -1122,13 +1138,19 @@ class Drive:
         ``map_extent="fallback"`` the cycle asks first whether the seen map has a
         way, then plans on it, and the search is most of a plan's time."""
         last = self._last_plan
+        cfg = self.cfg
+        if cfg.passage == "stuck":
+            # straight through a narrow way only once the circle has left the vehicle
+            # without progress for a while (looking on finds the wide way first)
+            cfg = dataclasses.replace(cfg, passage="straight" if self.stuck >= STRAIGHT_AFTER
+                                      else "moves")
         if last is None or last[0][0] is not fm or last[0][1] != est \
-                or last[0][2] is not self.prev_path:
+                or last[0][2] is not self.prev_path or last[0][3] != cfg.passage:
             try:
-                got = plan_path(fm, est, self.goal, self.cfg, self.prev_path)
+                got = plan_path(fm, est, self.goal, cfg, self.prev_path)
             except NoPath as exc:
                 got = exc
-            self._last_plan = last = ((fm, est, self.prev_path), got)
+            self._last_plan = last = ((fm, est, self.prev_path, cfg.passage), got)
         if isinstance(last[1], NoPath):
             raise last[1]
         return last[1]
@@ -1144,6 +1166,8 @@ class Drive:
         safe = clearance_map(fm, prof.planning_radius_ft,
                              "blocked" if cfg.safety == "strict" else "free",
                              uncertain="blocked", at=cfg.clearance_at)
+        if cfg.passage != "circle":
+            safe.narrow = safe.clearance >= prof.grown_half_ft[0] - 1e-9
         seen = fm.cells != UNKNOWN
         seen_eyes = None
         if cfg.trust_view:

@@ -403,6 +403,19 @@ def _band_seen(known: np.ndarray, fm: FloorMap, samples: np.ndarray, heading_rad
     return ok.all(1)
 
 
+def _narrow_ok(safe: Passable, ext: np.ndarray, n: int, nose_n: int) -> np.ndarray:
+    """(n,) bool: for each of the first ``n`` positions of ``ext`` (a move's samples
+    and ``nose_n`` more ahead of its end), whether it and the ``nose_n`` samples
+    ahead of it all lie in ``safe.narrow`` cells (planner.passage)."""
+    fm = safe.fmap
+    i = np.floor((ext[:, 1] - fm.z0) / fm.cell).astype(int)
+    j = np.floor((ext[:, 0] - fm.x0) / fm.cell).astype(int)
+    inside = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    good = np.zeros(len(ext), bool)
+    good[inside] = safe.narrow[i[inside], j[inside]]
+    return np.convolve(~good, np.ones(nose_n + 1), mode="full")[nose_n:nose_n + n] == 0
+
+
 def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
                  seen_eyes: np.ndarray | None = None, half_width: float = 0.5,
                  nose_ft: float = 0.5, pivot_ft: float = 0.0, pivot_sweep=None,
@@ -429,7 +442,10 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     (``DriveConfig.move_ring="known"``): the band beyond the bare footprint may
     cross the cells it marks; with :attr:`FloorMap.move_ring_start`
     (``"start"``, the default) only where the grown footprint stands at the
-    move's start, which any pivot there sweeps as well."""
+    move's start, which any pivot there sweeps as well.  ``safe.narrow``
+    (``DriveConfig.passage`` other than "circle"): a position also passes where
+    it and every sample out to the grown nose ahead of it lie in those cells
+    (the grown half width clear), short of the planning radius."""
     out = []
     x, z, h = est.x, est.z, est.heading_deg
     turned = 0.0
@@ -490,7 +506,13 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
             ok = (cl >= safe.radius - 1e-9) & seen_band & inside
             near = (cl >= cl[0] - 1e-9) & seen_band & inside
         else:
-            ok[inside] = safe.ok[i[inside], j[inside]] & seen_band[inside]
+            passable = safe.ok[i[inside], j[inside]]
+            if safe.narrow is not None:
+                # (DriveConfig.passage "moves" and after) or the grown half width
+                # clear at every position out to the grown nose ahead of it: the
+                # union of those discs holds the band the grown footprint sweeps
+                passable = passable | _narrow_ok(safe, ext, len(s), m)[inside]
+            ok[inside] = passable & seen_band[inside]
             # the vehicle may leave a cell it stands in even if a (perhaps false)
             # obstacle came near it, as long as it gets no nearer
             cl0 = safe.clearance[i[0], j[0]] if inside[0] else 0.0

@@ -25,6 +25,7 @@ from .floormap import FloorMap, true_floor_map
 from .octree import UNCERTAIN, UNKNOWN
 from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
     path_length, segment_samples
+from .passage import shorten_straight, straight_passable
 from .trajectory import shorten, to_commands
 
 if TYPE_CHECKING:
@@ -70,6 +71,10 @@ def _nearest_reachable(p: Passable, start, goal):
     return float(xs[k]), float(zs[k])
 
 
+PASSAGES = ("circle", "moves", "straight", "stuck")   # where the vehicle may pass
+                                     # (DriveConfig.passage, planner.passage): plan()
+                                     # plans straight through narrow ways under "straight"
+                                     # only (the loop turns "stuck" into it or "moves")
 REJOINS = ("waypoint", "leg")        # where a kept path resumes (DriveConfig.rejoin, _still_good)
 BLIND_ZONES = ("off", "any", "short")    # planning round the blind zone (DriveConfig.blind_zone)
 
@@ -161,7 +166,13 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
     the same way: the path may pass between two features one look saw where
     their two-sigma growth closes the way, and the vehicle, driven only as the
     whole map allows, looks again from nearer, which fuses them into features
-    of smaller covariance."""
+    of smaller covariance.
+
+    Under ``cfg.passage="straight"`` (a named option), where no path reaches
+    the goal on the map grown by the planning radius, the path may run
+    straight through narrow cells, from and to cells that radius fits in
+    (:mod:`planner.passage`); its note then ends "(straight through a narrow
+    way)"."""
     if cfg.uncertain not in UNCERTAIN_PLANS:
         raise ValueError(f"unknown uncertain-cell plan {cfg.uncertain!r}; one of "
                          f"{', '.join(UNCERTAIN_PLANS)}")
@@ -169,19 +180,40 @@ def plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev=None):
         raise ValueError(f"unknown rejoin {cfg.rejoin!r}; one of {', '.join(REJOINS)}")
     if cfg.blind_zone not in BLIND_ZONES:
         raise ValueError(f"unknown blind_zone {cfg.blind_zone!r}; one of {', '.join(BLIND_ZONES)}")
-    if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
-        return _plan(fm, est, goal, cfg, prev, "blocked")
+    if cfg.passage not in PASSAGES:
+        raise ValueError(f"unknown passage {cfg.passage!r}; one of {', '.join(PASSAGES)}")
+    if cfg.passage != "straight":
+        return _plan_uncertain(fm, est, goal, cfg, prev, "circle")
+    # "straight": only where the circle finds no way to the goal itself
     try:
-        return _plan(fm, est, goal, cfg, prev, "blocked", nearest=False)
+        return _plan_uncertain(fm, est, goal, cfg, prev, "circle", nearest=False)
+    except NoPath:
+        pass
+    try:
+        pts, cmds, note = _plan_uncertain(fm, est, goal, cfg, prev, "straight", nearest=False)
+        return pts, cmds, note + " (straight through a narrow way)"
+    except NoPath:
+        return _plan_uncertain(fm, est, goal, cfg, prev, "circle")
+
+
+def _plan_uncertain(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, passage: str,
+                    nearest: bool = True):
+    """:func:`plan` under one ``passage``: round the uncertain cells as
+    ``cfg.uncertain`` says; with ``nearest``, toward the reachable cell nearest
+    a goal no path reaches."""
+    if cfg.uncertain == "blocked" or not (fm.cells == UNCERTAIN).any():
+        return _plan(fm, est, goal, cfg, prev, "blocked", passage, nearest)
+    try:
+        return _plan(fm, est, goal, cfg, prev, "blocked", passage, nearest=False)
     except NoPath as exc:
         try:
             through = "free" if cfg.uncertain == "look" else "core"
-            pts, cmds, _ = _plan(fm, est, goal, cfg, prev, through, nearest=False)
+            pts, cmds, _ = _plan(fm, est, goal, cfg, prev, through, passage, nearest=False)
             return pts, cmds, (f"{exc}; through uncertain cells, to look at them"
                                if through == "free" else
                                f"{exc}; past uncertain features' outer sigma, to look again")
         except NoPath:
-            return _plan(fm, est, goal, cfg, prev, "blocked")
+            return _plan(fm, est, goal, cfg, prev, "blocked", passage, nearest)
 
 
 def goal_target(p: Passable, start, goal, radius: float):
@@ -293,13 +325,15 @@ def avoid_blind(p: Passable, start, near_ft: float, half_width: float) -> Passab
 
 
 def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str,
-          nearest: bool = True):
+          passage: str = "circle", nearest: bool = True):
     search = SEARCHES[cfg.search]
     if cfg.seen_cost < 0:
         raise ValueError(f"seen_cost must be 0 (off) or more, not {cfg.seen_cost!r}")
     band = unseen_band(fm, cfg.profile.radius_ft) if cfg.seen_cost > 0 else None
 
     def find(p, a, b):
+        if narrow is not None:
+            return shorten_straight(wide, narrow, search(p, a, b))
         if band is None:
             return shorten(p, search(p, a, b))
         return seen_search(p, a, b, band, cfg.seen_cost)
@@ -310,6 +344,14 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     p = escape_start(clearance_map(fm, r, cfg.unknown, uncertain=uncertain,
                                     at=cfg.clearance_at), (est.x, est.z))
     start = (est.x, est.z)
+    narrow = wide = None
+    if passage == "straight":
+        # the narrow cells a vehicle crosses straight, pivoting only in wide ones
+        prof = cfg.profile
+        narrow = Passable(p.clearance >= prof.grown_half_ft[0] - 1e-9, p.clearance, p.blocked,
+                          fm, prof.grown_half_ft[0], p.unknown, p.at)
+        wide = p.ok
+        p = straight_passable(p, narrow, start, est.heading_deg, goal)
     aim = tuple(map(float, goal))
     if cfg.goal_region == "disc":
         aim = goal_target(p, start, goal, max(cfg.tolerance_ft - GOAL_SLACK_FT, 0.0))

@@ -52,6 +52,9 @@ class Passable:
     radius: float
     unknown: str
     at: str = "anywhere"      # where in a passable cell the vehicle's centre may be (CLEARANCE_AT)
+    narrow: np.ndarray | None = None   # (nz, nx) bool or None: cells a forward move may cross
+                                       # with only the grown half width clear
+                                       # (DriveConfig.passage, planner.passage)
 
 
 CLEARANCE_AT = ("anywhere", "centre", "anywhere-exact")

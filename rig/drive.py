@@ -179,7 +179,7 @@ LOOP_OPTION_GROUPS = (
       "--proof-hits", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
       "--track-free")),
     ("the path", "the search over the floor map",
-     ("--unknown", "--search", "--margin", "--clearance-at", "--goal-region", "--uncertain",
+     ("--unknown", "--search", "--margin", "--clearance-at", "--passage", "--goal-region", "--uncertain",
       "--goal-evidence",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
@@ -195,7 +195,7 @@ def add_loop_options(p) -> None:
         TURN_ROOMS, MOVE_RINGS, \
     MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, \
         WALL_POINTS, WALL_FIX_FIRSTS
-    from planner.planning import BLIND_ZONES, GOALS, REJOINS, UNCERTAIN_PLANS
+    from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
     group_of = {}
@@ -247,6 +247,13 @@ def add_loop_options(p) -> None:
              "nothing seen lies within the planning radius of it, as --pivot swept-ring "
              "lets a pivot's; start (not 1985; default): that only where the grown "
              "footprint stands at the move's start, which every pivot there sweeps too")
+    opt("--passage", choices=PASSAGES, default=C.passage,
+        help="where the vehicle may pass: circle: paths and forward moves where the "
+             "pivot circle and the margin fit; moves (not 1985; default): the circle's "
+             "paths, a forward move also where only its grown width fits; straight (not "
+             "1985): and where the circle finds no way to the goal, paths straight "
+             "through such narrow ways, pivoting only where the circle fits; stuck (not "
+             "1985): those paths only after 4 looks without progress")
     opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
         default=C.clearance_at,
         help="where in a passable cell the vehicle's centre may be: anywhere (the "
@@ -576,7 +583,7 @@ def loop_config(args, goal, fail):
                        match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
-                       move_ring=args.move_ring,
+                       move_ring=args.move_ring, passage=args.passage,
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, turn_room=args.turn_room,
