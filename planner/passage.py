@@ -36,32 +36,32 @@ from .search import Passable, line_of_sight
 LINES = ((0, 1), (1, 0), (1, 1), (1, -1))
 
 
+def _shift(a: np.ndarray, s: int) -> np.ndarray:
+    """``a`` (1-D) moved ``s`` places on: out[k] = a[k - s], False where that is off it."""
+    out = np.zeros_like(a)
+    if s > 0:
+        out[s:] = a[:-s]
+    elif s < 0:
+        out[:s] = a[-s:]
+    else:
+        out[:] = a
+    return out
+
+
 def _runs_between(wide: np.ndarray, narrow: np.ndarray, di: int, dj: int) -> np.ndarray:
     """The narrow cells whose unbroken narrow run along (di, dj), both ways,
     ends in a wide cell at each end."""
-    nz, nx = wide.shape
+    if dj == 0:                           # a column: a row of the transposed grid
+        return _runs_between(wide.T, narrow.T, 0, di).T
 
     def sweep(step_i: int, step_j: int) -> np.ndarray:
-        # reach[c]: c is narrow and the first non-narrow cell behind it is wide
+        # reach[c]: c is narrow and the first non-narrow cell behind it is wide,
+        # column by column (the cell behind (i, j) is (i - step_i, j - step_j))
         reach = np.zeros_like(narrow)
-        order = range(nx) if step_j > 0 else range(nx - 1, -1, -1)
-        if step_j == 0:
-            order = range(nz) if step_i > 0 else range(nz - 1, -1, -1)
-            for i in order:
-                pi = i - step_i
-                if 0 <= pi < nz:
-                    reach[i] = narrow[i] & (wide[pi] | reach[pi])
-            return reach
-        for j in order:
+        nx = narrow.shape[1]
+        for j in (range(1, nx) if step_j > 0 else range(nx - 2, -1, -1)):
             pj = j - step_j
-            if not 0 <= pj < nx:
-                continue
-            if step_i == 0:
-                reach[:, j] = narrow[:, j] & (wide[:, pj] | reach[:, pj])
-            elif step_i > 0:
-                reach[1:, j] = narrow[1:, j] & (wide[:-1, pj] | reach[:-1, pj])
-            else:
-                reach[:-1, j] = narrow[:-1, j] & (wide[1:, pj] | reach[1:, pj])
+            reach[:, j] = narrow[:, j] & _shift(wide[:, pj] | reach[:, pj], step_i)
         return reach
     return sweep(di, dj) & sweep(-di, -dj)
 
@@ -78,11 +78,11 @@ def straight_runs(wide: np.ndarray, narrow: np.ndarray) -> np.ndarray:
     return out
 
 
-def _ray_cells(p: Passable, narrow: np.ndarray, wide: np.ndarray, x: float, z: float,
-               heading_deg: float, max_ft: float) -> list[tuple[int, int]] | None:
+def _ray_cells(p: Passable, narrow: np.ndarray, x: float, z: float, heading_deg: float,
+               max_ft: float) -> list[tuple[int, int]] | None:
     """The cells a ray from (x, z) along ``heading_deg`` passes through narrow cells
-    until its first wide cell (that one included); None when it leaves the narrow
-    cells or the map first, or runs ``max_ft`` without a wide cell."""
+    until its first wide cell (``p.ok``; that one included); None when it leaves the
+    narrow cells or the map first, or runs ``max_ft`` without a wide cell."""
     fm = p.fmap
     hr = math.radians(heading_deg)
     step = fm.cell / 4
@@ -93,7 +93,7 @@ def _ray_cells(p: Passable, narrow: np.ndarray, wide: np.ndarray, x: float, z: f
             return None
         if not cells or cells[-1] != (i, j):
             cells.append((i, j))
-        if wide[i, j]:
+        if p.ok[i, j]:
             return cells
     return None
 
@@ -103,7 +103,7 @@ def heading_ray(p: Passable, narrow: np.ndarray, start, heading_deg: float,
     """The cells the vehicle crosses from ``start``, a narrow cell, straight along its
     heading to the first wide cell (none when the way ahead leaves the narrow cells
     first): the one way on from a place too tight to pivot in."""
-    return _ray_cells(p, narrow, p.ok, start[0], start[1], heading_deg, max_ft) or []
+    return _ray_cells(p, narrow, start[0], start[1], heading_deg, max_ft) or []
 
 
 def goal_rays(p: Passable, narrow: np.ndarray, goal, max_ft: float = 6.0
@@ -113,7 +113,7 @@ def goal_rays(p: Passable, narrow: np.ndarray, goal, max_ft: float = 6.0
     there driving straight, having pivoted where the circle fits."""
     out: list[tuple[int, int]] = []
     for k in range(8):
-        out += _ray_cells(p, narrow, p.ok, goal[0], goal[1], 45.0 * k, max_ft) or []
+        out += _ray_cells(p, narrow, goal[0], goal[1], 45.0 * k, max_ft) or []
     return out
 
 

@@ -192,7 +192,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-        TURN_ROOMS, MOVE_RINGS, \
+        TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, \
     MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
@@ -253,7 +253,7 @@ def add_loop_options(p) -> None:
              "paths, a forward move also where only its grown width fits; straight (not "
              "1985): and where the circle finds no way to the goal, paths straight "
              "through such narrow ways, pivoting only where the circle fits; stuck (not "
-             "1985): those paths only after 4 looks without progress")
+             f"1985): those paths only after {STRAIGHT_AFTER} looks without progress")
     opt("--clearance-at", choices=("anywhere", "centre", "anywhere-exact"),
         default=C.clearance_at,
         help="where in a passable cell the vehicle's centre may be: anywhere (the "
