@@ -141,6 +141,7 @@ from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
+    steered_prefix, PIVOT_INNER_FT, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen, goal_blocker, look_at
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
@@ -157,7 +158,7 @@ MOVE_RINGS = ("seen", "known", "start")   # DriveConfig.move_ring: a move's band
 TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
-PIVOTS = ("disc", "margin", "swept", "small-swept", "swept-ring")  # what a pivot needs seen free (.pivot)
+PIVOTS = ("disc", "margin", "swept", "small-swept", "swept-ring", "swept-ring-inner")  # what a pivot needs seen free (.pivot)
 EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
@@ -183,6 +184,7 @@ FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older loo
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
 WALL_RUNS = ("none", "past", "foot", "texture")   # DriveConfig.wall_runs: a floor run up a wall of its grey
 TILE_EDGES = ("break", "blend")        # DriveConfig.tile_edges: a tile's averaged edge in a proof
+STEERS = ("off", "small", "idle")     # DriveConfig.steer: a path's first leg cut short
 GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
 
 
@@ -281,7 +283,11 @@ class DriveConfig:
                                           # seen free, a cell of the margin's ring never
                                           # seen will do where nothing a look placed lies
                                           # within the planning radius of it (room 523;
-                                          # rooms 774 and 857 without that radius)
+                                          # rooms 774 and 857 without that radius);
+                                          # "swept-ring-inner" (not 1985): "swept-ring",
+                                          # but a turn made only to look (at evidence, or
+                                          # round) needs the footprint grown by
+                                          # PIVOT_INNER_FT seen free as well (room 32)
     move_ring: str = "start"              # a forward move's swept band beyond the bare
                                           # footprint (the margin's ring): "seen" (every
                                           # cell seen); "known" (not 1985): a never-seen
@@ -306,6 +312,17 @@ class DriveConfig:
                                           # the circle fits in; "stuck" (not 1985): those
                                           # paths only after STRAIGHT_AFTER looks without
                                           # progress
+    steer: str = "idle"                   # the path's first leg cut short by the checks
+                                          # every move passes: "off" (before 2026-12-06):
+                                          # the path's heading; "small" (not 1985): the
+                                          # same leg up to STEER_MAX_DEG off it, nearest
+                                          # first, where the checks let it run
+                                          # STEER_GAIN_FT farther (motion.steered_prefix;
+                                          # room 10; 2 collisions in 890 rooms); "idle"
+                                          # (not 1985; the default since 2026-12-06): that
+                                          # only in place of a look round, where the path,
+                                          # the look-ahead, the approach, the evidence and
+                                          # facing the path give the vehicle nothing to do
     min_pivot_deg: float = 1.0            # a turn of the path's commands smaller than this
                                           # needs no pivot circle seen free (not 1985; the
                                           # default since 2026-12-05 08:00; 0: every turn
@@ -762,7 +779,7 @@ def _check_config(cfg: DriveConfig) -> None:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS),
                           ("turn_room", TURN_ROOMS), ("move_ring", MOVE_RINGS),
-                          ("passage", PASSAGES),
+                          ("passage", PASSAGES), ("steer", STEERS),
                           ("progress", PROGRESSES), ("uncertain", UNCERTAIN_PLANS),
                           ("track_free", TRACK_FREES), ("goal_region", GOALS),
                           ("floor_eyes", FLOOR_EYES), ("blank_carve", ("unknown", "always")),
@@ -953,7 +970,12 @@ class Drive:
             "swept": PivotSweep(prof.footprint, prof.margin_ft),
             "small-swept": PivotSweep(prof.footprint, prof.margin_ft, SMALL_TURN_DEG),
             "swept-ring": PivotSweep(prof.footprint, prof.margin_ft, ring="known"),
-        }.get(cfg.pivot)
+            "swept-ring-inner": PivotSweep(prof.footprint, prof.margin_ft, ring="known"),
+        }.get(cfg.pivot)                      # (the path's pivots as under "swept-ring")
+        # a turn made only to look (look_round's): under "swept-ring-inner" the
+        # ring's inner part seen free as well (motion._look_turn_ok)
+        self.look_sweep = self.pivot_sweep if cfg.pivot != "swept-ring-inner" else \
+            PivotSweep(prof.footprint, prof.margin_ft, ring="known", inner_ft=PIVOT_INNER_FT)
         self.pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
         self.tried: dict = {}                 # blocker cell -> places it was looked at from
         self.ahead_cells: set = set()         # cells the look-ahead has turned to (each once)
@@ -1181,6 +1203,20 @@ class Drive:
                               *prof.grown_half_ft, pivot_r, pivot_sweep, pan if head else None,
                               min_pivot_deg=cfg.min_pivot_deg, margin_ft=prof.margin_ft)
             left = path_length(pts)
+            path_seg = seg
+
+            def steer(seg, note):
+                # the path's first leg, cut short (path_seg), on a heading a little off
+                got = steered_prefix(
+                    cmds, path_seg, lambda c: safe_prefix(
+                        c, est, safe, seen, prof.step_ft, seen_eyes, *prof.grown_half_ft,
+                        pivot_r, pivot_sweep, pan if head else None,
+                        min_pivot_deg=cfg.min_pivot_deg, margin_ft=prof.margin_ft),
+                    prof.step_ft)
+                return (seg, note) if got is None else \
+                    (got[0], note + f" (steered {got[1]:+d} deg)")
+            if cfg.steer == "small":
+                seg, note = steer(seg, note)
             if cfg.look_ahead and not head and _moves(seg):
                 # its pivot is the look: no sweep instead
                 seg, note, fetching = _take(
@@ -1215,6 +1251,10 @@ class Drive:
                     t = wrap(path_heading(est, pts) - est.heading_deg)
                 seg = [Turn(round(t, 2))] if abs(t) > 1.0 and \
                     pivot_allowed(fm, est, t, prof, pivot_sweep, pivot_r) else []
+            if cfg.steer == "idle" and not fetching and not _moves(seg) and \
+                    not any(isinstance(c, Turn) and abs(c.angle_deg) >= 1.0 for c in seg):
+                # nothing else to do here but look round: the leg steered, if it may be
+                seg, note = steer(seg, note)
             self.last_reason = ""
             self.prev_path = pts
         except NoPath as exc:
@@ -1259,7 +1299,7 @@ class Drive:
             lo, hi = prof.pan_limits_deg
             return [Pan(round(min(max(p, lo), hi), 2)), Tilt(0.0)], \
                 note + " (looking round with the head)"
-        if pivot_allowed(fm, est, t, prof, self.pivot_sweep, self.pivot_r):
+        if pivot_allowed(fm, est, t, prof, self.look_sweep, self.pivot_r):
             return [Turn(round(t, 2))], note + " (turning to look)"
         if back:
             return back, note + " (cannot turn here: backing to where it can)"

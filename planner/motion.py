@@ -150,7 +150,7 @@ def _swept_cells(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg
 
 def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle_deg: float,
                      footprint, margin_ft: float, step_deg: float = 2.0,
-                     ring: str = "seen") -> bool:
+                     ring: str = "seen", inner_ft: float = 0.0) -> bool:
     """Every cell the footprint (``(width, length)``, grown by ``margin_ft`` on
     each side) covers while it pivots about (x, z) from ``heading_deg``
     through ``angle_deg`` is FREE: sampled a quarter cell apart over the
@@ -168,7 +168,13 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     error, and a never-seen cell beside something seen may be that thing's
     unseen part: without the radius, room 857's pivot (the estimate 0.2 ft
     off) hit a box whose far part's uncertain cells lay 0.5 ft beyond the
-    ring's cells (docs/planner.md, "The margin's ring")."""
+    ring's cells (docs/planner.md, "The margin's ring").  ``inner_ft``
+    (``pivot="swept-ring-inner"``, for a turn made only to look): the footprint
+    grown by that much must be FREE as well, only the ring beyond it may be
+    never seen: the floor in view proves a cell free up to a box face that
+    stands a little way into it (room 32: 0.08 ft), and a box no look located
+    leaves the cell beyond it never seen, one the bare footprint's reach misses
+    by 0.03 ft."""
     def cells(grow):
         return _swept_cells(fm, x, z, heading_deg, angle_deg,
                             footprint[0] / 2 + grow, footprint[1] / 2 + grow, step_deg)
@@ -179,7 +185,7 @@ def _pivot_seen_free(fm: FloorMap, x: float, z: float, heading_deg: float, angle
     free = _proven_free(fm, i, j)
     if ring == "seen":
         return bool(free.all())
-    bi, bj, _ = cells(0.0)
+    bi, bj, _ = cells(min(inner_ft, margin_ft))
     if not _proven_free(fm, bi, bj).all():
         return False
     # the ring's cells not seen free: each clear of anything a look placed, by the
@@ -230,6 +236,7 @@ def pivot_allowed(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfi
                      pivot_radius_ft(prof) if pivot_ft is None else pivot_ft, pivot_sweep)
 
 
+PIVOT_INNER_FT = 0.1         # pivot="swept-ring-inner": the ring's inner part seen free
 SMALL_TURN_DEG = 5.0         # pivot="small-swept": a turn this small needs only its sweep
 
 
@@ -243,6 +250,7 @@ class PivotSweep(NamedTuple):
     margin_ft: float
     up_to_deg: float = math.inf
     ring: str = "seen"
+    inner_ft: float = 0.0      # ring "known": the ring's first inner_ft seen free as well
 
 
 def _pivot_ok(fm: FloorMap, x: float, z: float, h: float, angle_deg: float, pivot_ft: float,
@@ -253,7 +261,8 @@ def _pivot_ok(fm: FloorMap, x: float, z: float, h: float, angle_deg: float, pivo
     free (:func:`_disc_seen_free`; none for ``pivot_ft`` 0)."""
     if pivot_sweep is not None and abs(angle_deg) <= pivot_sweep.up_to_deg:
         return _pivot_seen_free(fm, x, z, h, angle_deg, pivot_sweep.footprint,
-                                pivot_sweep.margin_ft, ring=pivot_sweep.ring)
+                                pivot_sweep.margin_ft, ring=pivot_sweep.ring,
+                                inner_ft=pivot_sweep.inner_ft)
     return pivot_ft <= 0 or _disc_seen_free(fm, x, z, pivot_ft)
 
 
@@ -532,6 +541,56 @@ def safe_prefix(cmds, est: State, safe: Passable, seen: np.ndarray, step: float,
     return out
 
 
+STEER_MAX_DEG = 10           # DriveConfig.steer: the largest heading change tried, in whole degrees
+STEER_GAIN_FT = 0.25         # ... and the least it must add to the move the path's heading allows
+
+
+def steered_prefix(cmds, seg, prefix, step: float, max_deg: int = STEER_MAX_DEG,
+                   gain_ft: float = STEER_GAIN_FT):
+    """(``[TURN t, FORWARD d]``, the change in degrees) or None
+    (``DriveConfig.steer`` "idle" and "small"; not 1985): where the path's first leg is cut short (``seg``, :func:`safe_prefix` of
+    ``cmds``), the same leg on a heading up to ``max_deg`` off the path's, in
+    whole degrees, nearest first, that ``prefix`` (safe_prefix with the cycle's
+    own map and rules) lets run at least ``gain_ft`` farther; of those the
+    longest (the smallest change on a tie).  A path's leg is a line between
+    cell centres, its band checked against cells a look may have shown only to
+    within a few hundredths of a foot of it: the band's edge grazes a never-seen
+    cell beside the vehicle, which the fixed rig cannot show (room 10: 2 deg
+    to the left, the whole 1.3 ft).  Every move it returns passes the same
+    checks as the path's own."""
+    first = next_segment(cmds, step)
+    lead = 0.0
+    want = 0.0
+    for c in first:
+        if isinstance(c, Turn):
+            lead += c.angle_deg
+            continue
+        if isinstance(c, Forward):
+            want = c.distance_ft
+        break
+    got = _leading_forward(seg)
+    if want - got < gain_ft:
+        return None
+    best, best_d = None, got + gain_ft - 1e-9
+    for k in range(1, max_deg + 1):
+        for off in (k, -k):
+            trial = prefix([Turn(round(lead + off, 2)), Forward(want)])
+            d = _leading_forward(trial)
+            if d > best_d + 1e-9:
+                best, best_d = (trial, off), d
+    return best
+
+
+def _leading_forward(seg) -> float:
+    """The distance of the first forward move of ``seg`` after its leading turns (0 if none)."""
+    for c in seg:
+        if isinstance(c, Forward):
+            return c.distance_ft
+        if not isinstance(c, Turn):
+            break
+    return 0.0
+
+
 def _blocker(fm: FloorMap, safe: Passable, pts, near_ft: float):
     """Where the path's execution would stop for want of evidence: the first
     sample of the path (a quarter cell apart) outside the space seen free, or
@@ -681,6 +740,20 @@ def goal_blocker(fm: FloorMap, goal, radius: float):
     return (float(cx[q]), float(cz[q])) if d[q] <= radius else None
 
 
+def _look_turn_ok(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfile, cfg) -> bool:
+    """May :func:`look_at` turn in place to look: its circle seen free (the
+    pivot's half diagonal, with the margin under ``pivot="margin"``); under
+    ``pivot="swept-ring-inner"`` (not 1985) the swept ring's rule
+    (:func:`pivot_allowed`), whose ring the circle does not check, with its
+    inner ``PIVOT_INNER_FT`` seen free: a turn made only to look may wait for
+    the floor beside the vehicle to be shown.  Room 32 turned to look with a
+    box no look had located 0.58 ft from its centre."""
+    if cfg.pivot != "swept-ring-inner":
+        return _disc_seen_free(fm, est.x, est.z, pivot_radius_ft(prof, cfg.pivot == "margin"))
+    sweep = PivotSweep(prof.footprint, prof.margin_ft, ring="known", inner_ft=PIVOT_INNER_FT)
+    return pivot_allowed(fm, est, angle_deg, prof, sweep)
+
+
 def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,
             prof: VehicleProfile, cfg, tried: dict):
     """(commands, note) that get a look at the cell ``u`` (fetch_evidence's
@@ -701,7 +774,7 @@ def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,
             # needs more than one look through it to be cleared; look again
             tried.append(here)
             return [], f" (looking again at ({u[0]:.1f}, {u[1]:.1f}))"
-        if _disc_seen_free(fm, est.x, est.z, pivot_radius_ft(prof, cfg.pivot == "margin")):
+        if _look_turn_ok(fm, est, off, prof, cfg):
             return [Turn(round(off, 2))], f" (turning to look at ({u[0]:.1f}, {u[1]:.1f}))"
     seen_only = clearance_map(fm, prof.planning_radius_ft, "blocked", uncertain="blocked",
                               at=cfg.clearance_at)

@@ -183,7 +183,7 @@ LOOP_OPTION_GROUPS = (
       "--goal-evidence",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
     ("the motion", "what the vehicle may do with the path",
-     ("--pivot", "--move-ring", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
+     ("--pivot", "--move-ring", "--steer", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
       "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
 )
 
@@ -192,9 +192,10 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-        TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, \
+        TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
     MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, \
         WALL_POINTS, WALL_FIX_FIRSTS
+    from planner.motion import PIVOT_INNER_FT, STEER_MAX_DEG
     from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
     from planner.perception import BLANK_LIMITS, BLANK_SIDES, PLACES, SIGHT_LINES
     from model.pose import ESTIMATORS
@@ -240,13 +241,22 @@ def add_loop_options(p) -> None:
              "sweeps through the angle; small-swept: a turn up to 5 deg by its sweep, a "
              "larger one by the disc; swept-ring (default): the bare footprint's sweep "
              "seen free, a cell of the margin's ring never seen where nothing seen lies "
-             "within the planning radius of it")
+             "within the planning radius of it; swept-ring-inner (not 1985): that, but a "
+             f"turn made only to look needs the footprint grown by {PIVOT_INNER_FT} ft seen "
+             "free as well")
     opt("--move-ring", choices=MOVE_RINGS, default=C.move_ring,
         help="a forward move's swept band beyond the bare footprint (the margin's ring): "
              "seen: every cell seen; known (not 1985): a never-seen cell will do where "
              "nothing seen lies within the planning radius of it, as --pivot swept-ring "
              "lets a pivot's; start (not 1985; default): that only where the grown "
              "footprint stands at the move's start, which every pivot there sweeps too")
+    opt("--steer", choices=STEERS, default=C.steer,
+        help="a path's first leg cut short by the checks every move passes (a band "
+             "that grazes a never-seen cell beside the vehicle): off: the path's heading; "
+             f"small (not 1985): the same leg on a heading up to {STEER_MAX_DEG} deg off "
+             "it, nearest first, where the checks let it run farther; idle (not 1985; "
+             "default): that only where the vehicle would otherwise look round in place, "
+             "nothing else to do")
     opt("--passage", choices=PASSAGES, default=C.passage,
         help="where the vehicle may pass: circle: paths and forward moves where the "
              "pivot circle and the margin fit; moves (not 1985; default): the circle's "
@@ -583,7 +593,7 @@ def loop_config(args, goal, fail):
                        match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
-                       move_ring=args.move_ring, passage=args.passage,
+                       move_ring=args.move_ring, passage=args.passage, steer=args.steer,
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, turn_room=args.turn_room,
