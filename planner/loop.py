@@ -141,12 +141,13 @@ from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
 from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
-    steered_prefix, PIVOT_INNER_FT, \
+    steered_prefix, inner_ring_sweep, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen, goal_blocker, look_at
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
+from .passage import narrow_cells
 from .planning import GOAL_SLACK_FT, GOALS, PASSAGES, UNCERTAIN_PLANS, plan as plan_path, true_optimum
 from .search import NoPath, clearance_map, path_length
 from .trajectory import heading_to, wrap
@@ -975,7 +976,7 @@ class Drive:
         # a turn made only to look (look_round's): under "swept-ring-inner" the
         # ring's inner part seen free as well (motion._look_turn_ok)
         self.look_sweep = self.pivot_sweep if cfg.pivot != "swept-ring-inner" else \
-            PivotSweep(prof.footprint, prof.margin_ft, ring="known", inner_ft=PIVOT_INNER_FT)
+            inner_ring_sweep(prof)
         self.pivot_r = pivot_radius_ft(prof, cfg.pivot == "margin")
         self.tried: dict = {}                 # blocker cell -> places it was looked at from
         self.ahead_cells: set = set()         # cells the look-ahead has turned to (each once)
@@ -1189,7 +1190,7 @@ class Drive:
                              "blocked" if cfg.safety == "strict" else "free",
                              uncertain="blocked", at=cfg.clearance_at)
         if cfg.passage != "circle":
-            safe.narrow = safe.clearance >= prof.grown_half_ft[0] - 1e-9
+            safe.narrow = narrow_cells(safe, prof)
         seen = fm.cells != UNKNOWN
         seen_eyes = None
         if cfg.trust_view:
@@ -1199,20 +1200,18 @@ class Drive:
             pts, cmds, note = self._plan_on(fm, est)
             if head:
                 cmds = shortcut_first_leg(cmds, est)
-            seg = safe_prefix(cmds, est, safe, seen, prof.step_ft, seen_eyes,
-                              *prof.grown_half_ft, pivot_r, pivot_sweep, pan if head else None,
-                              min_pivot_deg=cfg.min_pivot_deg, margin_ft=prof.margin_ft)
+
+            def prefix(c):
+                return safe_prefix(c, est, safe, seen, prof.step_ft, seen_eyes,
+                                   *prof.grown_half_ft, pivot_r, pivot_sweep,
+                                   pan if head else None, min_pivot_deg=cfg.min_pivot_deg,
+                                   margin_ft=prof.margin_ft)
+            seg = path_seg = prefix(cmds)
             left = path_length(pts)
-            path_seg = seg
 
             def steer(seg, note):
                 # the path's first leg, cut short (path_seg), on a heading a little off
-                got = steered_prefix(
-                    cmds, path_seg, lambda c: safe_prefix(
-                        c, est, safe, seen, prof.step_ft, seen_eyes, *prof.grown_half_ft,
-                        pivot_r, pivot_sweep, pan if head else None,
-                        min_pivot_deg=cfg.min_pivot_deg, margin_ft=prof.margin_ft),
-                    prof.step_ft)
+                got = steered_prefix(cmds, path_seg, prefix, prof.step_ft)
                 return (seg, note) if got is None else \
                     (got[0], note + f" (steered {got[1]:+d} deg)")
             if cfg.steer == "small":

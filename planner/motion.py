@@ -253,6 +253,12 @@ class PivotSweep(NamedTuple):
     inner_ft: float = 0.0      # ring "known": the ring's first inner_ft seen free as well
 
 
+def inner_ring_sweep(prof: VehicleProfile) -> PivotSweep:
+    """What a turn made only to look needs under ``pivot="swept-ring-inner"``: the
+    swept ring's rule with its inner :data:`PIVOT_INNER_FT` seen free."""
+    return PivotSweep(prof.footprint, prof.margin_ft, ring="known", inner_ft=PIVOT_INNER_FT)
+
+
 def _pivot_ok(fm: FloorMap, x: float, z: float, h: float, angle_deg: float, pivot_ft: float,
               pivot_sweep: PivotSweep | None = None) -> bool:
     """The pivot rule: ``pivot_sweep`` given and the turn no larger than its
@@ -750,8 +756,7 @@ def _look_turn_ok(fm: FloorMap, est: State, angle_deg: float, prof: VehicleProfi
     box no look had located 0.58 ft from its centre."""
     if cfg.pivot != "swept-ring-inner":
         return _disc_seen_free(fm, est.x, est.z, pivot_radius_ft(prof, cfg.pivot == "margin"))
-    sweep = PivotSweep(prof.footprint, prof.margin_ft, ring="known", inner_ft=PIVOT_INNER_FT)
-    return pivot_allowed(fm, est, angle_deg, prof, sweep)
+    return pivot_allowed(fm, est, angle_deg, prof, inner_ring_sweep(prof))
 
 
 def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,

@@ -27,10 +27,14 @@ Small pure functions over boolean cell masks (rows z, columns x).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .search import Passable, line_of_sight
+
+if TYPE_CHECKING:
+    from vehicle.profile import VehicleProfile
 
 # the grid's lines a straight run may follow: (rows, columns) per step
 LINES = ((0, 1), (1, 0), (1, 1), (1, -1))
@@ -64,6 +68,12 @@ def _runs_between(wide: np.ndarray, narrow: np.ndarray, di: int, dj: int) -> np.
             reach[:, j] = narrow[:, j] & _shift(wide[:, pj] | reach[:, pj], step_i)
         return reach
     return sweep(di, dj) & sweep(-di, -dj)
+
+
+def narrow_cells(p: Passable, prof: VehicleProfile) -> np.ndarray:
+    """(nz, nx) bool: the cells of ``p``'s map with the profile's grown half width
+    (``width / 2 + margin``) clear: those a forward move may cross."""
+    return p.clearance >= prof.grown_half_ft[0] - 1e-9
 
 
 def straight_runs(wide: np.ndarray, narrow: np.ndarray) -> np.ndarray:

@@ -25,7 +25,7 @@ from .floormap import FloorMap, true_floor_map
 from .octree import UNCERTAIN, UNKNOWN
 from .search import NoPath, Passable, astar, clearance_map, hierarchical_search, line_of_sight, \
     path_length, segment_samples
-from .passage import shorten_straight, straight_passable
+from .passage import narrow_cells, shorten_straight, straight_passable
 from .trajectory import shorten, to_commands
 
 if TYPE_CHECKING:
@@ -348,7 +348,7 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
     if passage == "straight":
         # the narrow cells a vehicle crosses straight, pivoting only in wide ones
         prof = cfg.profile
-        narrow = Passable(p.clearance >= prof.grown_half_ft[0] - 1e-9, p.clearance, p.blocked,
+        narrow = Passable(narrow_cells(p, prof), p.clearance, p.blocked,
                           fm, prof.grown_half_ft[0], p.unknown, p.at)
         wide = p.ok
         p = straight_passable(p, narrow, start, est.heading_deg, goal)
