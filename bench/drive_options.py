@@ -70,6 +70,7 @@ OPTIONS = [
     "--steer off",
     "--steer small",
     "--steer small --pivot swept-ring-inner",
+    "--fine-map fallback",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",

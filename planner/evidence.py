@@ -1122,24 +1122,56 @@ class Perception:
                                          self.band, self.blank_near, self.pivot_proof)
         return fm
 
-    def _draw_features(self, fm: FloorMap) -> None:
+    def _draw_features(self, fm: FloorMap, within: np.ndarray | None = None) -> None:
         """The occupied and uncertain cells regenerated from the floor
-        features; the octree's hit cells count only as seen, not free."""
-        fm.cells[(fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)] = UNKNOWN
+        features; the octree's hit cells count only as seen, not free.  With
+        ``within`` (a mask of ``fm``), only there: the rest of the map as it is."""
+        redraw = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
+        if within is not None:
+            redraw &= within
+        fm.cells[redraw] = UNKNOWN
         occ, unc = self.features.cells(fm.cell, self.confirm_looks)
-        i0, j0 = int(round(fm.z0 / fm.cell)), int(round(fm.x0 / fm.cell))
-
-        def at(cells):
-            i, j = cells[:, 1] - i0, cells[:, 0] - j0
-            ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
-            return i[ok], j[ok]
         for cells, st in ((unc, UNCERTAIN), (occ, OCCUPIED)):        # occupied wins
-            fm.cells[at(cells)] = st
+            mask = cells_mask(fm, cells)
+            fm.cells[mask if within is None else mask & within] = st
         if self.draw_core:
-            fm.uncertain_core = np.zeros(fm.shape, bool)
-            one_sigma = self.features.uncertain_cells(fm.cell, self.confirm_looks, 1.0)
-            fm.uncertain_core[at(one_sigma)] = True
+            one_sigma = cells_mask(fm, self.features.uncertain_cells(fm.cell, self.confirm_looks,
+                                                                     1.0))
+            if within is None:
+                fm.uncertain_core = one_sigma
+            else:
+                kept = fm.uncertain_core if fm.uncertain_core is not None else \
+                    np.zeros(fm.shape, bool)
+                fm.uncertain_core = (kept & ~within) | (one_sigma & within)
             fm.uncertain_core &= fm.cells == UNCERTAIN
+
+    def halved_map(self, fm: FloorMap, walls=None) -> FloorMap:
+        """``fm`` (a map this model drew: :meth:`floor_map`, with the track,
+        the walls and the rest laid on it) on cells of half the side, for the
+        search (``DriveConfig.fine_map``; not 1985): every cell split in four
+        as it is, except the cells the features or the plan's ``walls`` (x0,
+        x1, z0, z1) blocked, where the features and the walls are drawn again
+        on the half cells.  What the looks proved free or left unknown is not
+        resolved any finer: only the blocked cells shrink toward the features
+        and walls that blocked them (a feature 0.05 ft inside a 0.25 ft cell
+        blocked all of it), never grow."""
+        fine = fm.halved()
+        drawn = np.zeros(fm.shape, bool)
+        if self.occupied == "model":
+            occ, unc = self.features.cells(fm.cell, self.confirm_looks)
+            drawn = cells_mask(fm, occ) | cells_mask(fm, unc)
+        if walls is not None:
+            drawn |= walls_mask(fm, walls)
+        blocked = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
+        within = FloorMap(drawn & blocked, fm.x0, fm.z0, fm.cell).halved().cells
+        within = within.astype(bool)
+        if self.occupied == "model":
+            self._draw_features(fine, within)
+        else:
+            fine.cells[within] = UNKNOWN
+        if walls is not None:
+            mark_walls(fine, walls)
+        return fine
 
 
 def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
@@ -1160,15 +1192,33 @@ def _near_free(fm: FloorMap, origin, ends, near_ft: float) -> np.ndarray:
     return free.all(1)
 
 
-def mark_walls(fm: FloorMap, bounds) -> None:
-    """The floor plan: every cell reaching past the walls is occupied."""
+def walls_mask(fm: FloorMap, bounds) -> np.ndarray:
+    """(nz, nx) bool: the cells of ``fm`` reaching past the walls ``bounds``
+    (x0, x1, z0, z1)."""
     nz, nx = fm.shape
     xs = fm.x0 + np.arange(nx + 1) * fm.cell
     zs = fm.z0 + np.arange(nz + 1) * fm.cell
     bx0, bx1, bz0, bz1 = bounds
     out_x = (xs[:-1] < bx0) | (xs[1:] > bx1)
     out_z = (zs[:-1] < bz0) | (zs[1:] > bz1)
-    fm.cells[out_z[:, None] | out_x[None, :]] = OCCUPIED
+    return out_z[:, None] | out_x[None, :]
+
+
+def mark_walls(fm: FloorMap, bounds) -> None:
+    """The floor plan: every cell reaching past the walls is occupied."""
+    fm.cells[walls_mask(fm, bounds)] = OCCUPIED
+
+
+def cells_mask(fm: FloorMap, cells) -> np.ndarray:
+    """(nz, nx) bool: the integer cells ``cells`` ((M, 2): floor(x / cell),
+    floor(z / cell)) that lie on ``fm``."""
+    i0, j0 = int(round(fm.z0 / fm.cell)), int(round(fm.x0 / fm.cell))
+    cells = np.asarray(cells, np.int64).reshape(-1, 2)
+    i, j = cells[:, 1] - i0, cells[:, 0] - j0
+    ok = (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    out = np.zeros(fm.shape, bool)
+    out[i[ok], j[ok]] = True
+    return out
 
 
 WALL_SIGMAS = 2.0       # the assumed floor kept off the plan's walls by 2 sigma (as features grow)

@@ -71,6 +71,15 @@ class FloorMap:
     def inside(self, i: int, j: int) -> bool:
         return 0 <= i < self.cells.shape[0] and 0 <= j < self.cells.shape[1]
 
+    def halved(self) -> FloorMap:
+        """The same map on cells of half the side: each cell, and each of its
+        masks, split in four."""
+        def split(a):
+            return None if a is None else np.repeat(np.repeat(a, 2, 0), 2, 1)
+        return FloorMap(split(self.cells), self.x0, self.z0, self.cell / 2, split(self.assumed),
+                        split(self.drift_kept), split(self.uncertain_core),
+                        split(self.move_ring), self.move_ring_start)
+
     def state_at(self, x: float, z: float) -> int:
         i, j = self.index(x, z)
         return int(self.cells[i, j]) if self.inside(i, j) else UNKNOWN

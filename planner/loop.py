@@ -174,6 +174,7 @@ HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
+FINE_MAPS = ("off", "fallback")      # DriveConfig.fine_map: half cells where no map has a way
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
 WALL_FIX_FIRSTS = ("widened", "base")  # DriveConfig.wall_fix_first
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
@@ -505,6 +506,12 @@ class DriveConfig:
                                           # odometry tail, room 175: 5.3 deg in two commands
                                           # against 1.4 sigma) is found again at the next look
                                           # instead of drifting on until a wrong fix
+    wall_fix_most: float | None = None    # (not 1985) the widened window at most this many
+                                          # sigmas (never less than wall_fix_sigmas); None:
+                                          # no bound.  A consensus is the heading most
+                                          # points agree on anywhere in the window: 8 and 11
+                                          # sigmas wide it took about 20 points 14-17 deg
+                                          # off for a wall (rooms 321, 329, fine_map)
     wall_fix_first: str = "widened"       # which window a widened fix searches: "widened"
                                           # (as since 09:30): the whole widened window at
                                           # once; "base" (not 1985; a named option): the
@@ -615,6 +622,12 @@ class DriveConfig:
                                           # one lies on the map out to the walls, that map
                                           # for the cycle (Drive.map_to_plan_on); seeds
                                           # 1-900: 541 goals against 529, 0 collisions
+    fine_map: str = "off"                 # (not 1985) "fallback": where neither map of
+                                          # map_extent has a path to the goal, the same maps
+                                          # on cells of half the side, the features and the
+                                          # walls drawn again on them (Perception.halved_map:
+                                          # only the blocked cells shrink), for the cycle;
+                                          # "off": never (Drive.map_to_plan_on)
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;
@@ -790,6 +803,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
                           ("approach", APPROACHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
+                          ("fine_map", FINE_MAPS),
                           ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
                           ("free_drift", FREE_DRIFTS), ("free_gaps", FREE_GAPS),
                           ("wall_points", WALL_POINTS), ("wall_fix_first", WALL_FIX_FIRSTS),
@@ -832,6 +846,11 @@ def _check_config(cfg: DriveConfig) -> None:
             or not 0 <= cfg.wall_fix_widen < 10:
         raise ValueError(f"wall_fix_widen must be a number of standard deviations from 0 (off) "
                          f"to under 10, not {cfg.wall_fix_widen!r}")
+    if cfg.wall_fix_most is not None and (
+            isinstance(cfg.wall_fix_most, bool) or not isinstance(cfg.wall_fix_most, (int, float))
+            or not 0 < cfg.wall_fix_most < 10):
+        raise ValueError(f"wall_fix_most must be None (no bound) or a number of standard "
+                         f"deviations above 0 and under 10, not {cfg.wall_fix_most!r}")
     if not (isinstance(cfg.min_pivot_deg, (int, float))
             and 0 <= cfg.min_pivot_deg <= MAX_MIN_PIVOT_DEG):
         raise ValueError(f"min_pivot_deg must be a turn of 0 (every turn a pivot) to "
@@ -1054,7 +1073,10 @@ class Drive:
             q, cq = rig_wall_points(points, self.cfg.min_range_ft)
             if self.cfg.wall_points == "floor-ends":
                 q, cq = self._with_floor_ends(q, cq, look.left_bi, pitch)
-        windows = [self.cfg.wall_fix_sigmas + self.cfg.wall_fix_widen * self.looks_unfixed]
+        widened = self.cfg.wall_fix_sigmas + self.cfg.wall_fix_widen * self.looks_unfixed
+        if self.cfg.wall_fix_most is not None:
+            widened = min(widened, max(self.cfg.wall_fix_most, self.cfg.wall_fix_sigmas))
+        windows = [widened]
         if self.cfg.wall_fix_first == "base" and windows[0] > self.cfg.wall_fix_sigmas:
             windows.insert(0, self.cfg.wall_fix_sigmas)
         fix = fix_in_windows(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
@@ -1127,13 +1149,21 @@ class Drive:
         if cfg.free_gaps == "fill":       # (after the erosion: what it gave up stays unknown)
             fm.cells = fill_one_cell_gaps(fm.cells)
         if cfg.known_walls:
-            bx0, bx1, bz0, bz1 = self.room.bounds
-            gx, gz = wall_growth(self.dead_cov) if cfg.plan_walls == "grown" else (0.0, 0.0)
-            mark_walls(fm, (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz))
+            mark_walls(fm, self.plan_walls())
         if cfg.move_ring in ("known", "start"):
             fm.move_ring = clear_unseen(fm, prof.planning_radius_ft)
             fm.move_ring_start = cfg.move_ring == "start"
         return fm
+
+    def plan_walls(self):
+        """The floor plan's walls (x0, x1, z0, z1) as the map draws them
+        (``plan_walls="grown"``: two standard deviations of the estimate's
+        position nearer), or None without ``known_walls``."""
+        if not self.cfg.known_walls:
+            return None
+        bx0, bx1, bz0, bz1 = self.room.bounds
+        gx, gz = wall_growth(self.dead_cov) if self.cfg.plan_walls == "grown" else (0.0, 0.0)
+        return (bx0 + gx, bx1 - gx, bz0 + gz, bz1 - gz)
 
     def map_to_plan_on(self, fm: FloorMap, est: State) -> FloorMap:
         """The map the cycle plans on: ``fm``; under ``map_extent="fallback"``, where no
@@ -1141,11 +1171,27 @@ class Drive:
         nearest the goal) and one lies on the map drawn out to the room's walls, that
         map.  (Where the goal itself is refused on both, a goal too near an obstacle on
         the map, ``fm`` stays: with the wider map the nearest reachable cell moved and
-        rooms 44 and 93 on depth eyes stopped short.)"""
-        if self.cfg.map_extent != "fallback" or self._reaches_goal(fm, est):
+        rooms 44 and 93 on depth eyes stopped short.)  Under ``fine_map="fallback"``,
+        where neither has a path to the goal, the first of them that has one on half
+        cells (:meth:`Perception.halved_map`)."""
+        cfg = self.cfg
+        if (cfg.map_extent != "fallback" and cfg.fine_map == "off") \
+                or self._reaches_goal(fm, est):
             return fm
-        wide = self.drawn_map(est, "walls")
-        return wide if self._reaches_goal(wide, est) else fm
+        maps = [fm]
+        if cfg.map_extent == "fallback":
+            wide = self.drawn_map(est, "walls")
+            if self._reaches_goal(wide, est):
+                return wide
+            maps.append(wide)
+        if cfg.fine_map == "fallback":
+            # the blocked cells drawn again on half cells: a way the rounding to
+            # whole cells closed (a feature blocks all of the cell it touches)
+            for coarse in maps:
+                fine = self.model.halved_map(coarse, self.plan_walls())
+                if self._reaches_goal(fine, est):
+                    return fine
+        return fm
 
     def _reaches_goal(self, fm: FloorMap, est: State) -> bool:
         """Whether the planner finds a path to the goal itself on ``fm``."""
@@ -1264,6 +1310,8 @@ class Drive:
         if not fetching and (not seg or all(isinstance(c, Turn) and abs(c.angle_deg) < 1.0
                                             for c in seg)):
             seg, note = self.look_round(fm, est, safe, seen, note, pts)
+        if fm.cell < cfg.voi.resolution - 1e-9:
+            note += " (planned on half cells)"
         return Decision(pts, seg, note, left, fetching, safe, fm)
 
     def look_at_goal(self, fm: FloorMap, safe, seen, est: State):
@@ -1372,7 +1420,10 @@ class Drive:
             progressed = False
             if left is not None and left < self.best_left - 0.25:
                 self.best_left, progressed = left, True
-            n_free = int((fm.cells == FREE).sum())
+            # (counted in the look's own cells, a quarter foot: a halved map's
+            # four cells are one)
+            n_free = int((fm.cells == FREE).sum() * (fm.cell / self.cfg.voi.resolution) ** 2
+                         + 1e-6)
             if n_free >= self.most_free + 8:
                 self.most_free, progressed = n_free, True
         self.stuck = 0 if progressed else self.stuck + 1

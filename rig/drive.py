@@ -168,7 +168,7 @@ LOOP_OPTION_GROUPS = (
     ("the eyes", "what the loop sees with",
      ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
-     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-first",
+     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-first",
       "--feature-pose", "--drift-sigmas")),
     ("the map: what is occupied", "where a look's located points and the floor plan block",
      ("--hit-at", "--growth", "--occupied", "--expire-uncertain", "--refute-hits",
@@ -181,7 +181,7 @@ LOOP_OPTION_GROUPS = (
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--passage", "--goal-region", "--uncertain",
       "--goal-evidence",
-      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent")),
+      "--seen-cost", "--rejoin", "--blind-zone", "--map-extent", "--fine-map")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--move-ring", "--steer", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
       "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
@@ -193,7 +193,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
-    MAP_EXTENTS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, \
+    MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.motion import PIVOT_INNER_FT, STEER_MAX_DEG
     from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
@@ -464,6 +464,12 @@ def add_loop_options(p) -> None:
              "round, its border blocking the search (no path: a drive toward the "
              "reachable cell nearest the goal); 'walls' (not 1985): the room's floor "
              "plan as well, every cycle")
+    opt("--fine-map", choices=FINE_MAPS, default=C.fine_map,
+        help="where neither map of --map-extent has a path to the goal: 'fallback' "
+             "(not 1985) plans that cycle on the same maps with cells of half the side "
+             "(0.125 ft with the default cells), the features and walls that blocked a cell drawn again on them "
+             "(what the looks proved free is not resolved finer); 'off' (the default): "
+             "never")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "
@@ -489,6 +495,10 @@ def add_loop_options(p) -> None:
              "grows by for each look in a row without a fix (not 1985; default "
              f"{C.wall_fix_widen:g}; 0: as before 2026-12-05): a heading the odometry "
              "threw out of the window is found again at the next look")
+    opt("--wall-fix-most", type=float, default=C.wall_fix_most, metavar="S",
+        help="under --pose walls: the widened window at most S standard deviations of the "
+             "prior's heading (not 1985; default: no bound; a wide window lets a few "
+             "points that agree on a heading far off outvote the wall, rooms 321 and 329)")
     opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
         help="under --pose walls after looks without a fix: 'widened' (default) "
              "searches the whole widened window at once; 'base' (not 1985) the "
@@ -611,10 +621,12 @@ def loop_config(args, goal, fail):
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
                        wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen, wall_fix_first=args.wall_fix_first,
+                       wall_fix_most=args.wall_fix_most,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,
-                       map_extent=args.map_extent, plan_walls=args.plan_walls,
+                       map_extent=args.map_extent, fine_map=args.fine_map,
+                       plan_walls=args.plan_walls,
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,

@@ -431,3 +431,22 @@ def test_room_866s_false_fix_in_the_widened_window_and_the_base_window_first():
     from planner.loop import _check_config
     with pytest.raises(ValueError, match="unknown wall_fix_first 'both'; one of widened, base"):
         _check_config(DriveConfig(goal=goal, wall_fix_first="both"))
+
+
+def test_the_widened_window_is_bounded_where_asked():
+    """``wall_fix_most``: bench room 329 planned on half cells where no map has a way
+    (``fine_map="fallback"``).  Nine looks in a row without a fix widen the window to
+    11 sigma (3.3 deg each), where 18 points that agree on a heading 17 deg off the
+    truth take the far wall's place at look 30, and the vehicle drives into a box on
+    that estimate at look 40.  Bounded at 4 sigma, the window refuses that fix and the
+    drive ends without a collision (the world's exact geometry judges both).  Out of
+    range is refused by name."""
+    from planner.loop import DriveConfig, _check_config
+    from rigtools import bench_drives
+    assert DriveConfig.wall_fix_most is None
+    _, res = bench_drives(329, "wall_fix_most", (None, 4.0), fine_map="fallback")
+    assert res[None].collisions == 1
+    assert res[4.0].collisions == 0
+    for bad in (0, -1.0, 10.0, True, "4"):
+        with pytest.raises(ValueError, match="wall_fix_most"):
+            _check_config(DriveConfig(goal=(0.0, 5.0), wall_fix_most=bad))
