@@ -71,6 +71,8 @@ OPTIONS = [
     "--steer small",
     "--steer small --pivot swept-ring-inner",
     "--fine-map fallback",
+    "--fine-map fallback --wall-fix-most 0",
+    "--wall-fix-most 0",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",

@@ -506,9 +506,10 @@ class DriveConfig:
                                           # odometry tail, room 175: 5.3 deg in two commands
                                           # against 1.4 sigma) is found again at the next look
                                           # instead of drifting on until a wrong fix
-    wall_fix_most: float | None = None    # (not 1985) the widened window at most this many
-                                          # sigmas (never less than wall_fix_sigmas); None:
-                                          # no bound.  A consensus is the heading most
+    wall_fix_most: float | None = 4.0     # (not 1985; the default since 2026-12-06 11:45)
+                                          # the widened window at most this many sigmas
+                                          # (never less than wall_fix_sigmas); None: no
+                                          # bound, before.  A consensus is the heading most
                                           # points agree on anywhere in the window: 8 and 11
                                           # sigmas wide it took about 20 points 14-17 deg
                                           # off for a wall (rooms 321, 329, fine_map)

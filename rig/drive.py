@@ -467,9 +467,9 @@ def add_loop_options(p) -> None:
     opt("--fine-map", choices=FINE_MAPS, default=C.fine_map,
         help="where neither map of --map-extent has a path to the goal: 'fallback' "
              "(not 1985) plans that cycle on the same maps with cells of half the side "
-             "(0.125 ft with the default cells), the features and walls that blocked a cell drawn again on them "
-             "(what the looks proved free is not resolved finer); 'off' (the default): "
-             "never")
+             "(0.125 ft with the default cells), the features and walls that blocked a "
+             "cell drawn again on them (what the looks proved free is not resolved "
+             "finer); 'off' (the default): never")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "
@@ -497,8 +497,9 @@ def add_loop_options(p) -> None:
              "threw out of the window is found again at the next look")
     opt("--wall-fix-most", type=float, default=C.wall_fix_most, metavar="S",
         help="under --pose walls: the widened window at most S standard deviations of the "
-             "prior's heading (not 1985; default: no bound; a wide window lets a few "
-             "points that agree on a heading far off outvote the wall, rooms 321 and 329)")
+             f"prior's heading (not 1985; default {C.wall_fix_most:g} since 2026-12-06; 0: "
+             "no bound, before; a wide window lets a few points that agree on a heading "
+             "far off outvote the wall, rooms 321 and 329)")
     opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
         help="under --pose walls after looks without a fix: 'widened' (default) "
              "searches the whole widened window at once; 'base' (not 1985) the "
@@ -621,7 +622,7 @@ def loop_config(args, goal, fail):
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
                        wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen, wall_fix_first=args.wall_fix_first,
-                       wall_fix_most=args.wall_fix_most,
+                       wall_fix_most=args.wall_fix_most or None,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

@@ -443,10 +443,18 @@ def test_the_widened_window_is_bounded_where_asked():
     range is refused by name."""
     from planner.loop import DriveConfig, _check_config
     from rigtools import bench_drives
-    assert DriveConfig.wall_fix_most is None
+    assert DriveConfig.wall_fix_most == 4.0
     _, res = bench_drives(329, "wall_fix_most", (None, 4.0), fine_map="fallback")
     assert res[None].collisions == 1
     assert res[4.0].collisions == 0
     for bad in (0, -1.0, 10.0, True, "4"):
         with pytest.raises(ValueError, match="wall_fix_most"):
             _check_config(DriveConfig(goal=(0.0, 5.0), wall_fix_most=bad))
+
+
+def test_rig_drive_takes_the_windows_bound(tmp_path, monkeypatch):
+    """``rig drive --wall-fix-most S`` sets the bound; 0 is no bound (None)."""
+    from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path).wall_fix_most == 4.0
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-most", "3").wall_fix_most == 3.0
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-most", "0").wall_fix_most is None
