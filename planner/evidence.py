@@ -33,7 +33,7 @@ from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, flo
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance
-from .floormap import FLOOR_Y, FloorMap, project_octree
+from .floormap import FLOOR_Y, FloorMap, project_octree, split_in_four
 from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
@@ -1156,15 +1156,14 @@ class Perception:
         and walls that blocked them (a feature 0.05 ft inside a 0.25 ft cell
         blocked all of it), never grow."""
         fine = fm.halved()
-        drawn = np.zeros(fm.shape, bool)
-        if self.occupied == "model":
-            occ, unc = self.features.cells(fm.cell, self.confirm_looks)
-            drawn = cells_mask(fm, occ) | cells_mask(fm, unc)
-        if walls is not None:
-            drawn |= walls_mask(fm, walls)
         blocked = (fm.cells == OCCUPIED) | (fm.cells == UNCERTAIN)
-        within = FloorMap(drawn & blocked, fm.x0, fm.z0, fm.cell).halved().cells
-        within = within.astype(bool)
+        if self.occupied != "model":
+            # a look's hits block their cells as the octree holds them: only the walls
+            blocked &= walls_mask(fm, walls) if walls is not None else False
+        # (under "model" every blocked cell is a feature's or a wall's: _draw_features
+        # turned the octree's own hit cells unknown, and nothing after it blocks a cell
+        # but mark_walls)
+        within = split_in_four(blocked)
         if self.occupied == "model":
             self._draw_features(fine, within)
         else:

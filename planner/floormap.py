@@ -28,6 +28,12 @@ from .octree import FREE, OCCUPIED, UNCERTAIN, UNKNOWN, classify, unpack, free_b
 FLOOR_Y = 3.0          # the floor plane in room coordinates (Y down, cameras at Y = 0)
 
 
+def split_in_four(a: np.ndarray) -> np.ndarray:
+    """(2 nz, 2 nx): each cell of the (nz, nx) grid ``a`` as the four cells of half
+    its side, each with its value."""
+    return np.repeat(np.repeat(a, 2, 0), 2, 1)
+
+
 @dataclass
 class FloorMap:
     cells: np.ndarray          # (nz, nx) uint8 of FREE / OCCUPIED / UNKNOWN / UNCERTAIN
@@ -73,9 +79,9 @@ class FloorMap:
 
     def halved(self) -> FloorMap:
         """The same map on cells of half the side: each cell, and each of its
-        masks, split in four."""
+        masks, split in four (:func:`split_in_four`)."""
         def split(a):
-            return None if a is None else np.repeat(np.repeat(a, 2, 0), 2, 1)
+            return None if a is None else split_in_four(a)
         return FloorMap(split(self.cells), self.x0, self.z0, self.cell / 2, split(self.assumed),
                         split(self.drift_kept), split(self.uncertain_core),
                         split(self.move_ring), self.move_ring_start)

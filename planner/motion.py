@@ -554,9 +554,9 @@ STEER_GAIN_FT = 0.25         # ... and the least it must add to the move the pat
 def steered_prefix(cmds, seg, prefix, step: float, max_deg: int = STEER_MAX_DEG,
                    gain_ft: float = STEER_GAIN_FT):
     """(``[TURN t, FORWARD d]``, the change in degrees) or None
-    (``DriveConfig.steer`` "idle" and "small"; not 1985): where the path's first leg is cut short (``seg``, :func:`safe_prefix` of
-    ``cmds``), the same leg on a heading up to ``max_deg`` off the path's, in
-    whole degrees, nearest first, that ``prefix`` (safe_prefix with the cycle's
+    (``DriveConfig.steer`` "idle" and "small"; not 1985): where the path's first
+    leg is cut short (``seg``, :func:`safe_prefix` of ``cmds``), the same leg
+    on a heading up to ``max_deg`` off the path's, in whole degrees, nearest first, that ``prefix`` (safe_prefix with the cycle's
     own map and rules) lets run at least ``gain_ft`` farther; of those the
     longest (the smallest change on a tie).  A path's leg is a line between
     cell centres, its band checked against cells a look may have shown only to
