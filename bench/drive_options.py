@@ -73,6 +73,7 @@ OPTIONS = [
     "--fine-map fallback",
     "--fine-map fallback --wall-fix-most 0",
     "--wall-fix-most 0",
+    "--wall-fix-far 30",
     "--sight-lines band",
     "--blank-carve always",
     "--free-drift erode",

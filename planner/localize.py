@@ -49,6 +49,7 @@ ITERATIONS = 8                # iterated EKF steps per solve (it converges in 2-
 VOTE_FT = 0.15                # the consensus: a point agrees with a wall this near it
 VOTE_STEP_DEG = 0.5           # the consensus's heading step
 VOTE_SPAN_DEG = 20.0          # ... at most this far either side of the prior
+FAR_SIGMAS = 3.0              # far_turn: a fix this far from the prior's heading is far
 HEADING_SIGMAS = 2.0          # a fix's heading within this many of the prior's standard
                               # deviations (3 before 2026-12-05: room 684's floor-grey
                               # skirting turned it 4-6 deg, 2.4-3.3 sigma, look after look)
@@ -305,6 +306,22 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
     heading = (math.degrees(s2[2]) - pan_deg + 180.0) % 360.0 - 180.0
     names = tuple(n for k, n in enumerate(("x0", "x1", "z0", "z1")) if np.any(wall[ok] == k))
     return WallFix(float(s2[0]), float(s2[1]), heading, P2, ok, True, names)
+
+
+def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int):
+    """How far (deg) the wall fix ``fix`` turns the prior's heading where that is more
+    than :data:`FAR_SIGMAS` of the prior's standard deviation (``prior_cov`` (x, z,
+    heading rad)) on fewer than ``far_points`` points; None otherwise (or no fix).
+    ``DriveConfig.wall_fix_far`` (not 1985) takes such a fix only when the look before
+    showed one turning the same way.  The odometry's heading is honest (about one
+    fix in a hundred lies 2.5 sigma off, as a normal law says), but the false fixes
+    logged on seeds 1-76 and 451-531 turned it 3.1-4.1 sigma on 8-26 points of one wall
+    (docs/planner.md)."""
+    if not fix.fixed or not far_points or int(fix.used.sum()) >= far_points:
+        return None
+    turn = (fix.heading_deg - prior_heading_deg + 180.0) % 360.0 - 180.0
+    sd = math.degrees(math.sqrt(float(np.asarray(prior_cov, float).reshape(3, 3)[2, 2])))
+    return turn if abs(turn) > FAR_SIGMAS * sd else None
 
 
 def fix_in_windows(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float,

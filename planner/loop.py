@@ -513,6 +513,12 @@ class DriveConfig:
                                           # points agree on anywhere in the window: 8 and 11
                                           # sigmas wide it took about 20 points 14-17 deg
                                           # off for a wall (rooms 321, 329, fine_map)
+    wall_fix_far: int = 0                 # (not 1985; a named option; 0: off) a fix more
+                                          # than 3 sigmas from the prior's heading on fewer
+                                          # points than this is taken only where the look
+                                          # before showed one turning it as far the same
+                                          # way (localize.far_turn; room 2: 13 points
+                                          # turned it 10.6 deg, 3.5 sigma, the wrong way)
     wall_fix_first: str = "widened"       # which window a widened fix searches: "widened"
                                           # (as since 09:30): the whole widened window at
                                           # once; "base" (not 1985; a named option): the
@@ -852,6 +858,10 @@ def _check_config(cfg: DriveConfig) -> None:
             or not 0 < cfg.wall_fix_most < 10):
         raise ValueError(f"wall_fix_most must be None (no bound) or a number of standard "
                          f"deviations above 0 and under 10, not {cfg.wall_fix_most!r}")
+    if isinstance(cfg.wall_fix_far, bool) or not isinstance(cfg.wall_fix_far, int) \
+            or cfg.wall_fix_far < 0:
+        raise ValueError(f"wall_fix_far must be a number of points, 0 (off) or more, "
+                         f"not {cfg.wall_fix_far!r}")
     if not (isinstance(cfg.min_pivot_deg, (int, float))
             and 0 <= cfg.min_pivot_deg <= MAX_MIN_PIVOT_DEG):
         raise ValueError(f"min_pivot_deg must be a turn of 0 (every turn a pivot) to "
@@ -972,6 +982,7 @@ class Drive:
         self.walls = cfg.pose == "walls"      # the estimate fixed against the plan's walls
         self.wall_fixes = 0
         self.looks_unfixed = 0                # looks in a row without a wall fix (wall_fix_widen)
+        self.far_before = None                # the last look's far turn not taken (wall_fix_far)
         self.drift_eroded = 0                 # free_drift "erode", "moves": what the last map gave up
         if cfg.pose == "fused":
             from model.mapping import WalkConfig, Walker
@@ -1065,7 +1076,7 @@ class Drive:
 
     def _wall_fix(self, look, points, pan: float, tilt: float) -> State:
         """:meth:`estimate` under ``pose="walls"``."""
-        from .localize import depth_wall_points, fix_in_windows, rig_wall_points
+        from .localize import depth_wall_points, far_turn, fix_in_windows, rig_wall_points
         pitch = self.prof.camera_pitch_deg + tilt
         prior = self.current()
         if self.cfg.eyes == "depth":
@@ -1082,6 +1093,14 @@ class Drive:
             windows.insert(0, self.cfg.wall_fix_sigmas)
         fix = fix_in_windows(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
                              self.room.bounds, pitch, pan, windows)
+        far = far_turn(fix, prior.heading_deg, self.dead_cov, self.cfg.wall_fix_far)
+        if far is not None and (self.far_before is None or abs(far - self.far_before) >
+                                2.0 * math.degrees(math.sqrt(self.dead_cov[2][2]))):
+            # a far turn on few points: taken when the next look shows it too
+            self.far_before = far
+            self.looks_unfixed += 1
+            return prior
+        self.far_before = None
         if not fix.fixed:
             self.looks_unfixed += 1
             return prior

@@ -168,7 +168,7 @@ LOOP_OPTION_GROUPS = (
     ("the eyes", "what the loop sees with",
      ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
-     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-first",
+     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-far", "--wall-fix-first",
       "--feature-pose", "--drift-sigmas")),
     ("the map: what is occupied", "where a look's located points and the floor plan block",
      ("--hit-at", "--growth", "--occupied", "--expire-uncertain", "--refute-hits",
@@ -500,6 +500,11 @@ def add_loop_options(p) -> None:
              f"prior's heading (not 1985; default {C.wall_fix_most:g} since 2026-12-06; 0: "
              "no bound, before; a wide window lets a few points that agree on a heading "
              "far off outvote the wall, rooms 321 and 329)")
+    opt("--wall-fix-far", type=int, default=C.wall_fix_far, metavar="N",
+        help="under --pose walls: a fix more than 3 standard deviations from the prior's "
+             "heading on fewer than N points is taken only where the look before showed "
+             "one turning it as far the same way (not 1985; default 0: off; a few points "
+             "of one wall turned room 2's heading 10.6 deg the wrong way)")
     opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
         help="under --pose walls after looks without a fix: 'widened' (default) "
              "searches the whole widened window at once; 'base' (not 1985) the "
@@ -623,6 +628,7 @@ def loop_config(args, goal, fail):
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
                        wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen, wall_fix_first=args.wall_fix_first,
                        wall_fix_most=args.wall_fix_most or None,
+                       wall_fix_far=args.wall_fix_far,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

@@ -458,3 +458,51 @@ def test_rig_drive_takes_the_windows_bound(tmp_path, monkeypatch):
     assert drive_config(monkeypatch, tmp_path).wall_fix_most == 4.0
     assert drive_config(monkeypatch, tmp_path, "--wall-fix-most", "3").wall_fix_most == 3.0
     assert drive_config(monkeypatch, tmp_path, "--wall-fix-most", "0").wall_fix_most is None
+
+
+def test_a_fix_far_from_the_prior_on_few_points_is_a_far_turn():
+    """``far_turn``: both walls seen from TRUE (16 points), the prior's heading 2.5 or
+    3.5 of its standard deviations (2 deg) off, the window 4 sigma: both fixes turn it
+    to the truth.  Asking 30 points, the 3.5 sigma fix is a far turn of -7 deg (the
+    truth less the prior) and the 2.5 sigma one is not; asking 16 (as many as it has),
+    or 0 (off), neither is; a look without a fix has none."""
+    from planner.localize import FAR_SIGMAS, far_turn
+    assert FAR_SIGMAS == 3.0
+    q, c = look(np.vstack([right_wall(), back_wall()]))
+    cov = np.diag([0.1 ** 2, 0.1 ** 2, math.radians(2.0) ** 2])
+    for sigmas in (2.5, 3.5):
+        prior = (TRUE[0], TRUE[1], TRUE[2] + 2.0 * sigmas)
+        fix = fix_against_walls(q, c, prior, cov, BOUNDS, PITCH, heading_sigmas=4.0)
+        assert fix.fixed and fix.used.sum() == 16 and abs(fix.heading_deg - TRUE[2]) < 0.05
+        far = far_turn(fix, prior[2], cov, 30)
+        if sigmas == 3.5:
+            assert far == pytest.approx(-7.0, abs=0.05)
+        else:
+            assert far is None
+        assert far_turn(fix, prior[2], cov, 16) is None and far_turn(fix, prior[2], cov, 0) is None
+    none = fix_against_walls(q[:3], c[:3], prior, cov, BOUNDS, PITCH, heading_sigmas=4.0)
+    assert not none.fixed and far_turn(none, prior[2], cov, 30) is None
+
+
+def test_a_far_turn_waits_for_the_next_look_where_asked():
+    """``wall_fix_far``: bench room 473 under the defaults takes a fix at look 3 that
+    turns the heading 7.9 deg (3.2 sigma) on 15 points of the right wall, 7.9 deg off
+    the truth, and stops without reaching the goal, the estimate 0.9 ft off.  Asking 30
+    points of a far turn, that turn waits for the next look, and the goal is reached by
+    the truth (the world's exact geometry judges)."""
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(473, "wall_fix_far", (0, 30))
+    assert not res[0].reached and res[0].collisions == 0
+    assert_reached_by_the_truth(res[30], goal)
+
+
+def test_rig_drive_takes_the_far_fixs_points(tmp_path, monkeypatch):
+    """``rig drive --wall-fix-far N`` sets ``wall_fix_far`` (0, off, by default); a
+    count that is no count is refused by name."""
+    from planner.loop import DriveConfig, _check_config
+    from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path).wall_fix_far == 0
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-far", "30").wall_fix_far == 30
+    for bad in (-1, 2.5, True, "30"):
+        with pytest.raises(ValueError, match="wall_fix_far"):
+            _check_config(DriveConfig(goal=(0.0, 5.0), wall_fix_far=bad))
