@@ -177,6 +177,7 @@ MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the
 FINE_MAPS = ("off", "fallback")      # DriveConfig.fine_map: half cells where no map has a way
 PLAN_WALLS = ("plan", "grown")      # DriveConfig.plan_walls: where the map draws the plan's walls
 WALL_FIX_FIRSTS = ("widened", "base")  # DriveConfig.wall_fix_first
+FAR_WITNESS_FT = 1.0                   # wall_fix_far: a far turn's second look from this far on
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
 FLOOR_END_CHECKS = ("off", "stereo")   # DriveConfig.floor_end_check: a floor end the eyes place nearer
@@ -515,10 +516,11 @@ class DriveConfig:
                                           # off for a wall (rooms 321, 329, fine_map)
     wall_fix_far: int = 0                 # (not 1985; a named option; 0: off) a fix more
                                           # than 3 sigmas from the prior's heading on fewer
-                                          # points than this is taken only where the look
-                                          # before showed one turning it as far the same
-                                          # way (localize.far_turn; room 2: 13 points
-                                          # turned it 10.6 deg, 3.5 sigma, the wrong way)
+                                          # points than this is taken only where a later
+                                          # look from FAR_WITNESS_FT or more away shows one
+                                          # turning it as far the same way (localize.far_turn;
+                                          # room 2: 13 points turned it 10.6 deg, 3.5 sigma,
+                                          # the wrong way)
     wall_fix_first: str = "widened"       # which window a widened fix searches: "widened"
                                           # (as since 09:30): the whole widened window at
                                           # once; "base" (not 1985; a named option): the
@@ -1094,12 +1096,18 @@ class Drive:
         fix = fix_in_windows(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
                              self.room.bounds, pitch, pan, windows)
         far = far_turn(fix, prior.heading_deg, self.dead_cov, self.cfg.wall_fix_far)
-        if far is not None and (self.far_before is None or abs(far - self.far_before) >
-                                2.0 * math.degrees(math.sqrt(self.dead_cov[2][2]))):
-            # a far turn on few points: taken when the next look shows it too
-            self.far_before = far
-            self.looks_unfixed += 1
-            return prior
+        if far is not None:
+            before = self.far_before
+            moved = before is not None and \
+                math.hypot(prior.x - before[1], prior.z - before[2]) >= FAR_WITNESS_FT
+            if before is None or (moved and abs(far - before[0]) >
+                                  2.0 * math.degrees(math.sqrt(self.dead_cov[2][2]))):
+                self.far_before = (far, prior.x, prior.z)
+            if not moved or self.far_before is not before:
+                # a far turn on few points: taken when a look from elsewhere shows it too
+                # (from about the same place the same false consensus shows again: room 879)
+                self.looks_unfixed += 1
+                return prior
         self.far_before = None
         if not fix.fixed:
             self.looks_unfixed += 1

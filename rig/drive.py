@@ -502,9 +502,9 @@ def add_loop_options(p) -> None:
              "far off outvote the wall, rooms 321 and 329)")
     opt("--wall-fix-far", type=int, default=C.wall_fix_far, metavar="N",
         help="under --pose walls: a fix more than 3 standard deviations from the prior's "
-             "heading on fewer than N points is taken only where the look before showed "
-             "one turning it as far the same way (not 1985; default 0: off; a few points "
-             "of one wall turned room 2's heading 10.6 deg the wrong way)")
+             "heading on fewer than N points is taken only where a look 1 ft or more "
+             "away shows one turning it as far the same way (not 1985; default 0: off; a "
+             "few points of one wall turned room 2's heading 10.6 deg the wrong way)")
     opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
         help="under --pose walls after looks without a fix: 'widened' (default) "
              "searches the whole widened window at once; 'base' (not 1985) the "

@@ -488,7 +488,7 @@ def test_a_far_turn_waits_for_the_next_look_where_asked():
     """``wall_fix_far``: bench room 473 under the defaults takes a fix at look 3 that
     turns the heading 7.9 deg (3.2 sigma) on 15 points of the right wall, 7.9 deg off
     the truth, and stops without reaching the goal, the estimate 0.9 ft off.  Asking 30
-    points of a far turn, that turn waits for the next look, and the goal is reached by
+    points of a far turn, that turn waits for a second look, and the goal is reached by
     the truth (the world's exact geometry judges)."""
     from rigtools import assert_reached_by_the_truth, bench_drives
     goal, res = bench_drives(473, "wall_fix_far", (0, 30))
@@ -506,3 +506,23 @@ def test_rig_drive_takes_the_far_fixs_points(tmp_path, monkeypatch):
     for bad in (-1, 2.5, True, "30"):
         with pytest.raises(ValueError, match="wall_fix_far"):
             _check_config(DriveConfig(goal=(0.0, 5.0), wall_fix_far=bad))
+
+
+def test_a_far_turn_needs_its_second_look_from_elsewhere():
+    """``wall_fix_far``: bench room 879.  At look 4, 8 points of the far wall turn the
+    heading 10.7 deg (3.6 sigma), 10.2 deg off the truth, and under the defaults the
+    estimate stays 7.6-10.3 deg off over the next seven looks.  The looks after it, 0.23 ft on
+    and turned in place, show the same false consensus; from about the same place a
+    false consensus shows again, so asking 30 points of a far turn also asks its second
+    look from 1 ft away or more (``FAR_WITNESS_FT``).  Then the heading stays within
+    3.5 deg of the truth over the first ten looks (the world's exact pose judges)."""
+    from planner.loop import FAR_WITNESS_FT
+    from rigtools import bench_drives
+    assert FAR_WITNESS_FT == 1.0
+    _, res = bench_drives(879, "wall_fix_far", (0, 30))
+
+    def heading_errors(r):
+        return [abs((c.estimate.heading_deg - c.true.heading_deg + 180.0) % 360.0 - 180.0)
+                for c in r.cycles[:10]]
+    assert min(heading_errors(res[0])[3:7]) > 10.0
+    assert max(heading_errors(res[30])) < 3.5
