@@ -313,10 +313,10 @@ def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int)
     than :data:`FAR_SIGMAS` of the prior's standard deviation (``prior_cov`` (x, z,
     heading rad)) on fewer than ``far_points`` points; None otherwise (or no fix).
     ``DriveConfig.wall_fix_far`` (not 1985) takes such a fix only when a second look
-    from elsewhere shows one turning it as far the same way.  The odometry's heading is honest (about one
-    fix in a hundred lies 2.5 sigma off, as a normal law says), but the false fixes
-    logged on seeds 1-76 and 451-531 turned it 3.1-4.1 sigma on 8-26 points of one wall
-    (docs/planner.md)."""
+    from elsewhere shows one turning it as far the same way.  The odometry's heading is
+    honest (about one fix in a hundred lies 2.5 sigma off, as a normal law says), but
+    the false fixes logged on seeds 1-76 and 451-531 turned it 3.1-4.1 sigma on 8-26
+    points of one wall (docs/planner.md)."""
     if not fix.fixed or not far_points or int(fix.used.sum()) >= far_points:
         return None
     turn = (fix.heading_deg - prior_heading_deg + 180.0) % 360.0 - 180.0

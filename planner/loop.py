@@ -984,7 +984,8 @@ class Drive:
         self.walls = cfg.pose == "walls"      # the estimate fixed against the plan's walls
         self.wall_fixes = 0
         self.looks_unfixed = 0                # looks in a row without a wall fix (wall_fix_widen)
-        self.far_before = None                # the last look's far turn not taken (wall_fix_far)
+        self.far_before = None                # wall_fix_far: (turn deg, x, z) of the far turn
+                                              # not yet taken, and where the look stood
         self.drift_eroded = 0                 # free_drift "erode", "moves": what the last map gave up
         if cfg.pose == "fused":
             from model.mapping import WalkConfig, Walker
@@ -1097,15 +1098,16 @@ class Drive:
                              self.room.bounds, pitch, pan, windows)
         far = far_turn(fix, prior.heading_deg, self.dead_cov, self.cfg.wall_fix_far)
         if far is not None:
+            # a far turn on few points: taken when a look from elsewhere shows it too
+            # (from about the same place the same false consensus shows again: room 879)
             before = self.far_before
             moved = before is not None and \
                 math.hypot(prior.x - before[1], prior.z - before[2]) >= FAR_WITNESS_FT
-            if before is None or (moved and abs(far - before[0]) >
-                                  2.0 * math.degrees(math.sqrt(self.dead_cov[2][2]))):
-                self.far_before = (far, prior.x, prior.z)
-            if not moved or self.far_before is not before:
-                # a far turn on few points: taken when a look from elsewhere shows it too
-                # (from about the same place the same false consensus shows again: room 879)
+            same = before is not None and \
+                abs(far - before[0]) <= 2.0 * math.degrees(math.sqrt(self.dead_cov[2][2]))
+            if not (moved and same):
+                if before is None or moved:
+                    self.far_before = (far, prior.x, prior.z)      # a new turn to witness
                 self.looks_unfixed += 1
                 return prior
         self.far_before = None

@@ -484,7 +484,7 @@ def test_a_fix_far_from_the_prior_on_few_points_is_a_far_turn():
     assert not none.fixed and far_turn(none, prior[2], cov, 30) is None
 
 
-def test_a_far_turn_waits_for_the_next_look_where_asked():
+def test_a_far_turn_waits_for_a_second_look_where_asked():
     """``wall_fix_far``: bench room 473 under the defaults takes a fix at look 3 that
     turns the heading 7.9 deg (3.2 sigma) on 15 points of the right wall, 7.9 deg off
     the truth, and stops without reaching the goal, the estimate 0.9 ft off.  Asking 30
@@ -511,11 +511,12 @@ def test_rig_drive_takes_the_far_fixs_points(tmp_path, monkeypatch):
 def test_a_far_turn_needs_its_second_look_from_elsewhere():
     """``wall_fix_far``: bench room 879.  At look 4, 8 points of the far wall turn the
     heading 10.7 deg (3.6 sigma), 10.2 deg off the truth, and under the defaults the
-    estimate stays 7.6-10.3 deg off over the next seven looks.  The looks after it, 0.23 ft on
-    and turned in place, show the same false consensus; from about the same place a
-    false consensus shows again, so asking 30 points of a far turn also asks its second
-    look from 1 ft away or more (``FAR_WITNESS_FT``).  Then the heading stays within
-    3.5 deg of the truth over the first ten looks (the world's exact pose judges)."""
+    estimate stays 7.6-10.3 deg off over the next seven looks.  The looks after it,
+    0.23 ft on and turned in place, show the same false consensus: from about the same
+    place a false consensus shows again, so asking 30 points of a far turn also asks
+    its second look from 1 ft away or more (``FAR_WITNESS_FT``).  Then the heading stays
+    within 3.5 deg of the truth over the first ten looks (the world's exact pose
+    judges)."""
     from planner.loop import FAR_WITNESS_FT
     from rigtools import bench_drives
     assert FAR_WITNESS_FT == 1.0
