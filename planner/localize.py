@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from world.pose import BASELINE_FT
+from world.pose import BASELINE_FT, wrap_deg
 from .perception import MIN_RANGE_FT
 
 CHI2_1DOF_99 = 6.635          # chi-square 99 % point, 1 degree of freedom
@@ -319,7 +319,7 @@ def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int)
     points of one wall (docs/planner.md)."""
     if not fix.fixed or not far_points or int(fix.used.sum()) >= far_points:
         return None
-    turn = (fix.heading_deg - prior_heading_deg + 180.0) % 360.0 - 180.0
+    turn = wrap_deg(fix.heading_deg - prior_heading_deg)
     sd = math.degrees(math.sqrt(float(np.asarray(prior_cov, float).reshape(3, 3)[2, 2])))
     return turn if abs(turn) > FAR_SIGMAS * sd else None
 

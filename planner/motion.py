@@ -556,9 +556,10 @@ def steered_prefix(cmds, seg, prefix, step: float, max_deg: int = STEER_MAX_DEG,
     """(``[TURN t, FORWARD d]``, the change in degrees) or None
     (``DriveConfig.steer`` "idle" and "small"; not 1985): where the path's first
     leg is cut short (``seg``, :func:`safe_prefix` of ``cmds``), the same leg
-    on a heading up to ``max_deg`` off the path's, in whole degrees, nearest first, that ``prefix`` (safe_prefix with the cycle's
-    own map and rules) lets run at least ``gain_ft`` farther; of those the
-    longest (the smallest change on a tie).  A path's leg is a line between
+    on a heading up to ``max_deg`` off the path's, in whole degrees, nearest
+    first, that ``prefix`` (safe_prefix with the cycle's own map and rules)
+    lets run at least ``gain_ft`` farther; of those the longest (the smallest
+    change on a tie).  A path's leg is a line between
     cell centres, its band checked against cells a look may have shown only to
     within a few hundredths of a foot of it: the band's edge grazes a never-seen
     cell beside the vehicle, which the fixed rig cannot show (room 10: 2 deg
