@@ -72,6 +72,8 @@ OPTIONS = [
     "--steer small --pivot swept-ring-inner",
     "--fine-map fallback",
     "--fine-map fallback --wall-fix-most 0",
+    "--floor-end-check motion",
+    "--fine-map fallback --floor-end-check motion",
     "--wall-fix-most 0",
     "--wall-fix-far 30",
     "--sight-lines band",

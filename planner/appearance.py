@@ -471,6 +471,133 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     return reach
 
 
+@dataclass
+class LookEnds:
+    """One look's floor ends, kept for :func:`raised_by_motion`: the camera's
+    floor position (x, z), the floor points (N, 2) where its columns' runs
+    end at a grey change, a test of which floor points (M, 2) its floor in
+    view proved ((M,) bool), and the greys its runs read as the floor's."""
+    origin: np.ndarray
+    ends: np.ndarray
+    proved: object
+    greys: np.ndarray | None = None
+
+
+def raised_by_motion(ends, origin, earlier, normals=None, tol_ft: float = 0.2,
+                     min_move_ft: float = 0.9, min_shift_ft: float = 0.35, k_range=(1.2, 4.0),
+                     agree: float = 0.1) -> np.ndarray:
+    """(N,) for each floor end ``ends`` ((N, 2), where this look's runs end
+    at a grey change, seen from the camera's floor position ``origin``) the
+    factor k by which it lies beyond the edge that made it (NaN: on the
+    floor, or not known).
+
+    A run that ends at an edge h above the floor (a box top's edge over a
+    face of the floor's grey) shows its end on the floor beyond the edge:
+    seen from C it projects the edge's point P to E = C + k (P - C), k =
+    H / (H - h).  Seen from C' the same point projects to E' = E + (k - 1)
+    (C - C'): the end moves with the camera by (k - 1) times its move, where
+    an end on the floor (k = 1) stays put.  Along an edge the move shows
+    nothing, and an error of the estimate's shows as much as a raised edge,
+    so with ``normals`` ((N, 2), the normal of the run ends' line at each E)
+    only the move across the edge counts.  An earlier look of ``earlier``
+    (:class:`LookEnds`), taken at least ``min_move_ft`` away (across the
+    edge, given ``normals``), that proved
+    the floor at E and showed no end within ``tol_ft`` of it offers as
+    candidates its ends within ``tol_ft`` of the line E + t (C - C'), t = k
+    - 1 in ``k_range`` less one, at least ``min_shift_ft`` from E, unless
+    they string along that line over more than 3 ``tol_ft`` (an edge along
+    the camera's move, which fits any k).  On a
+    tiled floor the next tile's edge may lie on that line by chance, so E
+    is raised only where two earlier looks, taken at least ``min_move_ft`` / 2
+    apart (not one place's looks turning), offer k within ``agree`` of each
+    other (the pair that agrees best; k their mean).  The edge's point is
+    then C + (E - C) / k."""
+    ends = np.asarray(ends, float).reshape(-1, 2)
+    c = np.asarray(origin, float)
+    offers, places = [], []                 # per earlier look: (N, M) k offered (NaN none), where
+    for look in earlier:
+        move = c - np.asarray(look.origin, float)
+        span = float(np.hypot(*move))
+        theirs = np.asarray(look.ends, float).reshape(-1, 2)
+        if span < min_move_ft or not len(theirs) or not len(ends):
+            continue
+        across = np.abs(np.asarray(normals, float) @ move) if normals is not None \
+            else np.full(len(ends), span)
+        rel = theirs[None, :, :] - ends[:, None, :]                 # (N, M) their ends from each E
+        apart = np.hypot(rel[..., 0], rel[..., 1]).min(1) > tol_ft    # no end of theirs at E
+        t = (rel @ move) / span ** 2                                  # along E + t (C - C')
+        off = np.hypot(*np.moveaxis(rel - t[..., None] * move, -1, 0))
+        fits = (off <= tol_ft) & (t >= k_range[0] - 1.0) & (t <= k_range[1] - 1.0) & \
+            (t * span >= min_shift_ft)
+        fits &= (apart & (across >= min_move_ft) & np.asarray(look.proved(ends), bool))[:, None]
+        # ends of theirs strung along the line (an edge the camera moved along) fit any k
+        along = np.where(fits, t * span, np.nan)
+        with np.errstate(invalid="ignore"):
+            strung = np.nanmax(along, 1, initial=-np.inf) - np.nanmin(along, 1, initial=np.inf) \
+                > 3.0 * tol_ft
+        fits &= ~strung[:, None]
+        offers.append(np.where(fits, 1.0 + t, np.nan))
+        places.append(np.asarray(look.origin, float))
+    out = np.full(len(ends), np.nan)
+    if len(offers) < 2:
+        return out
+    offered = np.array([np.isfinite(o).any(1) for o in offers])
+    for i in np.flatnonzero(offered.sum(0) >= 2):
+        best = np.inf
+        for a in range(len(offers)):
+            ka = offers[a][i][np.isfinite(offers[a][i])]
+            for b in range(a + 1, len(offers)):
+                kb = offers[b][i][np.isfinite(offers[b][i])]
+                if not len(ka) or not len(kb) or \
+                        np.hypot(*(places[a] - places[b])) < min_move_ft / 2.0:
+                    continue
+                gap = np.abs(ka[:, None] - kb[None, :]) / np.maximum(ka[:, None], kb[None, :])
+                j = np.unravel_index(np.argmin(gap), gap.shape)
+                if gap[j] <= agree and gap[j] < best:
+                    best, out[i] = gap[j], (ka[j[0]] + kb[j[1]]) / 2.0
+    return out
+
+
+def raised_columns(ends, origin, earlier, min_columns: int = 3, gap: int = 2,
+                   agree: float = 0.1) -> np.ndarray:
+    """(128,) per column the factor k of :func:`raised_by_motion` for its
+    floor end ``ends[c]`` ((128, 2), NaN where the column's run shows no end
+    at a grey change), NaN where it is not raised.  A box top's edge spans
+    columns, so a raised column counts only with another within ``gap``
+    columns whose k agrees within ``agree`` (a lone one is a chance match),
+    and the look's raised columns only when ``min_columns`` are left.  The
+    normal of each end's line is taken from the ends within ``gap`` columns
+    (a column without one is not judged).  Room 157: a run ending along a
+    wall's foot as the vehicle drove along it, the estimate moved 0.4 ft
+    across it between looks; only the move across the edge counts."""
+    ends = np.asarray(ends, float).reshape(-1, 2)
+    k = np.full(len(ends), np.nan)
+    has = np.isfinite(ends[:, 0])
+    # each end's line: from the first to the last end within ``gap`` columns of it
+    n = len(ends)
+    cols = np.arange(n)
+    first, last = np.full(n, -1), np.full(n, -1)
+    for off in range(gap, -gap - 1, -1):
+        c = cols + off
+        ok = (c >= 0) & (c < n)
+        ok[ok] = has[c[ok]]
+        first = np.where(ok, c, first)
+        last = np.where(ok & (last < 0), c, last)
+    along = ends[np.maximum(last, 0)] - ends[np.maximum(first, 0)]
+    length = np.hypot(along[:, 0], along[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        normals = np.column_stack([-along[:, 1], along[:, 0]]) / length[:, None]
+    has &= (first >= 0) & (last > first) & (length > 0)
+    k[has] = raised_by_motion(ends[has], origin, earlier, normals[has], agree=agree)
+    idx = np.flatnonzero(np.isfinite(k))
+    keep = np.zeros(len(k), bool)
+    for i in idx:
+        near = idx[(np.abs(idx - i) <= gap) & (idx != i)]
+        keep[i] = np.any(np.abs(k[near] - k[i]) <= agree * np.maximum(k[near], k[i]))
+    if keep.sum() < min_columns:
+        keep[:] = False
+    return np.where(keep, k, np.nan)
+
 def within_heading(reach: np.ndarray, heading_sd: float, sigmas: float = 2.0) -> np.ndarray:
     """(128,) each column's floor end ``reach`` (:func:`floor_end`) cut to
     the nearest end of every column within ``sigmas`` standard deviations

@@ -27,12 +27,12 @@ from dataclasses import replace
 import numpy as np
 
 from vehicle.sim import State
-from .appearance import bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
+from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
     BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed, \
-    raised_ends, reads_floor, texture_end, within_heading
+    raised_columns, raised_ends, reads_floor, texture_end, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
-from .features import FloorFeatures, mahalanobis2, pose_point_covariance
+from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segment_cells
 from .floormap import FLOOR_Y, FloorMap, project_octree, split_in_four
 from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
@@ -93,6 +93,11 @@ class FreeProvenance:
 
 
 ASSUMED = (BLANK_ASSUMPTION, TWO_LOOK_SIDES)   # the carvings that only assume the floor
+RAISED_LOOKS = 8                # floor_end_check="motion": the earlier looks an end is held to
+RAISED_MIN_COLUMNS = 3          # ... and the columns of one look that must agree it moved
+RAISED_JOIN_FT = 0.75           # ... two neighbouring edge points this near: one face between
+RAISED_AGAIN_FT = 0.3           # ... an edge point kept once an earlier look found one this near
+RAISED_HOLD = 4                 # ... and drawn for this many looks until then
 
 
 def assumed_columns(fm: FloorMap, provenance: FreeProvenance, res: float, band,
@@ -337,7 +342,12 @@ class Perception:
         self.occupied = "looks"           # or "model" (DriveConfig.occupied)
         self.place = "axis"               # or "point" (DriveConfig.hit_at)
         self.feature_pose = "absolute"    # or "drift", "none" (DriveConfig.feature_pose)
-        self.floor_end_check = "off"      # or "stereo" (DriveConfig.floor_end_check)
+        self.floor_end_check = "off"      # or "stereo", "motion" (DriveConfig.floor_end_check)
+        self.end_looks: list[LookEnds] = []   # under "motion": the last looks' floor ends
+        self.raised_a = np.zeros((0, 2))  # under "motion": the edges found raised, as
+        self.raised_b = np.zeros((0, 2))  # segments a-b on the floor (x, z), drawn occupied
+        self.raised_seen: list = []       # ... and (look, edge points, segments a, b held) of
+                                          # every look that found one
         self.proof_hits = "trace"         # or "line" (DriveConfig.proof_hits)
         self.proof_heading = "estimate"   # or "window" (DriveConfig.proof_heading)
         self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
@@ -358,6 +368,7 @@ class Perception:
         self.floor_hist = np.zeros(16)    # greys of the pixels known to show floor, all looks
         self.vetoed = 0                   # located points the floor in view contradicted
         self.floor_cells = 0              # cells the floor in view proved free
+        self.raised_columns = 0           # under floor_end_check="motion": the columns cut
         self.confirm_looks = confirm_looks
         self.features = FloorFeatures()
         self.draw_core = False            # DriveConfig.uncertain="core": floor_map marks the
@@ -484,6 +495,7 @@ class Perception:
         the rest of the update is the same."""
         self.look_no += 1
         self._look_keys = np.zeros(0, np.int64)   # this look's grown hit cells
+        self._proved = np.zeros(0, np.int64)      # the cells this look's floor in view proved
         self._freed = []
         pose = pose_cls(est.x, est.z, est.heading_deg, pitch_deg)
         R = pose.rotation()
@@ -491,7 +503,7 @@ class Perception:
         res = self.tree.getResolution()
         if self.refute_hits == "through" and depth is None and len(scan_points):
             self._refute_through(scan_points, R, left, res)
-        rays = top = proof_top = learned = None
+        rays = top = proof_top = learned = greys = None
         bounded = self.floor_eyes in BOUNDING
         if picture is not None and reads_floor(self.floor_eyes, depth is not None):
             rays = floor_rays(R, left)
@@ -566,6 +578,10 @@ class Perception:
             reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0,
                               self.wall_runs, texture) \
                 if top is not None and bounded else None
+            ends_now = None
+            if reach is not None and self.floor_end_check == "motion" and depth is None:
+                # an end that moves with the camera stands above the floor (room 860)
+                reach, ends_now = self._raised_by_motion(rays, top, reach, left, res, greys)
             if reach is not None and self.floor_end_check != "off" and depth is None:
                 # a located point in a floor run, nearer than its floor: the run went up a face
                 reach = raised_ends(scan_points, rays, top, reach,
@@ -579,6 +595,8 @@ class Perception:
                 # than where the bound ends it (nowhere in a column showing no end)
                 with self._carving(FLOOR_IN_VIEW):
                     self._carve_floor(fs, rays, proof_top, left, res, reach=reach)
+            if ends_now is not None:
+                self._keep_ends(ends_now, left, res, greys)
             if len(ends):
                 ends, ends_start = self._limit_assumed(
                     ends, ends_start, fs.free_cols[assumed] if reach is not None else None,
@@ -1073,7 +1091,84 @@ class Perception:
             return 0
         self.tree.updateNodes(np.ascontiguousarray(key_centres(keys, res)), False)
         self.floor_cells += len(keys)
+        self._proved = np.union1d(self._proved, keys)
         return len(keys)
+
+    def _raised_by_motion(self, rays, top, reach, left, res: float, greys):
+        """``floor_end_check="motion"``: the look's floor ends ``reach``
+        (:func:`~planner.appearance.floor_end`) cut where their end moved with
+        the camera since an earlier look (:func:`~planner.appearance.raised_by_motion`):
+        the run went on up a face of the floor's grey to an edge above the
+        floor, and its column proves the floor only to below that edge.  At
+        least :data:`RAISED_MIN_COLUMNS` such columns are needed.  Their edge
+        points, and the stretches between neighbouring ones, are drawn
+        occupied (:meth:`_draw_raised`): kept, and never passed by a later
+        proof, where an earlier look found the edge too (within
+        :data:`RAISED_AGAIN_FT`); held for :data:`RAISED_HOLD` looks where not.
+        Returns (the floor ends, this look's end points by column, NaN where
+        its run shows no end at a grey change)."""
+        cols = np.arange(len(reach))
+        at_grey = (top < ROWS) & (reach > 0)
+        r = np.minimum(top, ROWS - 1)
+        at_grey &= np.isclose(reach, rays.dist[r, cols])       # not a texture's or a wall's end
+        ends = np.full((len(reach), 2), np.nan)
+        ends[at_grey] = np.column_stack([rays.x[r, cols], rays.z[r, cols]])[at_grey]
+        c = np.asarray(left, float)[[0, 2]]
+        k = raised_columns(ends, c, self.end_looks, RAISED_MIN_COLUMNS)
+        raised = np.flatnonzero(np.isfinite(k))
+        if not len(raised):
+            return reach, ends
+        edge = c + (ends[raised] - c) / k[raised, None]
+        reach = np.array(reach, float)
+        reach[raised] = np.minimum(reach[raised], np.hypot(*(edge - c).T))
+        self.raised_columns += len(raised)
+        # neighbouring raised columns (a gap of at most two) on one edge: the face between them
+        joined = (np.diff(raised) <= 3) & (np.hypot(*np.diff(edge, axis=0).T) <= RAISED_JOIN_FT)
+        # an edge point an earlier look found too is kept; the others are held only for
+        # RAISED_HOLD looks: one look's estimate gone wrong moves all its ends at once
+        # (room 157: 3.9 deg off at look 14, mended at look 15)
+        before = [e for _, e, _, _ in self.raised_seen]
+        again = np.zeros(len(edge), bool)
+        if before:
+            before = np.vstack(before)
+            again = np.hypot(*(edge[:, None, :] - before[None, :, :]).transpose(2, 0, 1)) \
+                .min(1) <= RAISED_AGAIN_FT
+        pair = joined & again[:-1] & again[1:]
+        a, b = np.vstack([edge[again], edge[:-1][pair]]), np.vstack([edge[again], edge[1:][pair]])
+        held = joined & ~pair
+        self.raised_seen.append((self.look_no, edge, np.vstack([edge[~again], edge[:-1][held]]),
+                                 np.vstack([edge[~again], edge[1:][held]])))
+        if len(a):
+            self.raised_a = np.vstack([self.raised_a, a])
+            self.raised_b = np.vstack([self.raised_b, b])
+            cells = (segment_cells(a, b, res) + 0.5) * res
+            self.hit_keys = np.union1d(self.hit_keys, cell_keys(np.column_stack(
+                [cells[:, 0], np.full(len(cells), left[1]), cells[:, 1]]), res))
+        return reach, ends
+
+    def _keep_ends(self, ends, left, res: float, greys) -> None:
+        """Keep this look's floor ends ``ends`` (by column, NaN: none) and the
+        cells its floor in view proved for :meth:`_raised_by_motion`."""
+        proved = self._proved
+        y = float(left[1])
+
+        def proves(xz):
+            xz = np.asarray(xz, float).reshape(-1, 2)
+            pts = np.column_stack([xz[:, 0], np.full(len(xz), y), xz[:, 1]])
+            return np.isin(cell_keys(pts, res), proved)
+
+        ends = ends[np.isfinite(ends[:, 0])]
+        self.end_looks = (self.end_looks + [LookEnds(np.asarray(left, float)[[0, 2]], ends,
+                                                     proves, np.array(greys, bool))])[-RAISED_LOOKS:]
+
+    def _draw_raised(self, fm: FloorMap) -> None:
+        """The edges :meth:`_raised_by_motion` found raised, occupied on ``fm``:
+        those found again, and the others of the last :data:`RAISED_HOLD` looks."""
+        held = [(a, b) for n, _, a, b in self.raised_seen if n > self.look_no - RAISED_HOLD]
+        a = np.vstack([self.raised_a] + [a for a, _ in held])
+        b = np.vstack([self.raised_b] + [b for _, b in held])
+        if len(a):
+            fm.cells[cells_mask(fm, segment_cells(a, b, fm.cell))] = OCCUPIED
 
     def retire(self, origin, within_ft: float) -> int:
         """Retire the floor features within ``within_ft`` of ``origin`` whose
@@ -1117,6 +1212,7 @@ class Perception:
             self._draw_features(fm)
         elif self.expire_uncertain or self.refute_hits != "off":
             self._apply_expired(fm)
+        self._draw_raised(fm)
         if self.pivot_proof is not None and self.provenance is not None:
             fm.assumed = assumed_columns(fm, self.provenance, self.tree.getResolution(),
                                          self.band, self.blank_near, self.pivot_proof)
@@ -1168,6 +1264,7 @@ class Perception:
             self._draw_features(fine, within)
         else:
             fine.cells[within] = UNKNOWN
+        self._draw_raised(fine)
         if walls is not None:
             mark_walls(fine, walls)
         return fine
@@ -1264,7 +1361,7 @@ def floor_stats(model: "Perception") -> dict:
     g = floor_greys(model.floor_hist)
     return {"floor_greys": [] if g is None else np.flatnonzero(g).tolist(),
             "floor_samples": int(model.floor_hist.sum()), "floor_cells": int(model.floor_cells),
-            "vetoed_points": int(model.vetoed)}
+            "vetoed_points": int(model.vetoed), "raised_columns": int(model.raised_columns)}
 
 
 def tracing_perception(made: list):

@@ -180,7 +180,7 @@ WALL_FIX_FIRSTS = ("widened", "base")  # DriveConfig.wall_fix_first
 FAR_WITNESS_FT = 1.0                   # wall_fix_far: a far turn's second look from this far on
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
-FLOOR_END_CHECKS = ("off", "stereo")   # DriveConfig.floor_end_check: a floor end the eyes place nearer
+FLOOR_END_CHECKS = ("off", "stereo", "motion")   # DriveConfig.floor_end_check: a floor end the eyes place nearer
 PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops the floor's proof
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
@@ -607,7 +607,12 @@ class DriveConfig:
                                           # its pixel would show, ends the column's floor there,
                                           # and three on one run top the whole edge
                                           # (appearance.raised_ends: a face or top of the
-                                          # floor's grey, rooms 34, 278, 566)
+                                          # floor's grey, rooms 34, 278, 566); "motion" (a
+                                          # named option, not 1985): "stereo", and a run's end
+                                          # that moved with the camera since two earlier looks
+                                          # from elsewhere ends on an edge above the floor,
+                                          # drawn occupied (appearance.raised_by_motion;
+                                          # room 860's face of a tile's grey)
     proof_heading: str = "window"         # under floor_eyes "bound"/"bound-add", the look's
                                           # floor ends laid down along: "estimate" (its
                                           # heading) or "window" (not 1985; the default

@@ -541,7 +541,10 @@ def add_loop_options(p) -> None:
              "(not 1985; default): where the eyes locate a point in a column's floor run "
              "clearly nearer than the floor there, the run went on up a face or top "
              "of the floor's grey, and the column's floor ends at that point (three "
-             "such points on one edge cut all of it)")
+             "such points on one edge cut all of it); 'motion' (not 1985): that, and "
+             "where a run's end moved with the camera since two earlier looks from "
+             "elsewhere, it ends on an edge above the floor, and the edge is drawn "
+             "occupied (a face of the floor's grey, room 860)")
     opt("--proof-heading", choices=PROOF_HEADINGS, default=C.proof_heading,
         help="under --floor-eyes bound or bound-add, where each column's floor in "
              "view ends: 'estimate': along the estimated heading; 'window' "

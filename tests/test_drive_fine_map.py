@@ -103,3 +103,60 @@ def test_room_56_is_reached_on_half_cells():
     assert "narrower than the vehicle" in res["off"].reason
     assert_reached_by_the_truth(res["fallback"], goal)
     assert any("(planned on half cells)" in c.note for c in res["fallback"].cycles)
+
+
+def test_room_860_the_face_of_the_floors_grey_found_by_motion_keeps_the_half_cells_off_it():
+    """Bench room 860 under ``fine_map="fallback"``: box 4's front (x -0.28..1.80,
+    z = 4.595 ft) has a tile's grey, and the floor in view proves the floor up the
+    face and into the box.  The half cells open the way toward it and the vehicle's
+    pivot sweeps into the face (docs/planner.md, "The search on half cells where no
+    map has a way").  With ``floor_end_check="motion"`` the runs' ends that move
+    with the camera mark the face's edge, every one of its points within 0.25 ft
+    of the box by the world's geometry, and the drive ends without a collision."""
+    from planner.evidence import tracing_perception
+    from planner.loop import run
+    from rigtools import bench_drives, bench_task
+    from world.odometry import OdometryNoise
+    _, res = bench_drives(860, "floor_end_check", ("stereo",), fine_map="fallback")
+    assert res["stereo"].collisions == 1
+    room, start, goal = bench_task(860)
+    made = []
+    moved = run(room, start, DriveConfig(goal=goal, fine_map="fallback",
+                                         floor_end_check="motion"),
+                noise=OdometryNoise(seed=860), keep_maps=False,
+                perception_factory=tracing_perception(made))
+    assert moved.collisions == 0
+    model = made[0]
+    assert moved.floor["raised_columns"] == model.raised_columns > 50
+    assert len(model.raised_a) > 20                  # found again by a later look: kept
+    box = room.obstacles[3]
+    held = [np.vstack([a, b]) for _, _, a, b in model.raised_seen]
+    for x, z in np.vstack([model.raised_a, model.raised_b] + held):
+        dx = max(box[0] - x, 0.0, x - box[1])
+        dz = max(box[2] - z, 0.0, z - box[3])
+        assert np.hypot(dx, dz) < 0.25
+
+
+def test_room_157_an_edge_found_raised_by_one_wrong_estimate_is_only_held():
+    """Bench room 157 under ``fine_map="fallback"``, ``floor_end_check="motion"``:
+    at look 14 a wall fix turns the estimate 3.9 deg off the true heading (mended
+    at look 15), and the runs' ends along the right wall's foot seem to have moved
+    with the camera.  By the world's geometry that edge stands 0.5 ft or more from
+    every box.  Found by no other look, it is held for a few looks and not kept,
+    and the drive reaches its goal by the truth."""
+    from planner.evidence import RAISED_HOLD, tracing_perception
+    from planner.loop import run
+    from rigtools import assert_reached_by_the_truth, bench_task
+    from world.odometry import OdometryNoise
+    room, start, goal = bench_task(157)
+    made = []
+    res = run(room, start, DriveConfig(goal=goal, fine_map="fallback", floor_end_check="motion"),
+              noise=OdometryNoise(seed=157), keep_maps=False,
+              perception_factory=tracing_perception(made))
+    model = made[0]
+    assert [n for n, *_ in model.raised_seen] == [14]
+    edge = model.raised_seen[0][1]
+    assert len(edge) > 20 and min(room.clearance(x, z) for x, z in edge) > 0.5
+    assert len(model.raised_a) == 0
+    assert res.looks > 14 + RAISED_HOLD
+    assert_reached_by_the_truth(res, goal)

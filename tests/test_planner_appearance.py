@@ -631,6 +631,8 @@ def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     cfg = drive_config(monkeypatch, tmp_path, "--proof-heading", "estimate", "--floor-end-check",
                        "off", "--proof-hits", "trace", "--drift-sigmas", "1.5")
     assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("estimate", "off", "trace")
+    assert drive_config(monkeypatch, tmp_path, "--floor-end-check",
+                        "motion").floor_end_check == "motion"
     m = _perception(drive_config(monkeypatch, tmp_path, "--drift-sigmas", "1.5"), DEFAULT,
                     Perception)
     assert (m.proof_heading, m.heading_sigmas, m.floor_end_check, m.proof_hits) == \
@@ -860,3 +862,119 @@ def test_blend_passes_a_tiles_averaged_edge_and_not_a_face_of_its_grey():
     assert plain[2] == blend[2] == 62
     assert plain[3] == blend[3] == 62
     assert blend[5] == plain[5] == 1                        # a sharp edge, 5 on 3
+
+
+def _ends_seen(origin, edge, k):
+    """Where a run ends, on the floor, seen from the camera's floor position
+    ``origin``: at points ``edge`` (N, 2) with k = H / (H - h) (1: on the floor)."""
+    o = np.asarray(origin, float)
+    return o + k * (np.asarray(edge, float) - o)
+
+
+def _proves_all(xz):
+    return np.ones(len(np.asarray(xz).reshape(-1, 2)), bool)
+
+
+def test_an_end_that_moves_with_the_camera_is_raised_by_hand():
+    """raised_by_motion on hand-made ends: a box top's edge 1 ft up (H = 3 ft, so
+    k = 3 / 2 = 1.5) along z = 5 ft, and a floor edge (k = 1) along z = 7 ft, seen
+    from three places.  The raised ends give k = 1.5 and the edge's points
+    exactly back; the floor's ends none.  One earlier look alone, or two from
+    one place, or one that did not prove the floor at the end, do not do."""
+    from planner.appearance import LookEnds, raised_by_motion
+    xs = np.array([-0.4, 0.0, 0.4])
+    top_edge = np.column_stack([xs, np.full(3, 5.0)])
+    floor_edge = np.column_stack([xs, np.full(3, 7.0)])
+    places = [np.array([0.0, 0.0]), np.array([0.3, 1.0]), np.array([0.1, 2.2])]
+
+    def seen(o):
+        return np.vstack([_ends_seen(o, top_edge, 1.5), _ends_seen(o, floor_edge, 1.0)])
+
+    earlier = [LookEnds(o, seen(o), _proves_all) for o in places[:2]]
+    now = places[2]
+    k = raised_by_motion(seen(now), now, earlier)
+    assert k[:3] == pytest.approx(1.5, abs=1e-9)
+    assert np.isnan(k[3:]).all()
+    back = now + (seen(now)[:3] - now) / k[:3, None]
+    assert back == pytest.approx(top_edge, abs=1e-9)
+    assert np.isnan(raised_by_motion(seen(now), now, earlier[1:])).all()
+    twice = [LookEnds(places[1], seen(places[1]), _proves_all)] * 2
+    assert np.isnan(raised_by_motion(seen(now), now, twice)).all()
+    unproved = [LookEnds(o, seen(o), lambda xz: np.zeros(len(xz), bool)) for o in places[:2]]
+    assert np.isnan(raised_by_motion(seen(now), now, unproved + earlier[1:])).all()
+
+
+def test_a_chance_end_on_the_line_and_an_edge_along_the_move_are_not_raised():
+    """A floor end at E, where one earlier look has some other end on the line
+    E + t (C - C') (the next tile's edge, by chance) and the other has none,
+    is not raised; nor is one beside an edge the camera moved along, whose
+    ends string along the line and fit any k."""
+    from planner.appearance import LookEnds, raised_by_motion
+    now, a, b = np.array([0.0, 2.0]), np.array([0.0, 0.0]), np.array([0.5, 1.0])
+    e = np.array([[0.0, 6.0]])
+    chance = LookEnds(a, np.array([[0.0, 7.0]]), _proves_all)     # t = 0.5 from a
+    empty = LookEnds(b, np.array([[3.0, 3.0]]), _proves_all)
+    assert np.isnan(raised_by_motion(e, now, [chance, empty])).all()
+    # an edge along z at x = 0.1 (the move's direction from a), seen by both looks
+    along = np.column_stack([np.full(20, 0.1), np.linspace(6.3, 9.0, 20)])
+    both = [LookEnds(a, along, _proves_all), LookEnds(np.array([0.05, 1.0]), along, _proves_all)]
+    assert np.isnan(raised_by_motion(e, now, both)).all()
+
+
+def test_raised_columns_need_a_neighbour_that_agrees():
+    """raised_columns: a raised column counts only beside another within two
+    columns whose k agrees within a tenth, and a look's raised columns only
+    when three are left."""
+    from planner.appearance import LookEnds, raised_columns
+    places = [np.array([0.0, 0.0]), np.array([0.3, 1.0])]
+    now = np.array([0.1, 2.2])
+    edge = np.column_stack([np.linspace(-0.6, 0.6, 7), np.full(7, 5.0)])
+    ends = np.full((128, 2), np.nan)
+    ends[60:67] = _ends_seen(now, edge, 1.5)
+    ends[10] = _ends_seen(now, [[-3.0, 4.0]], 2.0)[0]          # a lone raised column
+    earlier = [LookEnds(o, np.vstack([_ends_seen(o, edge, 1.5),
+                                      _ends_seen(o, [[-3.0, 4.0]], 2.0)]), _proves_all)
+               for o in places]
+    k = raised_columns(ends, now, earlier)
+    assert np.flatnonzero(np.isfinite(k)).tolist() == list(range(60, 67))
+    assert k[60:67] == pytest.approx(1.5)
+    assert np.isnan(raised_columns(ends, now, earlier, min_columns=8)).all()
+
+
+def test_a_face_of_the_floors_grey_is_found_raised_from_three_rendered_looks():
+    """raised_by_motion on rendered looks of bench/drive.py's room 860: box 4's
+    front (z = 4.595 ft, 0.908 ft tall: k = 3 / 2.092 = 1.434 at its top) has a
+    tile's grey, so the runs of the columns in front of it go on up the face.
+    Seen from 4.3 and 3.4 ft before it, and now from 2.5 ft, every run that
+    ends on the face is raised, with k no more than the top's and at least
+    1.3, and the edge's points it gives lie within 0.1 ft of the face.  No run
+    that ends on the floor or at a wall's skirting is."""
+    from planner.appearance import LookEnds, raised_by_motion
+    from world.room import generate_room
+    room = generate_room(860)
+    box = room.obstacles[3]
+    floor = [i for i, q in enumerate(room.quads) if q.name == "floor"][0]
+    looks = []
+    for seed, (x, before) in enumerate(((0.3, 4.3), (1.2, 3.4), (0.76, 2.5))):
+        pose = Pose(x, box[2] - before, 0.0, PITCH)
+        look = render_look(room, pose, seed=3 + seed, supersample=2)
+        pic = look.left_bi
+        greys = floor_greys(np.bincount(pic[look.surface_left == floor].astype(int),
+                                        minlength=16))
+        assert list(np.flatnonzero(greys)) == [3, 5]
+        rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+        top = floor_run(pic, greys, bridge=True)
+        cols = np.flatnonzero((top > 1) & (top < ROWS))
+        ends = np.column_stack([rays.x[top[cols], cols], rays.z[top[cols], cols]])
+        on = [room.quads[look.surface_left[top[c] - 1, c]].name for c in cols]
+        looks.append((pose.camera_centre("left")[[0, 2]], ends, on))
+    now, ends, on = looks[2]
+    k = raised_by_motion(ends, now, [LookEnds(o, e, _proves_all) for o, e, _ in looks[:2]])
+    face = np.array([name == "box 4 front" for name in on])
+    assert face.sum() > 80
+    assert np.isfinite(k[face]).all()
+    assert (k[face] >= 1.3).all() and (k[face] <= 3.0 / (3.0 - 0.908) + 1e-3).all()
+    edge = now + (ends[face] - now) / k[face, None]
+    assert np.abs(edge[:, 1] - box[2]).max() < 0.1
+    flat = np.array([name == "floor" or "skirting" in name for name in on])
+    assert flat.sum() > 20 and np.isnan(k[flat]).all()
