@@ -600,19 +600,20 @@ class DriveConfig:
                                           # a lone pixel between greys of the floor pixels
                                           # above and below it does not: a tiled floor's edge
                                           # (appearance.floor_run)
-    floor_end_check: str = "stereo"       # under floor_eyes "bound"/"bound-add": "off", or
-                                          # "stereo" (not 1985; the default since
-                                          # 2026-12-05): a located point in a
+    floor_end_check: str = "motion"       # under floor_eyes "bound"/"bound-add": "off", or
+                                          # "stereo" (not 1985; the default from 2026-12-05
+                                          # to 2026-12-06): a located point in a
                                           # column's floor run, clearly nearer than the floor
                                           # its pixel would show, ends the column's floor there,
                                           # and three on one run top the whole edge
                                           # (appearance.raised_ends: a face or top of the
-                                          # floor's grey, rooms 34, 278, 566); "motion" (a
-                                          # named option, not 1985): "stereo", and a run's end
-                                          # that moved with the camera since two earlier looks
-                                          # from elsewhere ends on an edge above the floor,
-                                          # drawn occupied (appearance.raised_by_motion;
-                                          # room 860's face of a tile's grey)
+                                          # floor's grey, rooms 34, 278, 566); "motion" (not
+                                          # 1985; the default since 2026-12-06 15:40):
+                                          # "stereo", and a run's end that moved with the
+                                          # camera since two earlier looks from elsewhere ends
+                                          # on an edge above the floor, drawn occupied
+                                          # (appearance.raised_by_motion; room 860's face of
+                                          # a tile's grey)
     proof_heading: str = "window"         # under floor_eyes "bound"/"bound-add", the look's
                                           # floor ends laid down along: "estimate" (its
                                           # heading) or "window" (not 1985; the default
@@ -636,12 +637,14 @@ class DriveConfig:
                                           # one lies on the map out to the walls, that map
                                           # for the cycle (Drive.map_to_plan_on); seeds
                                           # 1-900: 541 goals against 529, 0 collisions
-    fine_map: str = "off"                 # (not 1985) "fallback": where neither map of
-                                          # map_extent has a path to the goal, the same maps
-                                          # on cells of half the side, the features and the
-                                          # walls drawn again on them (Perception.halved_map:
-                                          # only the blocked cells shrink), for the cycle;
-                                          # "off": never (Drive.map_to_plan_on)
+    fine_map: str = "fallback"            # (not 1985; the default since 2026-12-06 15:40,
+                                          # with floor_end_check "motion") "fallback": where
+                                          # neither map of map_extent has a path to the goal,
+                                          # the same maps on cells of half the side, the
+                                          # features and the walls drawn again on them
+                                          # (Perception.halved_map: only the blocked cells
+                                          # shrink), for the cycle; "off": never
+                                          # (Drive.map_to_plan_on)
     assist_pivot_ft: float | None = 4.64  # head="assist" only: a pivot's cells may not be
                                           # FREE only by an assumption made from farther
                                           # than this (2 x the 2.32 ft nearest proof;

@@ -466,10 +466,10 @@ def add_loop_options(p) -> None:
              "plan as well, every cycle")
     opt("--fine-map", choices=FINE_MAPS, default=C.fine_map,
         help="where neither map of --map-extent has a path to the goal: 'fallback' "
-             "(not 1985) plans that cycle on the same maps with cells of half the side "
+             "(not 1985; default) plans that cycle on the same maps with cells of half the side "
              "(0.125 ft with the default cells), the features and walls that blocked a "
              "cell drawn again on them (what the looks proved free is not resolved "
-             "finer); 'off' (the default): never")
+             "finer); 'off': never")
     opt("--plan-walls", choices=PLAN_WALLS, default=C.plan_walls,
         help="where the map draws the floor plan's walls: 'grown' (not 1985; default "
              "since 2026-12-04): two standard deviations of the estimate's position "
@@ -538,10 +538,10 @@ def add_loop_options(p) -> None:
              "above and below it does not (a tiled floor's edge, averaged by the condensing)")
     opt("--floor-end-check", choices=FLOOR_END_CHECKS, default=C.floor_end_check,
         help="under --floor-eyes bound or bound-add: 'off', or 'stereo' "
-             "(not 1985; default): where the eyes locate a point in a column's floor run "
+             "(not 1985): where the eyes locate a point in a column's floor run "
              "clearly nearer than the floor there, the run went on up a face or top "
              "of the floor's grey, and the column's floor ends at that point (three "
-             "such points on one edge cut all of it); 'motion' (not 1985): that, and "
+             "such points on one edge cut all of it); 'motion' (not 1985; default): that, and "
              "where a run's end moved with the camera since two earlier looks from "
              "elsewhere, it ends on an edge above the floor, and the edge is drawn "
              "occupied (a face of the floor's grey, room 860)")

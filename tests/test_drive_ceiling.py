@@ -183,9 +183,10 @@ def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
     # moves are, and the cells past the wrong ones were never seen: no such pivot.
     # The world's exact geometry counts it.
     from world.odometry import OdometryNoise
-    from rigtools import bench_task
+    from rigtools import DRIVE_BEFORE_2026_12_06_1540, bench_task
     room, start, goal = bench_task(774)
-    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12, occupied="looks"),
+    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12, occupied="looks",
+                                           **DRIVE_BEFORE_2026_12_06_1540),
                   noise=OdometryNoise(seed=774), keep_maps=False) for p in ("disc", "swept")}
     assert res["disc"].collisions == 1 and "hit something" in res["disc"].reason
     assert res["disc"].cycles[-1].command == "TURN -70"

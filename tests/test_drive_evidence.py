@@ -412,8 +412,9 @@ def test_room_3_is_reached_when_the_plan_may_pass_the_outer_sigma():
     # with uncertain="core" the plan passes their outer sigma, the vehicle looks
     # again from nearer, and the goal is reached.  The world's exact geometry
     # judges it.
-    from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(3, "uncertain", ("blocked", "core"))
+    # (the defaults before 2026-12-06 15:40, as traced)
+    from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(3, "uncertain", ("blocked", "core"), **DRIVE_BEFORE_2026_12_06_1540)
     assert not res["blocked"].reached and res["blocked"].collisions == 0
     assert "16 looks without progress" in res["blocked"].reason
     assert_reached_by_the_truth(res["core"], goal)

@@ -88,7 +88,8 @@ def test_the_way_between_the_faces_is_planned_only_on_half_cells():
 
 
 def test_the_option_is_checked():
-    assert FINE_MAPS == ("off", "fallback") and DriveConfig.fine_map == "off"
+    # the default since 2026-12-06 15:40 (with floor_end_check "motion"), "off" before
+    assert FINE_MAPS == ("off", "fallback") and DriveConfig.fine_map == "fallback"
     with pytest.raises(ValueError, match="unknown fine_map 'half'"):
         _check_config(DriveConfig(goal=(0.0, 5.0), fine_map="half"))
 

@@ -79,8 +79,10 @@ def test_room_267_is_reached_when_the_goals_once_seen_blocker_expires():
     # look placed beside the goal keeps it "too near an obstacle" until 16 looks pass
     # without progress; under look-expire it expires and the goal is reached.  The
     # world's exact geometry judges it.
-    from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(267, "goal_evidence", ("off", "look-expire"))
+    # (the defaults before 2026-12-06 15:40, as traced)
+    from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(267, "goal_evidence", ("off", "look-expire"),
+                             **DRIVE_BEFORE_2026_12_06_1540)
     off = res["off"]
     assert not off.reached and off.collisions == 0
     assert "16 looks without progress" in off.reason and "from an obstacle" in off.reason

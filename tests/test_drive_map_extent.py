@@ -132,7 +132,8 @@ def _drive(extent, barrier=True, by_goal=False, **how):
     room = Room("barrier", (), np.zeros((0, 3)), np.zeros((0, 2, 3)),
                 np.array([BARRIER] if barrier else np.zeros((0, 4))), ROOM)
     d = Drive(room, START, DriveConfig(goal=GOAL, map_extent=extent,
-                                       **{"occupied": "looks", **how}), None, False,
+                                       **{"occupied": "looks", "fine_map": "off", **how}),
+              None, False,
               Perception)
     xz = np.zeros((0, 2))
     if barrier:
@@ -235,9 +236,9 @@ def test_room_538_reached_round_the_far_side_where_the_seen_map_stops():
     the goal, by its true pose too, without a collision (the world's exact geometry).
     Both under ``uncertain="blocked"``, the default then: under "core" the seen map's
     run plans past the narrow way's once-seen features and uses up the 24 looks."""
-    from rigtools import assert_reached_by_the_truth, bench_drives
+    from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
     goal, res = bench_drives(538, "map_extent", ("seen", "fallback"), max_looks=24,
-                             uncertain="blocked")
+                             uncertain="blocked", **DRIVE_BEFORE_2026_12_06_1540)
     seen, fallback = res["seen"], res["fallback"]
     assert not seen.reached and "narrower than the vehicle" in seen.reason, seen.reason
     assert seen.collisions == 0

@@ -162,8 +162,9 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     ``max_stuck`` looks, saying why; ``rig drive --max-stuck`` sets it, and a
     count below 1 is refused.  (Each look's hits in the octree, occupied="looks": the fused
     features draw the box's seen face thinner, and the goal's disc then holds unknown
-    floor behind the box, which the planner may aim at; and turn_room="off": with "forward"
-    the vehicle moves on to where it can turn.)"""
+    floor behind the box, which the planner may aim at; turn_room="off": with "forward"
+    the vehicle moves on to where it can turn; and fine_map="off": on half cells the
+    goal's disc, which reaches 0.25 ft past the box's near face, has a way to it.)"""
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import drive_config
@@ -172,7 +173,7 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     for n in (2, 3):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
                   DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n, occupied="looks",
-                              turn_room="off"),
+                              turn_room="off", fine_map="off"),
                   noise=OdometryNoise(seed=1))
         assert len(res.cycles) == n
         assert res.reason.startswith(f"stopped after {n} looks without progress: goal not "

@@ -615,8 +615,9 @@ def test_a_striped_face_of_the_floors_grey_ends_no_floor_behind_it():
 
 def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     """``--proof-heading``, ``--floor-end-check`` and ``--proof-hits`` reach
-    DriveConfig (defaults ``window``, ``stereo``, ``line`` since 2026-12-05;
-    ``estimate``, ``off``, ``trace``: the drive before) and the loop's map, bad
+    DriveConfig (defaults ``window``, ``stereo``, ``line`` since 2026-12-05, the
+    check ``motion`` since 2026-12-06 15:40; ``estimate``, ``off``, ``trace``: the
+    drive before) and the loop's map, bad
     values are refused, where nothing uses them they change nothing, and the tiny
     room is driven to its goal with all three without a collision."""
     from planner.loop import DriveConfig, _check_config, _perception, run
@@ -627,16 +628,17 @@ def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     from vehicle.sim import State
     from world.odometry import OdometryNoise
     cfg = drive_config(monkeypatch, tmp_path)
-    assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("window", "stereo", "line")
+    # (floor_end_check "stereo" from 2026-12-05 to 2026-12-06 15:40, "motion" since)
+    assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("window", "motion", "line")
     cfg = drive_config(monkeypatch, tmp_path, "--proof-heading", "estimate", "--floor-end-check",
                        "off", "--proof-hits", "trace", "--drift-sigmas", "1.5")
     assert (cfg.proof_heading, cfg.floor_end_check, cfg.proof_hits) == ("estimate", "off", "trace")
     assert drive_config(monkeypatch, tmp_path, "--floor-end-check",
-                        "motion").floor_end_check == "motion"
+                        "stereo").floor_end_check == "stereo"
     m = _perception(drive_config(monkeypatch, tmp_path, "--drift-sigmas", "1.5"), DEFAULT,
                     Perception)
     assert (m.proof_heading, m.heading_sigmas, m.floor_end_check, m.proof_hits) == \
-        ("window", 1.5, "stereo", "line")
+        ("window", 1.5, "motion", "line")
     for name, bad in (("proof_heading", "sigma"), ("floor_end_check", "on"),
                       ("proof_hits", "all")):
         with pytest.raises(ValueError, match=name):

@@ -190,10 +190,10 @@ def test_room_156s_passage_stays_open_on_the_fused_map_and_closes_on_the_per_loo
     collision (the world's exact geometry counts both).  On the seen map alone (the
     default before 2026-12-05 16:30, as traced): the map out to the walls sends it round
     the far side at look 3, where the seen map has no way for two looks."""
-    from rigtools import assert_reached_by_the_truth, bench_drives
+    from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
     assert DriveConfig.occupied == "model"
     goal, res = bench_drives(156, "occupied", ("looks", "model"), max_looks=20,
-                             map_extent="seen")
+                             map_extent="seen", **DRIVE_BEFORE_2026_12_06_1540)
     looks, model = res["looks"], res["model"]
     assert not looks.reached and "narrower than the vehicle" in looks.reason, looks.reason
     assert looks.collisions == 0

@@ -197,8 +197,9 @@ def test_room_401_is_reached_straight_through_once_the_circle_made_no_progress()
     # (STRAIGHT_AFTER = 4) it plans straight through the narrow way and reaches the
     # goal 3 looks later, with no collision of the TRUE footprint with the TRUE room.
     from planner.loop import STRAIGHT_AFTER
-    from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(401, "passage", ("moves", "stuck"))
+    # (the defaults before 2026-12-06 15:40, as traced)
+    from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(401, "passage", ("moves", "stuck"), **DRIVE_BEFORE_2026_12_06_1540)
     moves, stuck = res["moves"], res["stuck"]
     assert not moves.reached and moves.collisions == 0
     assert "narrower than the vehicle" in moves.reason
