@@ -475,12 +475,11 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
 class LookEnds:
     """One look's floor ends, kept for :func:`raised_by_motion`: the camera's
     floor position (x, z), the floor points (N, 2) where its columns' runs
-    end at a grey change, a test of which floor points (M, 2) its floor in
-    view proved ((M,) bool), and the greys its runs read as the floor's."""
+    end at a grey change, and a test of which floor points (M, 2) its floor
+    in view proved ((M,) bool)."""
     origin: np.ndarray
     ends: np.ndarray
     proved: object
-    greys: np.ndarray | None = None
 
 
 def raised_by_motion(ends, origin, earlier, normals=None, tol_ft: float = 0.2,
@@ -497,21 +496,20 @@ def raised_by_motion(ends, origin, earlier, normals=None, tol_ft: float = 0.2,
     H / (H - h).  Seen from C' the same point projects to E' = E + (k - 1)
     (C - C'): the end moves with the camera by (k - 1) times its move, where
     an end on the floor (k = 1) stays put.  Along an edge the move shows
-    nothing, and an error of the estimate's shows as much as a raised edge,
-    so with ``normals`` ((N, 2), the normal of the run ends' line at each E)
-    only the move across the edge counts.  An earlier look of ``earlier``
-    (:class:`LookEnds`), taken at least ``min_move_ft`` away (across the
-    edge, given ``normals``), that proved
-    the floor at E and showed no end within ``tol_ft`` of it offers as
-    candidates its ends within ``tol_ft`` of the line E + t (C - C'), t = k
-    - 1 in ``k_range`` less one, at least ``min_shift_ft`` from E, unless
+    nothing, so with ``normals`` ((N, 2), the normal of the run ends' line
+    at each E) only the move across the edge counts.
+
+    An earlier look of ``earlier`` (:class:`LookEnds`), taken at least
+    ``min_move_ft`` away (across the edge, given ``normals``), that proved
+    the floor at E and showed no end within ``tol_ft`` of it, offers as
+    candidates its ends within ``tol_ft`` of the line E + t (C - C'), t =
+    k - 1 for k in ``k_range``, at least ``min_shift_ft`` from E; none if
     they string along that line over more than 3 ``tol_ft`` (an edge along
-    the camera's move, which fits any k).  On a
-    tiled floor the next tile's edge may lie on that line by chance, so E
-    is raised only where two earlier looks, taken at least ``min_move_ft`` / 2
-    apart (not one place's looks turning), offer k within ``agree`` of each
-    other (the pair that agrees best; k their mean).  The edge's point is
-    then C + (E - C) / k."""
+    the camera's move fits any k).  On a tiled floor the next tile's edge
+    may lie on that line by chance, so E is raised only where two earlier
+    looks, taken at least ``min_move_ft`` / 2 apart (not one place's looks
+    turning), offer k within ``agree`` of each other (the pair that agrees
+    best; k their mean).  The edge's point is then C + (E - C) / k."""
     ends = np.asarray(ends, float).reshape(-1, 2)
     c = np.asarray(origin, float)
     offers, places = [], []                 # per earlier look: (N, M) k offered (NaN none), where
@@ -566,10 +564,9 @@ def raised_columns(ends, origin, earlier, min_columns: int = 3, gap: int = 2,
     columns, so a raised column counts only with another within ``gap``
     columns whose k agrees within ``agree`` (a lone one is a chance match),
     and the look's raised columns only when ``min_columns`` are left.  The
-    normal of each end's line is taken from the ends within ``gap`` columns
-    (a column without one is not judged).  Room 157: a run ending along a
-    wall's foot as the vehicle drove along it, the estimate moved 0.4 ft
-    across it between looks; only the move across the edge counts."""
+    normal of each end's line, along which the move counts, is taken from
+    the first to the last end within ``gap`` columns (a column without
+    another there is not judged)."""
     ends = np.asarray(ends, float).reshape(-1, 2)
     k = np.full(len(ends), np.nan)
     has = np.isfinite(ends[:, 0])
@@ -597,6 +594,7 @@ def raised_columns(ends, origin, earlier, min_columns: int = 3, gap: int = 2,
     if keep.sum() < min_columns:
         keep[:] = False
     return np.where(keep, k, np.nan)
+
 
 def within_heading(reach: np.ndarray, heading_sd: float, sigmas: float = 2.0) -> np.ndarray:
     """(128,) each column's floor end ``reach`` (:func:`floor_end`) cut to

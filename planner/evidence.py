@@ -27,9 +27,9 @@ from dataclasses import replace
 import numpy as np
 
 from vehicle.sim import State
-from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, floor_proof, floor_rays, \
-    BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, vetoed, \
-    raised_columns, raised_ends, reads_floor, texture_end, within_heading
+from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, floor_proof, \
+    floor_rays, BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, \
+    vetoed, raised_columns, raised_ends, reads_floor, texture_end, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segment_cells
@@ -503,7 +503,7 @@ class Perception:
         res = self.tree.getResolution()
         if self.refute_hits == "through" and depth is None and len(scan_points):
             self._refute_through(scan_points, R, left, res)
-        rays = top = proof_top = learned = greys = None
+        rays = top = proof_top = learned = None
         bounded = self.floor_eyes in BOUNDING
         if picture is not None and reads_floor(self.floor_eyes, depth is not None):
             rays = floor_rays(R, left)
@@ -581,7 +581,7 @@ class Perception:
             ends_now = None
             if reach is not None and self.floor_end_check == "motion" and depth is None:
                 # an end that moves with the camera stands above the floor (room 860)
-                reach, ends_now = self._raised_by_motion(rays, top, reach, left, res, greys)
+                reach, ends_now = self._raised_by_motion(rays, top, reach, left, res)
             if reach is not None and self.floor_end_check != "off" and depth is None:
                 # a located point in a floor run, nearer than its floor: the run went up a face
                 reach = raised_ends(scan_points, rays, top, reach,
@@ -596,7 +596,7 @@ class Perception:
                 with self._carving(FLOOR_IN_VIEW):
                     self._carve_floor(fs, rays, proof_top, left, res, reach=reach)
             if ends_now is not None:
-                self._keep_ends(ends_now, left, res, greys)
+                self._keep_ends(ends_now, left, res)
             if len(ends):
                 ends, ends_start = self._limit_assumed(
                     ends, ends_start, fs.free_cols[assumed] if reach is not None else None,
@@ -1094,10 +1094,10 @@ class Perception:
         self._proved = np.union1d(self._proved, keys)
         return len(keys)
 
-    def _raised_by_motion(self, rays, top, reach, left, res: float, greys):
+    def _raised_by_motion(self, rays, top, reach, left, res: float):
         """``floor_end_check="motion"``: the look's floor ends ``reach``
         (:func:`~planner.appearance.floor_end`) cut where their end moved with
-        the camera since an earlier look (:func:`~planner.appearance.raised_by_motion`):
+        the camera since two earlier looks (:func:`~planner.appearance.raised_columns`):
         the run went on up a face of the floor's grey to an edge above the
         floor, and its column proves the floor only to below that edge.  At
         least :data:`RAISED_MIN_COLUMNS` such columns are needed.  Their edge
@@ -1146,7 +1146,7 @@ class Perception:
                 [cells[:, 0], np.full(len(cells), left[1]), cells[:, 1]]), res))
         return reach, ends
 
-    def _keep_ends(self, ends, left, res: float, greys) -> None:
+    def _keep_ends(self, ends, left, res: float) -> None:
         """Keep this look's floor ends ``ends`` (by column, NaN: none) and the
         cells its floor in view proved for :meth:`_raised_by_motion`."""
         proved = self._proved
@@ -1159,7 +1159,7 @@ class Perception:
 
         ends = ends[np.isfinite(ends[:, 0])]
         self.end_looks = (self.end_looks + [LookEnds(np.asarray(left, float)[[0, 2]], ends,
-                                                     proves, np.array(greys, bool))])[-RAISED_LOOKS:]
+                                                     proves)])[-RAISED_LOOKS:]
 
     def _draw_raised(self, fm: FloorMap) -> None:
         """The edges :meth:`_raised_by_motion` found raised, occupied on ``fm``:
