@@ -1161,6 +1161,13 @@ class Perception:
         self.end_looks = (self.end_looks + [LookEnds(np.asarray(left, float)[[0, 2]], ends,
                                                      proves)])[-RAISED_LOOKS:]
 
+    def raised_now(self) -> np.ndarray | None:
+        """The edge points (x, z) the last look found raised
+        (:meth:`_raised_by_motion`), in column order, or None."""
+        if self.raised_seen and self.raised_seen[-1][0] == self.look_no:
+            return self.raised_seen[-1][1]
+        return None
+
     def _draw_raised(self, fm: FloorMap) -> None:
         """The edges :meth:`_raised_by_motion` found raised, occupied on ``fm``:
         those found again, and the others of the last :data:`RAISED_HOLD` looks."""

@@ -1508,6 +1508,11 @@ class Drive:
         seg, note = d.commands, d.note
         if extra_looks:
             note += assist_note
+        edge = self.model.raised_now()
+        if edge is not None:
+            note += (f" (the floor's ends moved with the camera: an edge above the floor from "
+                     f"({edge[0][0]:.1f}, {edge[0][1]:.1f}) to ({edge[-1][0]:.1f}, "
+                     f"{edge[-1][1]:.1f}))")
         if self.head:
             seg = head_commands(seg, est, fm, d.path, self.prof, self.cfg, veh.pan_deg,
                                 veh.tilt_deg, self.aimed)

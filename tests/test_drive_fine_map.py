@@ -113,7 +113,8 @@ def test_room_860_the_face_of_the_floors_grey_found_by_motion_keeps_the_half_cel
     pivot sweeps into the face (docs/planner.md, "The search on half cells where no
     map has a way").  With ``floor_end_check="motion"`` the runs' ends that move
     with the camera mark the face's edge, every one of its points within 0.25 ft
-    of the box by the world's geometry, and the drive ends without a collision."""
+    of the box by the world's geometry, the cycle's note says so, and the drive ends
+    without a collision."""
     from planner.evidence import tracing_perception
     from planner.loop import run
     from rigtools import bench_drives, bench_task
@@ -127,6 +128,8 @@ def test_room_860_the_face_of_the_floors_grey_found_by_motion_keeps_the_half_cel
                 noise=OdometryNoise(seed=860), keep_maps=False,
                 perception_factory=tracing_perception(made))
     assert moved.collisions == 0
+    assert any("the floor's ends moved with the camera: an edge above the floor" in c.note
+               for c in moved.cycles)
     model = made[0]
     assert moved.floor["raised_columns"] == model.raised_columns > 50
     assert len(model.raised_a) > 20                  # found again by a later look: kept
