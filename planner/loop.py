@@ -180,7 +180,8 @@ WALL_FIX_FIRSTS = ("widened", "base")  # DriveConfig.wall_fix_first
 FAR_WITNESS_FT = 1.0                   # wall_fix_far: a far turn's second look from this far on
 WALL_POINTS = ("edges", "floor-ends")   # DriveConfig.wall_points: what pose="walls" fixes on
 FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown gap in free space
-FLOOR_END_CHECKS = ("off", "stereo", "motion")   # DriveConfig.floor_end_check: a floor end the eyes place nearer
+# DriveConfig.floor_end_check: a floor end the eyes place nearer, or that moves with the camera
+FLOOR_END_CHECKS = ("off", "stereo", "motion")
 PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops the floor's proof
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
