@@ -435,7 +435,9 @@ class DriveConfig:
                                           # "blocked"); "blocked": toward the reachable cell
                                           # nearest the goal; "look" (measured, not
                                           # adopted): plan through them all, the same way
-    goal_evidence: str = "off"            # no path reaches the goal: look round ("off"); "look"
+    goal_evidence: str = "look-expire"    # (the default since 2026-12-06 16:45, with
+                                          # wall_fix_far 30; "off" before)
+                                          # no path reaches the goal: look round ("off"); "look"
                                           # (a named option, not 1985): first look at the
                                           # uncertain cell nearest the goal within the planning
                                           # radius, from where a look shows it (the path's
@@ -515,7 +517,8 @@ class DriveConfig:
                                           # points agree on anywhere in the window: 8 and 11
                                           # sigmas wide it took about 20 points 14-17 deg
                                           # off for a wall (rooms 321, 329, fine_map)
-    wall_fix_far: int = 0                 # (not 1985; a named option; 0: off) a fix more
+    wall_fix_far: int = 30                # (not 1985; the default since 2026-12-06 16:45,
+                                          # with goal_evidence "look-expire"; 0: off) a fix more
                                           # than 3 sigmas from the prior's heading on fewer
                                           # points than this is taken only where a later
                                           # look from FAR_WITNESS_FT or more away shows one

@@ -335,9 +335,9 @@ def add_loop_options(p) -> None:
              "the goal (blocked, the default before); or plan through them all and look "
              "(look).  The moves keep clear of every uncertain cell")
     opt("--goal-evidence", choices=GOAL_EVIDENCES, default=C.goal_evidence,
-        help="no path reaches the goal: look round (off, the default), or first look at "
+        help="no path reaches the goal: look round (off), or first look at "
              "the uncertain cell nearest the goal from where a look shows it (look, not "
-             "1985); look-expire: that, and a feature one look placed whose two-sigma "
+             "1985); look-expire (the default): that, and a feature one look placed whose two-sigma "
              "ellipse reaches the goal's planning radius is retired after "
              f"{GOAL_EXPIRE_LOOKS} looks that had it in view and did not locate it "
              "(--occupied model)")
@@ -503,7 +503,7 @@ def add_loop_options(p) -> None:
     opt("--wall-fix-far", type=int, default=C.wall_fix_far, metavar="N",
         help="under --pose walls: a fix more than 3 standard deviations from the prior's "
              "heading on fewer than N points is taken only where a look 1 ft or more "
-             "away shows one turning it as far the same way (not 1985; default 0: off; a "
+             "away shows one turning it as far the same way (not 1985; default 30; 0: off; a "
              "few points of one wall turned room 2's heading 10.6 deg the wrong way)")
     opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
         help="under --pose walls after looks without a fix: 'widened' (default) "

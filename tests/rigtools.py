@@ -312,11 +312,13 @@ STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 # the goal's disc planned to, 2026-12-05 11:10; 16 looks without progress, not 8, 12:00;
 # the occupied cells drawn from the fused floor features, not every look's hits, 13:45;
 # forward to where a pivot is allowed, 15:00; the map out to the walls where the seen map
-# has no way, 16:30; the half cells where no map has a way, 2026-12-06 15:40.)
+# has no way, 16:30; the half cells where no map has a way, 2026-12-06 15:40; the goal's
+# once-seen blocker let go and a far turn held, 16:45.)
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan",
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
-                               turn_room="off", map_extent="seen", fine_map="off")
+                               turn_room="off", map_extent="seen", fine_map="off",
+                               goal_evidence="off", wall_fix_far=0)
 
 # The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
 # the floor in view kept out of the boxes" and "The improved matcher"): the 1985 matcher,
@@ -329,16 +331,25 @@ DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckon
                                floor_end_check="off", proof_hits="trace", min_pivot_deg=0.0,
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
-                               turn_room="off", map_extent="seen", fine_map="off")
+                               turn_room="off", map_extent="seen", fine_map="off",
+                               goal_evidence="off", wall_fix_far=0)
 # The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985),
 # in the one-cell gaps of free space (kept unknown) and in every turn being a pivot.
 DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_deg=0.0,
                                     learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                     goal_region="point", max_stuck=8, occupied="looks",
-                                    turn_room="off", map_extent="seen", fine_map="off")
+                                    turn_room="off", map_extent="seen", fine_map="off",
+                                    goal_evidence="off", wall_fix_far=0)
 
 # The drive's defaults before 2026-12-06 15:40 (docs/planner.md, "A floor end that moves
 # with the camera"): no half cells where no map has a way, and a run's end that moved with
-# the camera not drawn as an edge above the floor.  A test that traced a drive under the
-# defaults before then pins them.
-DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo")
+# the camera not drawn as an edge above the floor (and what came at 16:45 turned back too).
+# A test that traced a drive under the defaults before then pins them.
+DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo",
+                                    goal_evidence="off", wall_fix_far=0)
+
+# The drive's defaults before 2026-12-06 16:45 (docs/planner.md, "A once-seen blocker at the
+# goal let go, a far turn held for a second look"): no once-seen blocker at the goal let go,
+# and no far turn on few points held back.  A test that traced a drive under the defaults
+# before then pins them (with DRIVE_BEFORE_2026_12_06_1540 for the drives before 15:40).
+DRIVE_BEFORE_2026_12_06_1645 = dict(goal_evidence="off", wall_fix_far=0)

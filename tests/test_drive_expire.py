@@ -168,5 +168,6 @@ def test_the_tiny_room_is_reached_with_expiry(occupied):
     assert res.reached, res.reason
     assert res.collisions == 0
     assert res.as_json()["expired_uncertain"] == res.expired_uncertain > 0
+    # (nothing expires without expire_uncertain, nor the goal's blocker: goal_evidence off)
     assert "expired_uncertain" not in run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(
-        goal=GOAL, eyes="truth", max_looks=1)).as_json()
+        goal=GOAL, eyes="truth", max_looks=1, goal_evidence="off")).as_json()

@@ -70,8 +70,9 @@ def test_goal_evidence_checked_and_passed_by_rig_drive(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="goal_evidence"):
         run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, goal_evidence="on"))
     assert drive_config(monkeypatch, tmp_path, "--goal-evidence",
-                        "look-expire").goal_evidence == "look-expire"
-    assert drive_config(monkeypatch, tmp_path).goal_evidence == "off"
+                        "off").goal_evidence == "off"
+    # the default since 2026-12-06 16:45 (with wall_fix_far 30), "off" before
+    assert drive_config(monkeypatch, tmp_path).goal_evidence == "look-expire"
 
 
 def test_room_267_is_reached_when_the_goals_once_seen_blocker_expires():
@@ -81,8 +82,8 @@ def test_room_267_is_reached_when_the_goals_once_seen_blocker_expires():
     # world's exact geometry judges it.
     # (the defaults before 2026-12-06 15:40, as traced)
     from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(267, "goal_evidence", ("off", "look-expire"),
-                             **DRIVE_BEFORE_2026_12_06_1540)
+    traced = {k: v for k, v in DRIVE_BEFORE_2026_12_06_1540.items() if k != "goal_evidence"}
+    goal, res = bench_drives(267, "goal_evidence", ("off", "look-expire"), **traced)
     off = res["off"]
     assert not off.reached and off.collisions == 0
     assert "16 looks without progress" in off.reason and "from an obstacle" in off.reason

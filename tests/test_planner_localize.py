@@ -442,9 +442,11 @@ def test_the_widened_window_is_bounded_where_asked():
     drive ends without a collision (the world's exact geometry judges both).  Out of
     range is refused by name."""
     from planner.loop import DriveConfig, _check_config
-    from rigtools import bench_drives
+    from rigtools import DRIVE_BEFORE_2026_12_06_1645, bench_drives
     assert DriveConfig.wall_fix_most == 4.0
-    _, res = bench_drives(329, "wall_fix_most", (None, 4.0), fine_map="fallback")
+    # (the defaults before 2026-12-06 16:45, as traced)
+    _, res = bench_drives(329, "wall_fix_most", (None, 4.0), fine_map="fallback",
+                          **DRIVE_BEFORE_2026_12_06_1645)
     assert res[None].collisions == 1
     assert res[4.0].collisions == 0
     for bad in (0, -1.0, 10.0, True, "4"):
@@ -485,24 +487,30 @@ def test_a_fix_far_from_the_prior_on_few_points_is_a_far_turn():
 
 
 def test_a_far_turn_waits_for_a_second_look_where_asked():
-    """``wall_fix_far``: bench room 473 under the defaults takes a fix at look 3 that
-    turns the heading 7.9 deg (3.2 sigma) on 15 points of the right wall, 7.9 deg off
-    the truth, and stops without reaching the goal, the estimate 0.9 ft off.  Asking 30
-    points of a far turn, that turn waits for a second look, and the goal is reached by
-    the truth (the world's exact geometry judges)."""
+    """``wall_fix_far``: bench room 473 takes a fix at look 3 that turns the heading
+    7.9 deg (3.2 sigma) on 15 points of the right wall, 7.9 deg off the truth.  Under
+    the defaults before 2026-12-06 16:45 the drive stops without reaching the goal,
+    the estimate 0.9 ft off; with the goal's once-seen blocker let go
+    (``goal_evidence="look-expire"``, a default since then) it drives on that estimate
+    into a box.  Asking 30 points of a far turn (the default since then), that turn
+    waits for a second look, and the goal is reached by the truth (the world's exact
+    geometry judges all three)."""
     from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(473, "wall_fix_far", (0, 30))
+    goal, res = bench_drives(473, "wall_fix_far", (0, 30), goal_evidence="off")
     assert not res[0].reached and res[0].collisions == 0
+    assert_reached_by_the_truth(res[30], goal)
+    goal, res = bench_drives(473, "wall_fix_far", (0, 30))
+    assert res[0].collisions == 1 and "hit something" in res[0].reason
     assert_reached_by_the_truth(res[30], goal)
 
 
 def test_rig_drive_takes_the_far_fixs_points(tmp_path, monkeypatch):
-    """``rig drive --wall-fix-far N`` sets ``wall_fix_far`` (0, off, by default); a
-    count that is no count is refused by name."""
+    """``rig drive --wall-fix-far N`` sets ``wall_fix_far`` (30 by default since
+    2026-12-06 16:45; 0, off, before); a count that is no count is refused by name."""
     from planner.loop import DriveConfig, _check_config
     from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path).wall_fix_far == 0
-    assert drive_config(monkeypatch, tmp_path, "--wall-fix-far", "30").wall_fix_far == 30
+    assert drive_config(monkeypatch, tmp_path).wall_fix_far == 30
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-far", "0").wall_fix_far == 0
     for bad in (-1, 2.5, True, "30"):
         with pytest.raises(ValueError, match="wall_fix_far"):
             _check_config(DriveConfig(goal=(0.0, 5.0), wall_fix_far=bad))
