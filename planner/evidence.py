@@ -29,7 +29,7 @@ import numpy as np
 from vehicle.sim import State
 from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, floor_proof, \
     floor_rays, BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, \
-    vetoed, raised_columns, raised_ends, reads_floor, texture_end, within_heading
+    vetoed, raised_columns, raised_ends, reads_floor, run_reach, texture_end, within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segment_cells
@@ -1108,9 +1108,9 @@ class Perception:
         Returns (the floor ends, this look's end points by column, NaN where
         its run shows no end at a grey change)."""
         cols = np.arange(len(reach))
-        at_grey = (top < ROWS) & (reach > 0)
+        # the run's own end, not a texture's or a wall's (run_reach is 0 where it has none)
+        at_grey = (reach > 0) & np.isclose(reach, run_reach(rays, top))
         r = np.minimum(top, ROWS - 1)
-        at_grey &= np.isclose(reach, rays.dist[r, cols])       # not a texture's or a wall's end
         ends = np.full((len(reach), 2), np.nan)
         ends[at_grey] = np.column_stack([rays.x[r, cols], rays.z[r, cols]])[at_grey]
         c = np.asarray(left, float)[[0, 2]]
