@@ -312,13 +312,18 @@ STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 # the goal's disc planned to, 2026-12-05 11:10; 16 looks without progress, not 8, 12:00;
 # the occupied cells drawn from the fused floor features, not every look's hits, 13:45;
 # forward to where a pivot is allowed, 15:00; the map out to the walls where the seen map
-# has no way, 16:30; the half cells where no map has a way, 2026-12-06 15:40; the goal's
+# has no way, 16:30; the plan past the once-seen features' outer sigma, 22:40; the floor's
+# tiles seen up to a face of their grey, a move's start where its pivot may sweep, a move
+# by its width and a leg steered where the vehicle would look round, 2026-12-06; the fix's
+# widened window bounded, 11:45; the half cells where no map has a way, 15:40; the goal's
 # once-seen blocker let go and a far turn held, 16:45.)
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan",
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
                                turn_room="off", map_extent="seen", fine_map="off",
-                               goal_evidence="off", wall_fix_far=0)
+                               goal_evidence="off", wall_fix_far=0, uncertain="blocked",
+                               wall_runs="none", move_ring="seen", passage="circle",
+                               steer="off", wall_fix_most=None)
 
 # The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
 # the floor in view kept out of the boxes" and "The improved matcher"): the 1985 matcher,
@@ -332,14 +337,18 @@ DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckon
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
                                turn_room="off", map_extent="seen", fine_map="off",
-                               goal_evidence="off", wall_fix_far=0)
+                               goal_evidence="off", wall_fix_far=0, uncertain="blocked",
+                               wall_runs="none", move_ring="seen", passage="circle",
+                               steer="off", wall_fix_most=None)
 # The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985),
 # in the one-cell gaps of free space (kept unknown) and in every turn being a pivot.
 DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_deg=0.0,
                                     learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                     goal_region="point", max_stuck=8, occupied="looks",
                                     turn_room="off", map_extent="seen", fine_map="off",
-                                    goal_evidence="off", wall_fix_far=0)
+                                    goal_evidence="off", wall_fix_far=0, uncertain="blocked",
+                                    wall_runs="none", move_ring="seen", passage="circle",
+                                    steer="off", wall_fix_most=None)
 
 # The drive's defaults before 2026-12-06 15:40 (docs/planner.md, "A floor end that moves
 # with the camera"): no half cells where no map has a way, and a run's end that moved with
