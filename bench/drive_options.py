@@ -56,6 +56,7 @@ OPTIONS = [
     "--wall-runs foot",
     "--wall-runs past",
     "--tile-edges blend",
+    "--wall-hits plan",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

@@ -391,6 +391,8 @@ class Perception:
                                           # look's free floor columns (planner.drift.LookFree)
         self.odometry = None              # its planner.drift.Odometry totals (the loop's)
         self._freed: list = []            # the packed keys this look marked free
+        self.wall_hits = "feature"        # DriveConfig.wall_hits: "plan" starts no feature
+        self.plan_walls = None            # from a hit the plan's walls (x0, x1, z0, z1) explain
         self.assume_within = None         # (x0, x1, z0, z1): the assumed floor stops there
         self.floor_within = None          # (x0, x1, z0, z1): floor in view ends inside (bound)
                                           # (the loop: the plan's walls less wall_growth)
@@ -636,10 +638,17 @@ class Perception:
                 obs_cov = fs.hit_cov[:, [0, 2]][:, :, [0, 2]]
                 if pose_cov is not None and self.feature_pose == "absolute":
                     obs_cov = obs_cov + pose_point_covariance(obs, (est.x, est.z), pose_cov)
-                ids = self.features.add_look(obs, obs_cov, fs.spans, near=(est.x, est.z),
-                                             near_ft=self.max_range_ft + 3.0,
-                                             drift_cov=pose_cov if self.feature_pose == "drift"
-                                             and pose_cov is not None else None)
+                keep = np.ones(len(obs), bool)
+                if self.wall_hits == "plan" and self.plan_walls is not None:
+                    keep = ~wall_explained(obs, obs_cov, self.plan_walls)
+                kept = np.cumsum(keep) - 1
+                spans = [(int(kept[a]), int(kept[b])) for a, b in fs.spans if keep[a] and keep[b]]
+                ids = np.full(len(obs), -1, int)
+                ids[keep] = self.features.add_look(
+                    obs[keep], obs_cov[keep], spans, near=(est.x, est.z),
+                    near_ft=self.max_range_ft + 3.0,
+                    drift_cov=pose_cov if self.feature_pose == "drift"
+                    and pose_cov is not None else None)
             if self.occupied == "model":
                 if self.expire_uncertain:
                     self.expire_features_in_view(fs, R, left, ids)
@@ -1340,6 +1349,23 @@ def wall_growth(pose_cov, sigmas: float = WALL_SIGMAS) -> tuple[float, float]:
     cov = np.asarray(pose_cov, float)
     return tuple(float(min(sigmas * math.sqrt(max(cov[k, k], 0.0)), MAX_GROWTH_FT))
                  for k in (0, 1))
+
+
+def wall_explained(obs, obs_cov, bounds, sigmas: float = WALL_SIGMAS) -> np.ndarray:
+    """(N,) bool: the floor hits ``obs`` ((N, 2) x, z) whose ``sigmas`` ellipse
+    (``obs_cov`` (N, 2, 2), the pose's share in it) reaches a wall of the floor plan
+    ``bounds`` (x0, x1, z0, z1), or that lie past one: the plan's wall explains them.
+    ``DriveConfig.wall_hits="plan"`` (not 1985) starts no floor feature from them:
+    a wall's far points, located short of it by their range error, grow into the
+    floor as features (room 119: the way past box 2, 4.5 ft wide, closed; under
+    "plan" the drive starts 59 features against 202 and reaches the goal)."""
+    o = np.asarray(obs, float).reshape(-1, 2)
+    c = np.asarray(obs_cov, float).reshape(-1, 2, 2)
+    x0, x1, z0, z1 = bounds
+    reach_x = sigmas * np.sqrt(np.maximum(c[:, 0, 0], 0.0))
+    reach_z = sigmas * np.sqrt(np.maximum(c[:, 1, 1], 0.0))
+    return (o[:, 0] - reach_x <= x0) | (o[:, 0] + reach_x >= x1) | \
+        (o[:, 1] - reach_z <= z0) | (o[:, 1] + reach_z >= z1)
 
 
 def within_walls(origin, ends, bounds, res: float) -> np.ndarray:
