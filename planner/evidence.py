@@ -1356,9 +1356,10 @@ def wall_explained(obs, obs_cov, bounds, sigmas: float = WALL_SIGMAS) -> np.ndar
     (``obs_cov`` (N, 2, 2), the pose's share in it) reaches a wall of the floor plan
     ``bounds`` (x0, x1, z0, z1), or that lie past one: the plan's wall explains them.
     ``DriveConfig.wall_hits="plan"`` (not 1985) starts no floor feature from them:
-    a wall's far points, located short of it by their range error, grow into the
-    floor as features (room 119: the way past box 2, 4.5 ft wide, closed; under
-    "plan" the drive starts 59 features against 202 and reaches the goal)."""
+    a wall's own points, located short of it by their range error, grow into the
+    floor as features (room 119: at look 2 the right wall's, hit once just before it,
+    narrow the way along it and the drive goes round the far side, to stop "narrower"
+    after 51 looks; under "plan" it drives along the wall, 11 looks to the goal)."""
     o = np.asarray(obs, float).reshape(-1, 2)
     c = np.asarray(obs_cov, float).reshape(-1, 2, 2)
     x0, x1, z0, z1 = bounds

@@ -344,7 +344,7 @@ def add_loop_options(p) -> None:
     opt("--wall-hits", choices=WALL_HITS, default=C.wall_hits,
         help="a floor hit whose two-sigma ellipse reaches the floor plan's walls: a floor "
              "feature as any hit (feature, the default), or explained by the plan's wall "
-             "and no feature started (plan, not 1985: a wall's far points located short "
+             "and no feature started (plan, not 1985: a wall's own points located short "
              "of it grow into the floor, room 119; seeds 1-900: 638 goals against 627 "
              "and a collision, room 881)")
     opt("--reverse", choices=("off", "on"), default="off",

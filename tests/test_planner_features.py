@@ -254,11 +254,12 @@ def test_a_hit_the_plans_walls_explain_starts_no_feature():
 
 def test_room_119_is_reached_when_the_plans_walls_explain_their_hits():
     """Bench room 119 (noise seed 119): as every hit starts a feature (``wall_hits``
-    "feature", the default) the wall's far points, located short of it, grow into the
-    floor and the way past box 2 closes ("narrower than the vehicle" after 51 looks);
-    with the hits the plan's walls explain left out ("plan", not the default: it
-    collides in room 881, docs/planner.md) the vehicle reaches the goal by its true pose,
-    having started under a third as many features."""
+    "feature", the default) the right wall's points, hit once at look 2 just before it,
+    narrow the way along it; the drive goes round the far side and stops "narrower than
+    the vehicle" after 51 looks.  With the hits the plan's walls explain left out
+    ("plan", not the default: it collides in room 881, docs/planner.md) the vehicle
+    drives along the wall and reaches the goal by its true pose, having started under a
+    third as many features."""
     from rigtools import assert_reached_by_the_truth, bench_drives
     assert DriveConfig.wall_hits == "feature"
     goal, res = bench_drives(119, "wall_hits", ("feature", "plan"))
