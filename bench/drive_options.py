@@ -57,6 +57,7 @@ OPTIONS = [
     "--wall-runs past",
     "--tile-edges blend",
     "--wall-hits plan",
+    "--wall-hits plan --one-grey-runs near-seen",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

@@ -391,6 +391,7 @@ class Perception:
                                           # look's free floor columns (planner.drift.LookFree)
         self.odometry = None              # its planner.drift.Odometry totals (the loop's)
         self._freed: list = []            # the packed keys this look marked free
+        self.one_grey_runs = "prove"      # DriveConfig.one_grey_runs
         self.wall_hits = "feature"        # DriveConfig.wall_hits: "plan" starts no feature
         self.plan_walls = None            # from a hit the plan's walls (x0, x1, z0, z1) explain
         self.assume_within = None         # (x0, x1, z0, z1): the assumed floor stops there
@@ -592,6 +593,18 @@ class Perception:
                 # the look lies along the estimated heading: only what every column
                 # within its sigmas shows is proven (rooms 6, 34, 49)
                 reach = within_heading(reach, heading_sd, self.heading_sigmas)
+            if reach is not None and self.one_grey_runs == "near-seen" and known is not None \
+                    and texture is not None and learned is not None \
+                    and np.ptp(np.flatnonzero(learned)) >= 2:
+                # on a tiled floor a run that shows one of its greys only may be a face of
+                # that grey filling the bottom rows: it proves nothing unless the last map
+                # showed the floor before its bottom row free (room 881: a face 1.5 ft
+                # ahead, checked in the floor's grey 3, proved as floor 3.2 ft out)
+                bottom = np.column_stack([rays.x[ROWS - 1], np.full(len(reach), left[1]),
+                                          rays.z[ROWS - 1]])
+                near = float(np.nanmax(rays.dist[ROWS - 1]))
+                reach = np.where((texture < ROWS) | _near_free(known, left, bottom, near),
+                                 reach, 0.0)
             if proof_top is not None:
                 # "bound-add": the floor in view proves its trace too, no farther
                 # than where the bound ends it (nowhere in a column showing no end)

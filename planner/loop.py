@@ -187,6 +187,7 @@ PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
 WALL_HITS = ("feature", "plan")          # DriveConfig.wall_hits (evidence.wall_explained)
+ONE_GREY_RUNS = ("prove", "near-seen")   # DriveConfig.one_grey_runs
 WALL_RUNS = ("none", "past", "foot", "texture")   # DriveConfig.wall_runs: a floor run up a wall of its grey
 TILE_EDGES = ("break", "blend")        # DriveConfig.tile_edges: a tile's averaged edge in a proof
 STEERS = ("off", "small", "idle")     # DriveConfig.steer: a path's first leg cut short
@@ -456,6 +457,14 @@ class DriveConfig:
                                           # (evidence.wall_explained; room 119; seeds
                                           # 1-900: 638 goals against 627, but a collision
                                           # in room 881, so not the default)
+    one_grey_runs: str = "prove"          # on a tiled floor (two learned greys), a column
+                                          # whose floor run shows one of them only: "prove"
+                                          # (today's) as any run; "near-seen" (not 1985):
+                                          # only where the last map showed the floor before
+                                          # its bottom row free (a face of that grey there
+                                          # fills the bottom rows; room 881).  With
+                                          # wall_hits "plan", seeds 1-900: 632 goals against
+                                          # 627, no collision (measured, not yet adopted)
     seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
                                           # (a named option, not the dissertation's; measured,
                                           # not adopted): A* where a cell within the pivot
@@ -840,7 +849,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("proof_heading", PROOF_HEADINGS),
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS),
                           ("goal_evidence", GOAL_EVIDENCES), ("wall_runs", WALL_RUNS),
-                          ("wall_hits", WALL_HITS),
+                          ("wall_hits", WALL_HITS), ("one_grey_runs", ONE_GREY_RUNS),
                           ("tile_edges", TILE_EDGES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
@@ -940,7 +949,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
     model.wall_runs, model.tile_edges = cfg.wall_runs, cfg.tile_edges
-    model.wall_hits = cfg.wall_hits
+    model.wall_hits, model.one_grey_runs = cfg.wall_hits, cfg.one_grey_runs
     model.expire_uncertain = int(cfg.expire_uncertain)
     if cfg.goal_evidence == "look-expire" and not cfg.expire_uncertain and cfg.occupied == "model":
         model.expire_uncertain = GOAL_EXPIRE_LOOKS

@@ -176,7 +176,7 @@ LOOP_OPTION_GROUPS = (
     ("the map: what is free", "what a look proves free, and what is assumed free",
      ("--floor-eyes", "--sight-lines", "--blank-ft", "--blank-carve", "--carve", "--blank-px",
       "--blank-limit", "--blank-sides", "--sides-apart", "--stand-in", "--learn-floor",
-      "--proof-hits", "--wall-hits", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
+      "--proof-hits", "--wall-hits", "--one-grey-runs", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--passage", "--goal-region", "--uncertain",
@@ -193,7 +193,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
-    MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, \
+    MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.motion import PIVOT_INNER_FT, STEER_MAX_DEG
     from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
@@ -347,6 +347,11 @@ def add_loop_options(p) -> None:
              "and no feature started (plan, not 1985: a wall's own points located short "
              "of it grow into the floor, room 119; seeds 1-900: 638 goals against 627 "
              "and a collision, room 881)")
+    opt("--one-grey-runs", choices=ONE_GREY_RUNS, default=C.one_grey_runs,
+        help="on a tiled floor, a column whose floor run shows one of its greys only: "
+             "proves as any run (prove, the default), or only where the last map showed "
+             "the floor before its bottom row free (near-seen, not 1985: a face of that "
+             "grey there fills the bottom rows, room 881)")
     opt("--reverse", choices=("off", "on"), default="off",
         help="the vehicle may BACK straight over space seen free (default off)")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,
@@ -647,7 +652,7 @@ def loop_config(args, goal, fail):
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
                        goal_evidence=args.goal_evidence, wall_runs=args.wall_runs,
-                       wall_hits=args.wall_hits,
+                       wall_hits=args.wall_hits, one_grey_runs=args.one_grey_runs,
                        tile_edges=args.tile_edges,
                        wall_points=args.wall_points,
                        blank_ft=args.blank_ft if args.blank_ft and args.blank_ft > 0 else None)

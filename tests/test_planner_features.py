@@ -268,3 +268,20 @@ def test_room_119_is_reached_when_the_plans_walls_explain_their_hits():
     assert feature.collisions == 0
     assert_reached_by_the_truth(plan, goal)
     assert 3 * plan.features.started < feature.features.started
+
+
+def test_room_881_a_face_in_a_tiled_floors_grey_is_not_proved_floor_under_near_seen():
+    """Bench room 881 under ``wall_hits="plan"``: at look 36 the vehicle faces box 1
+    from 1.5 ft; its face, checked in greys 3 and 14 on a floor tiled in 3 and 5, fills
+    the bottom rows, the floor in view proves the floor 3.2 ft out, inside the box, and
+    the vehicle hits it at look 46.  Under ``one_grey_runs="near-seen"`` (not the
+    default) a run showing one of the tiles' greys only proves nothing where the last map
+    had not shown the floor before its bottom row free: no collision (the world's exact
+    geometry)."""
+    from rigtools import bench_drives
+    assert DriveConfig.one_grey_runs == "prove"
+    _, res = bench_drives(881, "one_grey_runs", ("prove", "near-seen"), wall_hits="plan")
+    assert res["prove"].collisions == 1 and "hit something" in res["prove"].reason
+    assert res["near-seen"].collisions == 0
+    with pytest.raises(ValueError, match="unknown one_grey_runs 'never'"):
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, one_grey_runs="never"))
