@@ -371,6 +371,13 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
     return reach
 
 
+def is_tiled(greys, step: int = 2) -> bool:
+    """Whether the learned floor greys ``greys`` ((16,) bool) are a tiled floor's: two
+    at least ``step`` levels apart (g and g + 2).  A flat floor learns one."""
+    learned = np.flatnonzero(greys)
+    return len(learned) >= 2 and learned[-1] - learned[0] >= step
+
+
 def texture_end(picture, greys, top: np.ndarray, rows: int = 3, step: int = 2) -> np.ndarray:
     """(128,) per column the nearest row of the farthest window of ``rows``
     rows inside its floor run (rows ``top[c]``..119) that holds two floor
@@ -381,8 +388,7 @@ def texture_end(picture, greys, top: np.ndarray, rows: int = 3, step: int = 2) -
     :data:`MIN_SHARE`), and so is a flat face of a floor grey.  Whatever
     stands on the floor with one of its greys ends the texture at its foot,
     so the floor is the floor to there."""
-    learned = np.flatnonzero(greys)
-    if len(learned) < 2 or learned[-1] - learned[0] < step:
+    if not is_tiled(greys, step):
         return np.full(COLS, ROWS)            # (a flat floor: no window can hold both)
     pic = np.clip(np.asarray(picture), 0, GREYS - 1).astype(float)
     is_floor = np.asarray(greys, bool)[pic.astype(int)]

@@ -28,8 +28,9 @@ import numpy as np
 
 from vehicle.sim import State
 from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, floor_proof, \
-    floor_rays, BOUNDING, STAND_INS, floor_run, keep_before_hit, nearest_greys, training_mask, \
-    vetoed, raised_columns, raised_ends, reads_floor, run_reach, texture_end, within_heading
+    floor_rays, BOUNDING, STAND_INS, floor_run, is_tiled, keep_before_hit, nearest_greys, \
+    training_mask, vetoed, raised_columns, raised_ends, reads_floor, run_reach, texture_end, \
+    within_heading
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segment_cells
@@ -594,8 +595,7 @@ class Perception:
                 # within its sigmas shows is proven (rooms 6, 34, 49)
                 reach = within_heading(reach, heading_sd, self.heading_sigmas)
             if reach is not None and self.one_grey_runs == "near-seen" and known is not None \
-                    and texture is not None and learned is not None \
-                    and np.ptp(np.flatnonzero(learned)) >= 2:
+                    and texture is not None and learned is not None and is_tiled(learned):
                 # on a tiled floor a run that shows one of its greys only may be a face of
                 # that grey filling the bottom rows: it proves nothing unless the last map
                 # showed the floor before its bottom row free (room 881: a face 1.5 ft
