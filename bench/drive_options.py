@@ -39,7 +39,9 @@ from pathlib import Path
 # unchecked, the step back, the widening, the swept pivot, the goal's disc, 16 looks,
 # the fused features, forward to turn, the walls' map where the seen one has no way,
 # the ring's never-seen cells away from anything seen and the plan past the once-seen
-# features' outer sigma are the defaults since 2026-12-05); the two heads.  Expiry is
+# features' outer sigma are the defaults since 2026-12-05); the hits the plan's walls
+# explain starting features and a tiled floor's one-grey runs proving the floor anywhere
+# (the defaults before 2026-12-06 20:30), alone and together; the two heads.  Expiry is
 # measured on each look's hits and on the fused features.
 OPTIONS = [
     "--clearance-at anywhere-exact",
@@ -56,8 +58,9 @@ OPTIONS = [
     "--wall-runs foot",
     "--wall-runs past",
     "--tile-edges blend",
-    "--wall-hits plan",
-    "--wall-hits plan --one-grey-runs near-seen",
+    "--wall-hits feature",
+    "--one-grey-runs prove",
+    "--wall-hits feature --one-grey-runs prove",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

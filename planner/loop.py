@@ -449,22 +449,24 @@ class DriveConfig:
                                           # two-sigma ellipse reaches the goal's planning
                                           # radius expires after GOAL_EXPIRE_LOOKS looks
                                           # (expire_uncertain's rule, under occupied="model")
-    wall_hits: str = "feature"            # a floor hit whose two-sigma ellipse (the pose's
+    wall_hits: str = "plan"               # (the default since 2026-12-06 20:30, with
+                                          # one_grey_runs "near-seen"; "feature" before)
+                                          # a floor hit whose two-sigma ellipse (the pose's
                                           # share in it) reaches the floor plan's walls:
-                                          # "feature" (today's): a floor feature as any hit;
-                                          # "plan" (not 1985; with known_walls): the plan's
-                                          # wall explains it, no feature is started or fused
-                                          # (evidence.wall_explained; room 119; seeds
-                                          # 1-900: 638 goals against 627, but a collision
-                                          # in room 881, so not the default)
-    one_grey_runs: str = "prove"          # on a tiled floor (two learned greys), a column
+                                          # "feature": a floor feature as any hit; "plan"
+                                          # (not 1985; with known_walls): the plan's wall
+                                          # explains it, no feature is started or fused
+                                          # (evidence.wall_explained; room 119; seeds 1-900
+                                          # alone: 638 goals against 627, but a collision
+                                          # in room 881, which one_grey_runs mends)
+    one_grey_runs: str = "near-seen"      # on a tiled floor (two learned greys), a column
                                           # whose floor run shows one of them only: "prove"
-                                          # (today's) as any run; "near-seen" (not 1985):
-                                          # only where the last map showed the floor before
-                                          # its bottom row free (a face of that grey there
-                                          # fills the bottom rows; room 881).  With
-                                          # wall_hits "plan", seeds 1-900: 632 goals against
-                                          # 627, no collision (measured, not yet adopted)
+                                          # (before 2026-12-06 20:30) as any run; "near-seen"
+                                          # (not 1985): only where the last map showed the
+                                          # floor before its bottom row free (a face of that
+                                          # grey there fills the bottom rows; room 881).
+                                          # With wall_hits "plan", seeds 1-900: 632 goals
+                                          # (597 by the truth) against 627 (596), no collision
     seen_cost: float = 0.0                # 0 (off): the path search as --search says; W > 0
                                           # (a named option, not the dissertation's; measured,
                                           # not adopted): A* where a cell within the pivot

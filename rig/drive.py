@@ -343,15 +343,16 @@ def add_loop_options(p) -> None:
              "(--occupied model)")
     opt("--wall-hits", choices=WALL_HITS, default=C.wall_hits,
         help="a floor hit whose two-sigma ellipse reaches the floor plan's walls: a floor "
-             "feature as any hit (feature, the default), or explained by the plan's wall "
-             "and no feature started (plan, not 1985: a wall's own points located short "
-             "of it grow into the floor, room 119; seeds 1-900: 638 goals against 627 "
-             "and a collision, room 881)")
+             "feature as any hit (feature, the default before 2026-12-06 20:30), or "
+             "explained by the plan's wall and no feature started (plan, the default; not "
+             "1985: a wall's own points located short of it grow into the floor, room 119; "
+             "with --one-grey-runs near-seen, seeds 1-900: 632 goals against 627)")
     opt("--one-grey-runs", choices=ONE_GREY_RUNS, default=C.one_grey_runs,
         help="on a tiled floor, a column whose floor run shows one of its greys only: "
-             "proves as any run (prove, the default), or only where the last map showed "
-             "the floor before its bottom row free (near-seen, not 1985: a face of that "
-             "grey there fills the bottom rows, room 881)")
+             "proves as any run (prove, the default before 2026-12-06 20:30), or only "
+             "where the last map showed the floor before its bottom row free (near-seen, "
+             "the default; not 1985: a face of that grey there fills the bottom rows, "
+             "room 881)")
     opt("--reverse", choices=("off", "on"), default="off",
         help="the vehicle may BACK straight over space seen free (default off)")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,

@@ -316,14 +316,16 @@ STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 # tiles seen up to a face of their grey, a move's start where its pivot may sweep, a move
 # by its width and a leg steered where the vehicle would look round, 2026-12-06; the fix's
 # widened window bounded, 11:45; the half cells where no map has a way, 15:40; the goal's
-# once-seen blocker let go and a far turn held, 16:45.)
+# once-seen blocker let go and a far turn held, 16:45; the hits the plan's walls explain
+# and a tiled floor's one-grey runs proved only near seen floor, 20:30.)
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan",
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
                                turn_room="off", map_extent="seen", fine_map="off",
                                goal_evidence="off", wall_fix_far=0, uncertain="blocked",
                                wall_runs="none", move_ring="seen", passage="circle",
-                               steer="off", wall_fix_most=None)
+                               steer="off", wall_fix_most=None,
+                               wall_hits="feature", one_grey_runs="prove")
 
 # The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
 # the floor in view kept out of the boxes" and "The improved matcher"): the 1985 matcher,
@@ -339,7 +341,8 @@ DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckon
                                turn_room="off", map_extent="seen", fine_map="off",
                                goal_evidence="off", wall_fix_far=0, uncertain="blocked",
                                wall_runs="none", move_ring="seen", passage="circle",
-                               steer="off", wall_fix_most=None)
+                               steer="off", wall_fix_most=None,
+                               wall_hits="feature", one_grey_runs="prove")
 # The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985),
 # in the one-cell gaps of free space (kept unknown) and in every turn being a pivot.
 DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_deg=0.0,
@@ -348,17 +351,28 @@ DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_de
                                     turn_room="off", map_extent="seen", fine_map="off",
                                     goal_evidence="off", wall_fix_far=0, uncertain="blocked",
                                     wall_runs="none", move_ring="seen", passage="circle",
-                                    steer="off", wall_fix_most=None)
+                                    steer="off", wall_fix_most=None,
+                                    wall_hits="feature", one_grey_runs="prove")
 
 # The drive's defaults before 2026-12-06 15:40 (docs/planner.md, "A floor end that moves
 # with the camera"): no half cells where no map has a way, and a run's end that moved with
-# the camera not drawn as an edge above the floor (and what came at 16:45 turned back too).
+# the camera not drawn as an edge above the floor (and what came at 16:45 and 20:30 turned
+# back too).
 # A test that traced a drive under the defaults before then pins them.
 DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo",
-                                    goal_evidence="off", wall_fix_far=0)
+                                    goal_evidence="off", wall_fix_far=0,
+                                    wall_hits="feature", one_grey_runs="prove")
 
 # The drive's defaults before 2026-12-06 16:45 (docs/planner.md, "A once-seen blocker at the
 # goal let go, a far turn held for a second look"): no once-seen blocker at the goal let go,
 # and no far turn on few points held back.  A test that traced a drive under the defaults
-# before then pins them (with DRIVE_BEFORE_2026_12_06_1540 for the drives before 15:40).
-DRIVE_BEFORE_2026_12_06_1645 = dict(goal_evidence="off", wall_fix_far=0)
+# before then pins them (with DRIVE_BEFORE_2026_12_06_1540 for the drives before 15:40);
+# it turns back what came at 20:30 too.
+DRIVE_BEFORE_2026_12_06_1645 = dict(goal_evidence="off", wall_fix_far=0,
+                                    wall_hits="feature", one_grey_runs="prove")
+
+# The drive's defaults before 2026-12-06 20:30 (docs/planner.md, "Hits the plan's walls
+# explain"): a floor hit the plan's walls explain still starts a feature, and a tiled
+# floor's run of one of its greys proves the floor as any run.  A test that traced a drive
+# under the defaults before then pins them.
+DRIVE_BEFORE_2026_12_06_2030 = dict(wall_hits="feature", one_grey_runs="prove")

@@ -95,11 +95,12 @@ def test_the_option_is_checked():
 
 
 def test_room_56_is_reached_on_half_cells():
-    # bench room 56 (the defaults): the way at (-0.6, 11.1) is narrower than the
-    # vehicle on the map, and the drive stops after 16 looks without progress; with the
-    # half cells as the last resort it is reached, judged by the world's geometry
-    from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(56, "fine_map", FINE_MAPS)
+    # bench room 56 (the defaults before 2026-12-06 20:30, pinned: the drive it traced):
+    # the way at (-0.6, 11.1) is narrower than the vehicle on the map, and the drive
+    # stops after 16 looks without progress; with the half cells as the last resort it
+    # is reached, judged by the world's geometry
+    from rigtools import DRIVE_BEFORE_2026_12_06_2030, assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(56, "fine_map", FINE_MAPS, **DRIVE_BEFORE_2026_12_06_2030)
     assert not res["off"].reached and res["off"].collisions == 0
     assert "narrower than the vehicle" in res["off"].reason
     assert_reached_by_the_truth(res["fallback"], goal)
@@ -107,7 +108,8 @@ def test_room_56_is_reached_on_half_cells():
 
 
 def test_room_860_the_face_of_the_floors_grey_found_by_motion_keeps_the_half_cells_off_it():
-    """Bench room 860 under ``fine_map="fallback"``: box 4's front (x -0.28..1.80,
+    """Bench room 860 under ``fine_map="fallback"`` (and the defaults before 2026-12-06
+    20:30, pinned: the drive it traced): box 4's front (x -0.28..1.80,
     z = 4.595 ft) has a tile's grey, and the floor in view proves the floor up the
     face and into the box.  The half cells open the way toward it and the vehicle's
     pivot sweeps into the face (docs/planner.md, "The search on half cells where no
@@ -117,14 +119,16 @@ def test_room_860_the_face_of_the_floors_grey_found_by_motion_keeps_the_half_cel
     without a collision."""
     from planner.evidence import tracing_perception
     from planner.loop import run
-    from rigtools import bench_drives, bench_task
+    from rigtools import DRIVE_BEFORE_2026_12_06_2030, bench_drives, bench_task
     from world.odometry import OdometryNoise
-    _, res = bench_drives(860, "floor_end_check", ("stereo",), fine_map="fallback")
+    _, res = bench_drives(860, "floor_end_check", ("stereo",), fine_map="fallback",
+                          **DRIVE_BEFORE_2026_12_06_2030)
     assert res["stereo"].collisions == 1
     room, start, goal = bench_task(860)
     made = []
     moved = run(room, start, DriveConfig(goal=goal, fine_map="fallback",
-                                         floor_end_check="motion"),
+                                         floor_end_check="motion",
+                                         **DRIVE_BEFORE_2026_12_06_2030),
                 noise=OdometryNoise(seed=860), keep_maps=False,
                 perception_factory=tracing_perception(made))
     assert moved.collisions == 0

@@ -253,16 +253,16 @@ def test_a_hit_the_plans_walls_explain_starts_no_feature():
 
 
 def test_room_119_is_reached_when_the_plans_walls_explain_their_hits():
-    """Bench room 119 (noise seed 119): as every hit starts a feature (``wall_hits``
-    "feature", the default) the right wall's points, hit once at look 2 just before it,
-    narrow the way along it; the drive goes round the far side and stops "narrower than
-    the vehicle" after 51 looks.  With the hits the plan's walls explain left out
-    ("plan", not the default: it collides in room 881, docs/planner.md) the vehicle
-    drives along the wall and reaches the goal by its true pose, having started under a
-    third as many features."""
-    from rigtools import assert_reached_by_the_truth, bench_drives
-    assert DriveConfig.wall_hits == "feature"
-    goal, res = bench_drives(119, "wall_hits", ("feature", "plan"))
+    """Bench room 119 (noise seed 119), traced under the defaults before 2026-12-06 20:30
+    (``one_grey_runs`` "prove"): as every hit starts a feature (``wall_hits`` "feature",
+    the default then) the right wall's points, hit once at look 2 just before it, narrow
+    the way along it; the drive goes round the far side and stops "narrower than the
+    vehicle" after 51 looks.  With the hits the plan's walls explain left out ("plan",
+    the default since) the vehicle drives along the wall and reaches the goal by its
+    true pose, having started under a third as many features."""
+    from rigtools import DRIVE_BEFORE_2026_12_06_2030, assert_reached_by_the_truth, bench_drives
+    before = {k: v for k, v in DRIVE_BEFORE_2026_12_06_2030.items() if k != "wall_hits"}
+    goal, res = bench_drives(119, "wall_hits", ("feature", "plan"), **before)
     feature, plan = res["feature"], res["plan"]
     assert not feature.reached and "narrower than the vehicle" in feature.reason, feature.reason
     assert feature.collisions == 0
@@ -274,12 +274,11 @@ def test_room_881_a_face_in_a_tiled_floors_grey_is_not_proved_floor_under_near_s
     """Bench room 881 under ``wall_hits="plan"``: at look 36 the vehicle faces box 1
     from 1.5 ft; its face, checked in greys 3 and 14 on a floor tiled in 3 and 5, fills
     the bottom rows, the floor in view proves the floor 3.2 ft out, inside the box, and
-    the vehicle hits it at look 46.  Under ``one_grey_runs="near-seen"`` (not the
-    default) a run showing one of the tiles' greys only proves nothing where the last map
-    had not shown the floor before its bottom row free: no collision (the world's exact
-    geometry)."""
+    the vehicle hits it at look 46.  Under ``one_grey_runs="near-seen"`` (the default
+    since 2026-12-06 20:30, with ``wall_hits="plan"``) a run showing one of the tiles'
+    greys only proves nothing where the last map had not shown the floor before its
+    bottom row free: no collision (the world's exact geometry)."""
     from rigtools import bench_drives
-    assert DriveConfig.one_grey_runs == "prove"
     _, res = bench_drives(881, "one_grey_runs", ("prove", "near-seen"), wall_hits="plan")
     assert res["prove"].collisions == 1 and "hit something" in res["prove"].reason
     assert res["near-seen"].collisions == 0
