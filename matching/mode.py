@@ -359,3 +359,12 @@ def located_points(result, ds: float = 0.75, dv: float = 180.0):
             p = Point(p.line, p.edge, v.loc1_sub, v.loc2_sub, *pos)
         out.append((p, v.confidence))
     return out
+
+
+def vouched_points(results, points, min_confidence: float) -> list:
+    """Those of ``points`` (``rig.scan.Point``s of the line results ``results``,
+    or the same edges with another range) whose edge's verdict is a match with a
+    confidence of at least ``min_confidence``: ``rig drive --min-confidence``."""
+    keep = {(r.iyloc, v.edge) for r in results for v in (r.verdicts or [])
+            if v.matched and v.confidence >= min_confidence}
+    return [p for p in points if (p.line, p.edge) in keep]

@@ -166,7 +166,8 @@ def cmd_drive(args) -> int:
 # rule was measured (docs/planner.md), and each help says which value is the default.
 LOOP_OPTION_GROUPS = (
     ("the eyes", "what the loop sees with",
-     ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--stereo-margin")),
+     ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--min-confidence",
+      "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
      ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-far", "--wall-fix-first",
       "--feature-pose", "--drift-sigmas")),
@@ -409,6 +410,10 @@ def add_loop_options(p) -> None:
         help="located points nearer than FT are left out of the map and the wall "
              f"fix (default {C.min_range_ft:g}; 2.5 before 2026-12-05): from 2.5 to "
              "3 ft a third of the 1985 matcher's points are false matches")
+    opt("--min-confidence", type=float, default=C.min_confidence, metavar="C",
+        help="(not 1985; with --match improved) located points whose match the improved "
+             "matcher vouches for with a confidence under C (0..1) are left out of the "
+             "look (default 0: none)")
     opt("--sight-lines", choices=SIGHT_LINES, default=C.sight_lines,
         help="what a sight line to a located point frees: 'low' (default; not "
              "1985): only where its ray runs below the lowest obstacle's top (a box "
@@ -641,6 +646,7 @@ def loop_config(args, goal, fail):
                        learn_floor=args.learn_floor,
                        refute_hits=args.refute_hits,
                        stereo_margin=args.stereo_margin, min_range_ft=args.min_range,
+                       min_confidence=args.min_confidence,
                        wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen, wall_fix_first=args.wall_fix_first,
                        wall_fix_most=args.wall_fix_most or None,
                        wall_fix_far=args.wall_fix_far,

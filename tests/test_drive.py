@@ -138,6 +138,27 @@ def test_points_nearer_than_the_minimum_range_are_left_out(tmp_path, monkeypatch
             _check_config(DriveConfig(goal=(0.0, 1.0), min_range_ft=bad))
 
 
+def test_points_the_matcher_vouches_for_little_are_left_out_under_min_confidence(
+        tmp_path, monkeypatch):
+    """``--min-confidence C`` (not the default) reaches the loop, which then keeps only
+    the points whose match the improved matcher vouches for with C or more
+    (``matching.mode.vouched_points``; test_matching_mode.py shows they are the more
+    accurate): the tiny room's first look keeps fewer.  Without the improved matcher's
+    verdicts, or out of 0..1, it is refused."""
+    from planner.loop import _check_config
+    assert DriveConfig.min_confidence == 0.0
+    assert drive_config(monkeypatch, tmp_path, "--min-confidence", "0.4").min_confidence == 0.4
+    for bad in (-0.1, 1.0, True):
+        with pytest.raises(ValueError, match="min_confidence must be"):
+            _check_config(DriveConfig(goal=(0.0, 1.0), min_confidence=bad))
+    with pytest.raises(ValueError, match="needs the improved matcher"):
+        _check_config(DriveConfig(goal=(0.0, 1.0), min_confidence=0.4, match="1985"))
+    points = {c: run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(
+        goal=GOAL, max_looks=1, learn_floor="off", min_confidence=c)).cycles[0].points
+        for c in (0.0, 0.5)}
+    assert 0 < points[0.5] < points[0.0]
+
+
 def test_near_visible_distance_from_the_profile():
     # pitched 25 deg down with a half height of atan(60/180): an obstacle 0.8 ft
     # tall shows from (3 - 0.8) / tan(25 + 18.43 deg) = 2.33 ft
