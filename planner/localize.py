@@ -308,9 +308,10 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
     return WallFix(float(s2[0]), float(s2[1]), heading, P2, ok, True, names)
 
 
-def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int):
+def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int,
+             far_sigmas: float = FAR_SIGMAS):
     """How far (deg) the wall fix ``fix`` turns the prior's heading where that is more
-    than :data:`FAR_SIGMAS` of the prior's standard deviation (``prior_cov`` (x, z,
+    than ``far_sigmas`` (:data:`FAR_SIGMAS`) of the prior's standard deviation (``prior_cov`` (x, z,
     heading rad)) on fewer than ``far_points`` points; None otherwise (or no fix).
     ``DriveConfig.wall_fix_far`` (not 1985) takes such a fix only when a second look
     from elsewhere shows one turning it as far the same way.  The odometry's heading is
@@ -321,7 +322,7 @@ def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int)
         return None
     turn = wrap_deg(fix.heading_deg - prior_heading_deg)
     sd = math.degrees(math.sqrt(float(np.asarray(prior_cov, float).reshape(3, 3)[2, 2])))
-    return turn if abs(turn) > FAR_SIGMAS * sd else None
+    return turn if abs(turn) > far_sigmas * sd else None
 
 
 def fix_in_windows(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float,

@@ -545,6 +545,11 @@ class DriveConfig:
                                           # turning it as far the same way (localize.far_turn;
                                           # room 2: 13 points turned it 10.6 deg, 3.5 sigma,
                                           # the wrong way)
+    wall_fix_far_sigmas: float = 3.0      # wall_fix_far's "far": a turn more than this many
+                                          # standard deviations of the prior's heading
+                                          # (localize.FAR_SIGMAS); lower (not 1985; a named
+                                          # option): room 583's fix on 6 points of a far
+                                          # wall turned it 10.7 deg, 2.5 sigma, the wrong way
     wall_fix_first: str = "widened"       # which window a widened fix searches: "widened"
                                           # (as since 09:30): the whole widened window at
                                           # once; "base" (not 1985; a named option): the
@@ -908,6 +913,11 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.min_confidence and cfg.match != "improved":
         raise ValueError(f"min_confidence needs the improved matcher's verdicts "
                          f"(match 'improved'), not match {cfg.match!r}")
+    if isinstance(cfg.wall_fix_far_sigmas, bool) \
+            or not isinstance(cfg.wall_fix_far_sigmas, (int, float)) \
+            or not 0 < cfg.wall_fix_far_sigmas < 10:
+        raise ValueError(f"wall_fix_far_sigmas must be a number of standard deviations above "
+                         f"0 and under 10, not {cfg.wall_fix_far_sigmas!r}")
     if isinstance(cfg.wall_fix_far, bool) or not isinstance(cfg.wall_fix_far, int) \
             or cfg.wall_fix_far < 0:
         raise ValueError(f"wall_fix_far must be a number of points, 0 (off) or more, "
@@ -1148,7 +1158,8 @@ class Drive:
             windows.insert(0, self.cfg.wall_fix_sigmas)
         fix = fix_in_windows(q, cq, (prior.x, prior.z, prior.heading_deg), self.dead_cov,
                              self.room.bounds, pitch, pan, windows)
-        far = far_turn(fix, prior.heading_deg, self.dead_cov, self.cfg.wall_fix_far)
+        far = far_turn(fix, prior.heading_deg, self.dead_cov, self.cfg.wall_fix_far,
+                       self.cfg.wall_fix_far_sigmas)
         if far is not None:
             # a far turn on few points: taken when a look from elsewhere shows it too
             # (from about the same place the same false consensus shows again: room 879)

@@ -169,7 +169,7 @@ LOOP_OPTION_GROUPS = (
      ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--min-confidence",
       "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
-     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-far", "--wall-fix-first",
+     ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-far", "--wall-fix-far-sigmas", "--wall-fix-first",
       "--feature-pose", "--drift-sigmas")),
     ("the map: what is occupied", "where a look's located points and the floor plan block",
      ("--hit-at", "--growth", "--occupied", "--expire-uncertain", "--refute-hits",
@@ -522,6 +522,11 @@ def add_loop_options(p) -> None:
              "heading on fewer than N points is taken only where a look 1 ft or more "
              "away shows one turning it as far the same way (not 1985; default 30; 0: off; a "
              "few points of one wall turned room 2's heading 10.6 deg the wrong way)")
+    opt("--wall-fix-far-sigmas", type=float, default=C.wall_fix_far_sigmas, metavar="S",
+        help="under --pose walls with --wall-fix-far: a turn more than S standard "
+             f"deviations of the prior's heading is far (default {C.wall_fix_far_sigmas:g}; "
+             "lower, not 1985: room 583's fix on 6 points of a far wall turned it 2.5 "
+             "sigma the wrong way)")
     opt("--wall-fix-first", choices=WALL_FIX_FIRSTS, default=C.wall_fix_first,
         help="under --pose walls after looks without a fix: 'widened' (default) "
              "searches the whole widened window at once; 'base' (not 1985) the "
@@ -650,6 +655,7 @@ def loop_config(args, goal, fail):
                        wall_fix_sigmas=args.wall_fix_sigmas, wall_fix_widen=args.wall_fix_widen, wall_fix_first=args.wall_fix_first,
                        wall_fix_most=args.wall_fix_most or None,
                        wall_fix_far=args.wall_fix_far,
+                       wall_fix_far_sigmas=args.wall_fix_far_sigmas,
                        sides_apart=tuple(args.sides_apart), head=args.head,
                        assist_pivot_ft=args.assist_pivot_ft or None,
                        rejoin=args.rejoin, blind_zone=args.blind_zone,

@@ -486,6 +486,28 @@ def test_a_fix_far_from_the_prior_on_few_points_is_a_far_turn():
     assert not none.fixed and far_turn(none, prior[2], cov, 30) is None
 
 
+def test_a_far_turn_from_fewer_sigmas_where_asked(tmp_path, monkeypatch):
+    """``wall_fix_far_sigmas`` (``--wall-fix-far-sigmas``, not the default): the fix of
+    the test above from a prior 2.5 standard deviations off is no far turn at the
+    default 3 sigmas and a far turn of -5 deg (the truth less the prior) from 2; the flag
+    reaches the loop, and a value out of range is refused by name."""
+    from planner.localize import far_turn
+    from planner.loop import DriveConfig, _check_config
+    from rigtools import drive_config
+    q, c = look(np.vstack([right_wall(), back_wall()]))
+    cov = np.diag([0.1 ** 2, 0.1 ** 2, math.radians(2.0) ** 2])
+    prior = (TRUE[0], TRUE[1], TRUE[2] + 5.0)
+    fix = fix_against_walls(q, c, prior, cov, BOUNDS, PITCH, heading_sigmas=4.0)
+    assert fix.fixed and far_turn(fix, prior[2], cov, 30) is None
+    assert far_turn(fix, prior[2], cov, 30, far_sigmas=2.0) == pytest.approx(-5.0, abs=0.05)
+    assert DriveConfig.wall_fix_far_sigmas == 3.0
+    assert drive_config(monkeypatch, tmp_path, "--wall-fix-far-sigmas",
+                        "2").wall_fix_far_sigmas == 2.0
+    for bad in (0, -1.0, 10.0, True, "2"):
+        with pytest.raises(ValueError, match="wall_fix_far_sigmas"):
+            _check_config(DriveConfig(goal=(0.0, 5.0), wall_fix_far_sigmas=bad))
+
+
 def test_a_far_turn_waits_for_a_second_look_where_asked():
     """``wall_fix_far``: bench room 473 takes a fix at look 3 that turns the heading
     7.9 deg (3.2 sigma) on 15 points of the right wall, 7.9 deg off the truth.  Under
