@@ -61,6 +61,8 @@ OPTIONS = [
     "--wall-hits feature",
     "--one-grey-runs prove",
     "--wall-hits feature --one-grey-runs prove",
+    "--min-confidence 0.2",
+    "--wall-fix-far-sigmas 2",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

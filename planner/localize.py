@@ -311,8 +311,9 @@ def fix_against_walls(q_cam, cov_cam, prior, prior_cov, bounds, pitch_deg: float
 def far_turn(fix: WallFix, prior_heading_deg: float, prior_cov, far_points: int,
              far_sigmas: float = FAR_SIGMAS):
     """How far (deg) the wall fix ``fix`` turns the prior's heading where that is more
-    than ``far_sigmas`` (:data:`FAR_SIGMAS`) of the prior's standard deviation (``prior_cov`` (x, z,
-    heading rad)) on fewer than ``far_points`` points; None otherwise (or no fix).
+    than ``far_sigmas`` (:data:`FAR_SIGMAS`) of the prior's standard deviation
+    (``prior_cov`` (x, z, heading rad)) on fewer than ``far_points`` points; None
+    otherwise (or no fix).
     ``DriveConfig.wall_fix_far`` (not 1985) takes such a fix only when a second look
     from elsewhere shows one turning it as far the same way.  The odometry's heading is
     honest (about one fix in a hundred lies 2.5 sigma off, as a normal law says), but
