@@ -63,6 +63,8 @@ OPTIONS = [
     "--wall-hits feature --one-grey-runs prove",
     "--min-confidence 0.2",
     "--wall-fix-far-sigmas 2",
+    "--free-cells shadows",
+    "--free-cells shadows --reverse on",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

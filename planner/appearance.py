@@ -218,6 +218,42 @@ def run_reach(rays: FloorRays, top: np.ndarray) -> np.ndarray:
     return np.where(np.isfinite(out), out, 0.0)
 
 
+SHADOW_FT = 2.0          # free_cells="shadows": how far past a run's end its shadow is kept
+
+
+def run_shadows(rays: FloorRays, top: np.ndarray, res: float, lowest_ft: float,
+                depth_ft: float = SHADOW_FT) -> np.ndarray:
+    """(N, 3) samples, half a cell apart, of each column's sight line past
+    where its floor run ends below the picture's top row (something not of
+    the floor's grey stands there: its foot; the floor point of the pixel
+    above the run, which :func:`floor_run` leaves out; where the column
+    shows no floor at all, it stands nearer than the bottom row's floor,
+    and the shadow starts where the neighbours' proofs do, at the near limit
+    of a ``lowest_ft`` obstacle, :func:`floor_proof`), ``depth_ft`` past that
+    end, at the camera's height as the proof's samples are.  Under
+    ``DriveConfig.free_cells="shadows"`` no proof or assumed line of the look
+    frees a cell they reach: what stands at a run's foot hides the floor
+    behind it, and a neighbouring column's floor seen past its edge is a
+    sliver of such a cell (room 230 under ``reverse``: the floor seen just
+    beside a box's front, nearer than the bottom row's floor, freed the cells
+    along its hidden side face, three quarters box)."""
+    cols = np.flatnonzero(top > 1)
+    rows = np.minimum(top[cols], ROWS) - 1
+    o = rays.origin
+    dx, dz = rays.x[rows, cols] - o[0], rays.z[rows, cols] - o[2]
+    d = np.hypot(dx, dz)
+    start = np.where(top[cols] >= ROWS, 1.0 - lowest_ft / rays.height, 1.0) * d
+    ok = np.isfinite(d) & (d > 0)
+    dx, dz, d, start = dx[ok], dz[ok], d[ok], start[ok]
+    k = np.arange(int((d + depth_ft - start).max(initial=0.0) / (res / 2)) + 1)
+    along = start[:, None] + k[None, :] * (res / 2)
+    keep = along <= (d + depth_ft)[:, None]
+    t = (along / d[:, None])[keep]
+    dx = np.broadcast_to(dx[:, None], along.shape)[keep]
+    dz = np.broadcast_to(dz[:, None], along.shape)[keep]
+    return np.column_stack([o[0] + dx * t, np.full(t.size, o[1]), o[2] + dz * t])
+
+
 def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft: float,
                 res: float, row_step: int = 4, lead_in: bool = False):
     """The proven floor of a look as sight-line samples: for every column's

@@ -29,6 +29,7 @@ import numpy as np
 from vehicle.sim import State
 from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, floor_proof, \
     floor_rays, BOUNDING, STAND_INS, floor_run, is_tiled, keep_before_hit, nearest_greys, \
+    run_shadows, \
     training_mask, vetoed, raised_columns, raised_ends, reads_floor, run_reach, texture_end, \
     within_heading
 from .depth_eyes import depth_floor_scan
@@ -37,7 +38,7 @@ from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segmen
 from .floormap import FLOOR_Y, FloorMap, project_octree, split_in_four
 from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfInterest, pack, unpack, \
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
-    sight_samples, logodds_at, mark_assumed_free, mark_free_rays, mark_keys_free, mark_occupied, \
+    sight_samples, logodds_at, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
 from .perception import CX_128, CY_128, FOCAL_128, MIN_RANGE_FT, camera_points, filter_points, \
     floor_scan
@@ -350,6 +351,8 @@ class Perception:
         self.raised_seen: list = []       # ... and (look, edge points, segments a, b held) of
                                           # every look that found one
         self.proof_hits = "trace"         # or "line" (DriveConfig.proof_hits)
+        self.free_cells = "any"           # or "shadows" (DriveConfig.free_cells)
+        self._shadow_keys = np.zeros(0, np.int64)   # under "shadows": behind this look's runs
         self.proof_heading = "estimate"   # or "window" (DriveConfig.proof_heading)
         self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
@@ -527,6 +530,8 @@ class Perception:
                     bad = vetoed(scan_points, rays, top, res)
                     self.vetoed += int(bad.sum())
                     scan_points = [q for q, b in zip(scan_points, bad) if not b]
+        self._shadow_keys = np.unique(cell_keys(run_shadows(rays, top, res, self.lowest_ft), res)) \
+            if top is not None and self.free_cells == "shadows" else np.zeros(0, np.int64)
         if depth is not None:
             fs = depth_floor_scan(depth, R, left, self.band, self.max_range_ft, res)
         else:
@@ -622,8 +627,8 @@ class Perception:
                 if ends_start is not None:
                     mark_keys_free(self.tree, self._assumed_low_keys(left, ends, ends_start))
                 else:
-                    mark_assumed_free(self.tree, left, ends, self.hit_keys,
-                                      start_ft=self.near_ft)
+                    mark_keys_free(self.tree, self._off_shadows(assumed_free_keys(
+                        self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)))
             far_ends = fs.far_ends if self.two_look_sides is not None and \
                 fs.far_ends is not None else fs.free_ends[:0]
             if len(far_ends):
@@ -896,7 +901,14 @@ class Perception:
             out.append(assumed_free_keys(self.tree, left, ends[sel], self.hit_keys,
                                          start_ft=max(self.near_ft, float(s)),
                                          only_unknown=only_unknown))
-        return np.unique(np.concatenate(out)).astype(np.int64)
+        return self._off_shadows(np.unique(np.concatenate(out)).astype(np.int64))
+
+    def _off_shadows(self, keys: np.ndarray) -> np.ndarray:
+        """``keys`` less the cells in the shadows of this look's floor runs
+        (``free_cells="shadows"``: :func:`~planner.appearance.run_shadows`;
+        none under ``"any"``): an assumed line frees no cell hidden behind
+        a run's foot."""
+        return keys[~np.isin(keys, self._shadow_keys)] if len(self._shadow_keys) else keys
 
     def _split_seen(self, left, hits, proven, res: float):
         """The tag of :meth:`update`'s one seen-sight-line batch: the keys on
@@ -1108,6 +1120,7 @@ class Perception:
         pts, ray, _, proving = proof
         keys = cell_keys(pts, res)
         keep = keep_before_hit(keys, ray, self.hit_keys) & proving
+        keep &= ~np.isin(keys, self._shadow_keys)   # free_cells="shadows"
         keys = np.unique(keys[keep])
         if not len(keys):
             return 0

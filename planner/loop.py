@@ -183,6 +183,7 @@ FREE_GAPS = ("keep", "fill")         # DriveConfig.free_gaps: a one-cell unknown
 # DriveConfig.floor_end_check: a floor end the eyes place nearer, or that moves with the camera
 FLOOR_END_CHECKS = ("off", "stereo", "motion")
 PROOF_HITS = ("trace", "line")       # DriveConfig.proof_hits: where a hit stops the floor's proof
+FREE_CELLS = ("any", "shadows")      # DriveConfig.free_cells: the shadows of a look's runs' ends
 PROOF_HEADINGS = ("estimate", "window")   # DriveConfig.proof_heading: the floor ends' heading
 FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older look's free space by the drift since
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
@@ -623,6 +624,14 @@ class DriveConfig:
                                           # the default since 2026-12-05): a box nearer
                                           # than the picture's bottom row
                                           # with a face of the floor's grey (room 293)
+    free_cells: str = "any"               # what the floor in view and the blank-column
+                                          # assumption may free: "any" cell their samples
+                                          # reach, or "shadows" (not 1985): none on any
+                                          # column's sight line within 2 ft past where its
+                                          # floor run ends in that look
+                                          # (appearance.run_shadows; room 230 under reverse:
+                                          # the floor seen beside a box's corner freed the
+                                          # cells along its hidden face, three quarters box)
     wall_runs: str = "texture"            # under floor_eyes "bound"/"bound-add", a column whose
                                           # floor run goes on up past the plan's walls or to the
                                           # picture's top: it shows no floor's end ("none");
@@ -865,6 +874,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("wall_points", WALL_POINTS), ("wall_fix_first", WALL_FIX_FIRSTS),
                           ("proof_heading", PROOF_HEADINGS),
                           ("floor_end_check", FLOOR_END_CHECKS), ("proof_hits", PROOF_HITS),
+                          ("free_cells", FREE_CELLS),
                           ("goal_evidence", GOAL_EVIDENCES), ("wall_runs", WALL_RUNS),
                           ("wall_hits", WALL_HITS), ("one_grey_runs", ONE_GREY_RUNS),
                           ("tile_edges", TILE_EDGES)):
@@ -977,6 +987,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.floor_eyes = cfg.floor_eyes
     model.proof_heading, model.heading_sigmas = cfg.proof_heading, cfg.drift_sigmas
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
+    model.free_cells = cfg.free_cells
     model.wall_runs, model.tile_edges = cfg.wall_runs, cfg.tile_edges
     model.wall_hits, model.one_grey_runs = cfg.wall_hits, cfg.one_grey_runs
     model.expire_uncertain = int(cfg.expire_uncertain)

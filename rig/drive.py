@@ -177,7 +177,7 @@ LOOP_OPTION_GROUPS = (
     ("the map: what is free", "what a look proves free, and what is assumed free",
      ("--floor-eyes", "--sight-lines", "--blank-ft", "--blank-carve", "--carve", "--blank-px",
       "--blank-limit", "--blank-sides", "--sides-apart", "--stand-in", "--learn-floor",
-      "--proof-hits", "--wall-hits", "--one-grey-runs", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
+      "--proof-hits", "--free-cells", "--wall-hits", "--one-grey-runs", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--passage", "--goal-region", "--uncertain",
@@ -194,7 +194,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
-    MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
+    MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, FREE_CELLS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.motion import PIVOT_INNER_FT, STEER_MAX_DEG
     from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
@@ -543,6 +543,12 @@ def add_loop_options(p) -> None:
              "stretch an 0.8 ft obstacle would hide; 'line' (not 1985; default): anywhere on "
              "its line from the camera, so a box nearer than the picture's bottom "
              "row with a face of the floor's grey proves nothing behind it")
+    opt("--free-cells", choices=FREE_CELLS, default=C.free_cells,
+        help="what the floor in view and the blank-column assumption may free: 'any' "
+             "cell they reach (default), or 'shadows' (not 1985): none on any "
+             "column's sight line within 2 ft past where its floor run ends in that "
+             "look (behind the foot of what stands there), so the floor seen beside a "
+             "box's corner frees no cell along its hidden face")
     opt("--wall-runs", choices=WALL_RUNS, default=C.wall_runs,
         help="under --floor-eyes bound or bound-add, a column whose floor's grey runs on "
              "past the plan's walls or to the picture's top: 'texture' (not 1985; "
@@ -664,6 +670,7 @@ def loop_config(args, goal, fail):
                        free_drift=args.free_drift, drift_sigmas=args.drift_sigmas,
                        free_gaps=args.free_gaps, proof_heading=args.proof_heading,
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
+                       free_cells=args.free_cells,
                        goal_evidence=args.goal_evidence, wall_runs=args.wall_runs,
                        wall_hits=args.wall_hits, one_grey_runs=args.one_grey_runs,
                        tile_edges=args.tile_edges,

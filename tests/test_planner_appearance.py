@@ -165,6 +165,76 @@ def test_the_floor_run_of_a_rendered_look_shows_only_floor():
     assert ((pts[:, 0] > x0) & (pts[:, 0] < x1) & (pts[:, 2] > z0) & (pts[:, 2] < z1)).all()
 
 
+@pytest.mark.parametrize("x, z", [(1.0, 0.0), (1.7, 0.5)])
+def test_the_floor_seen_past_a_boxs_edge_frees_no_cell_of_it_under_shadows(x, z):
+    """The floor in view beside the tiny room's box (x 1.2-2.6, z 3.5-4.5),
+    from the left of its left face (the left camera at x 0.625, the face
+    seen) and from behind its front (x 1.325, the front 3 ft away, nearer
+    than the bottom row's floor at 3.2 ft: no floor in those columns, as in
+    room 230), on a grid offset 0.15 ft in x (the face 0.05 ft into the cell
+    x 1.15-1.4, which it covers four fifths of: a box is seldom on the grid).
+    A proof sample anywhere frees such a cell ("any"); less the cells in the
+    shadows of the look's run ends (:func:`run_shadows`, "shadows") the proof
+    frees no cell the box covers half of, and keeps nine tenths of its cells."""
+    from planner.appearance import run_shadows
+    from planner.octree import cell_keys, unpack
+    room = tiny_room()
+    pose = Pose(x, z, 0.0, PITCH)
+    look = render_look(room, pose, seed=7, supersample=2)
+    greys = np.zeros(16, bool)
+    greys[6] = True
+    top = floor_run(look.left_bi, greys, bridge=True)      # as the loop bounds (bridged)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    shift = np.array([0.15, 0.0, 0.0])
+    (bx0, bx1), _, (bz0, bz1) = BOX
+
+    def box_share(keys):
+        k = unpack(np.unique(keys))
+        x0, z0 = k[:, 0] * 0.25 + 0.15, k[:, 2] * 0.25
+        wx = np.clip(np.minimum(x0 + 0.25, bx1) - np.maximum(x0, bx0), 0, None)
+        wz = np.clip(np.minimum(z0 + 0.25, bz1) - np.maximum(z0, bz0), 0, None)
+        return wx * wz / 0.0625
+
+    pts, _, _, _ = floor_proof(rays, top, np.full(128, 12.0), 0.8, 0.25)
+    keys = cell_keys(pts - shift, 0.25)
+    assert box_share(keys).max() == pytest.approx(0.8)     # the cells x 1.15-1.4
+    shadows = cell_keys(run_shadows(rays, top, 0.25, 0.8) - shift, 0.25)
+    kept = keys[~np.isin(keys, shadows)]
+    assert box_share(kept).max() < 0.5
+    assert len(np.unique(kept)) > 0.85 * len(np.unique(keys))
+
+
+def test_run_shadows_by_hand():
+    """A level-ish look's shadows: a column whose run ends at row r casts
+    its line from that row's floor point (the straddling pixel's) to 2 ft
+    past it; a column with no floor from the near limit of a 0.8 ft obstacle
+    at the bottom row's floor (1 - 0.8 / 3 of its distance); a run to the
+    top casts none."""
+    from planner.appearance import SHADOW_FT, run_shadows
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    top = np.full(128, 1)                      # every run up to the top: no shadow
+    assert len(run_shadows(rays, top, 0.25, 0.8)) == 0
+    top[40] = 80                               # ends at row 80: its foot the row 79 point
+    top[90] = ROWS                             # no floor at all
+    pts = run_shadows(rays, top, 0.25, 0.8)
+    o = rays.origin
+    d = np.hypot(pts[:, 0] - o[0], pts[:, 2] - o[2])
+    bearing = np.arctan2(pts[:, 0] - o[0], pts[:, 2] - o[2])
+    for col, start in ((40, rays.dist[79, 40]), (90, (1 - 0.8 / H) * rays.dist[119, 90])):
+        b = math.atan2(rays.x[top[col] - 1, col] - o[0], rays.z[top[col] - 1, col] - o[2])
+        on = np.isclose(bearing, b, atol=1e-9)
+        end = start if col == 90 else rays.dist[79, 40]
+        assert d[on].min() == pytest.approx(start)
+        assert d[on].max() == pytest.approx(end + SHADOW_FT, abs=0.125) if col == 40 else \
+            d[on].max() == pytest.approx(rays.dist[119, 90] + SHADOW_FT, abs=0.125)
+        assert np.allclose(np.diff(np.sort(d[on])), 0.125)
+        assert np.allclose(pts[on, 1], o[1])
+    assert np.isclose(bearing[:, None], [math.atan2(rays.x[79, 40] - o[0], rays.z[79, 40] - o[2]),
+                      math.atan2(rays.x[119, 90] - o[0], rays.z[119, 90] - o[2])],
+                      atol=1e-9).any(axis=1).all()
+
+
 def _pt(line, loc1, dp, ep=0.05):
     return Point(line, 1, loc1, loc1 - 10, dp, 0.0, 0.0, ep, 0.01, 0.01)
 
@@ -657,6 +727,40 @@ def test_the_floor_proofs_safety_options_reach_the_loop(monkeypatch, tmp_path):
     assert res.reached, res.reason
     assert res.collisions == 0
     assert 0 < res.floor["floor_cells"]
+
+
+def test_free_cells_reaches_the_loop_and_the_tiny_room_is_reached_under_shadows(
+        monkeypatch, tmp_path):
+    """``--free-cells`` (default ``any``; ``shadows`` named, not 1985) reaches
+    DriveConfig and the loop's Perception, a bad value is refused, and the
+    tiny room is driven to its goal under ``shadows`` without a collision;
+    the loop's look keeps its shadows and proves no cell in them."""
+    from planner.evidence import Perception, tracing_perception
+    from planner.loop import DriveConfig, _check_config, _perception, run
+    from planner.tiny import GOAL
+    from rigtools import drive_config
+    from vehicle.profile import DEFAULT
+    from vehicle.sim import State
+    from world.odometry import OdometryNoise
+    assert drive_config(monkeypatch, tmp_path).free_cells == "any"
+    cfg = drive_config(monkeypatch, tmp_path, "--free-cells", "shadows")
+    assert cfg.free_cells == "shadows"
+    assert _perception(cfg, DEFAULT, Perception).free_cells == "shadows"
+    with pytest.raises(ValueError, match="free_cells"):
+        _check_config(DriveConfig(goal=GOAL, free_cells="centre"))
+    for how in ("any", "shadows"):
+        made = []
+        run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, max_looks=2, free_cells=how),
+            noise=OdometryNoise(seed=1), perception_factory=tracing_perception(made))
+        model = made[0]
+        assert len(model._proved) > 0                     # the floor in view proved cells
+        # its last look's shadows: none under "any"; under "shadows" none of them proved
+        assert (len(model._shadow_keys) > 0) == (how == "shadows")
+        assert not np.isin(model._proved, model._shadow_keys).any()
+    res = run(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(goal=GOAL, free_cells="shadows"),
+              noise=OdometryNoise(seed=1))
+    assert res.reached, res.reason
+    assert res.collisions == 0
 
 
 def test_a_raised_edge_carries_along_the_runs_top_to_columns_without_a_point():
