@@ -221,18 +221,18 @@ def test_run_shadows_by_hand():
     o = rays.origin
     d = np.hypot(pts[:, 0] - o[0], pts[:, 2] - o[2])
     bearing = np.arctan2(pts[:, 0] - o[0], pts[:, 2] - o[2])
-    for col, start in ((40, rays.dist[79, 40]), (90, (1 - 0.8 / H) * rays.dist[119, 90])):
-        b = math.atan2(rays.x[top[col] - 1, col] - o[0], rays.z[top[col] - 1, col] - o[2])
+    bearings = []
+    for col, row, start in ((40, 79, rays.dist[79, 40]),
+                            (90, 119, (1 - 0.8 / H) * rays.dist[119, 90])):
+        b = math.atan2(rays.x[row, col] - o[0], rays.z[row, col] - o[2])
+        bearings.append(b)
         on = np.isclose(bearing, b, atol=1e-9)
-        end = start if col == 90 else rays.dist[79, 40]
         assert d[on].min() == pytest.approx(start)
-        assert d[on].max() == pytest.approx(end + SHADOW_FT, abs=0.125) if col == 40 else \
-            d[on].max() == pytest.approx(rays.dist[119, 90] + SHADOW_FT, abs=0.125)
+        # (to 2 ft past the foot, the samples half a cell apart from the start)
+        assert d[on].max() == pytest.approx(rays.dist[row, col] + SHADOW_FT, abs=0.125)
         assert np.allclose(np.diff(np.sort(d[on])), 0.125)
         assert np.allclose(pts[on, 1], o[1])
-    assert np.isclose(bearing[:, None], [math.atan2(rays.x[79, 40] - o[0], rays.z[79, 40] - o[2]),
-                      math.atan2(rays.x[119, 90] - o[0], rays.z[119, 90] - o[2])],
-                      atol=1e-9).any(axis=1).all()
+    assert np.isclose(bearing[:, None], bearings, atol=1e-9).any(axis=1).all()   # no others
 
 
 def _pt(line, loc1, dp, ep=0.05):
