@@ -238,11 +238,11 @@ def run_shadows(rays: FloorRays, top: np.ndarray, res: float, lowest_ft: float,
     beside a box's front, nearer than the bottom row's floor, freed the cells
     along its hidden side face, three quarters box)."""
     cols = np.flatnonzero(top > 1)
-    rows = np.minimum(top[cols], ROWS) - 1
+    rows = top[cols] - 1                     # (floor_run's top is at most ROWS)
     o = rays.origin
     dx, dz = rays.x[rows, cols] - o[0], rays.z[rows, cols] - o[2]
     d = np.hypot(dx, dz)
-    start = np.where(top[cols] >= ROWS, 1.0 - lowest_ft / rays.height, 1.0) * d
+    start = np.where(top[cols] == ROWS, 1.0 - lowest_ft / rays.height, 1.0) * d
     ok = np.isfinite(d) & (d > 0)
     dx, dz, d, start = dx[ok], dz[ok], d[ok], start[ok]
     k = np.arange(int((d + depth_ft - start).max(initial=0.0) / (res / 2)) + 1)

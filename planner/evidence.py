@@ -624,21 +624,14 @@ class Perception:
             if self.pivot_proof is not None and len(ends):
                 self._blank_seen(left, ends, ends_start, res)
             with self._carving(BLANK_ASSUMPTION):
-                if ends_start is not None:
-                    mark_keys_free(self.tree, self._assumed_low_keys(left, ends, ends_start))
-                else:
-                    mark_keys_free(self.tree, self._off_shadows(assumed_free_keys(
-                        self.tree, left, ends, self.hit_keys, start_ft=self.near_ft)))
+                mark_keys_free(self.tree, self._assumed_keys(left, ends, ends_start))
             far_ends = fs.far_ends if self.two_look_sides is not None and \
                 fs.far_ends is not None else fs.free_ends[:0]
             if len(far_ends):
                 # the cut-off sides: carved where a look apart saw them blank too (TwoLookSides)
                 far_ends, far_start = self._limit_assumed(far_ends, fs.far_start, fs.far_cols,
                                                           left, reach, known, res)
-                keys = self._assumed_low_keys(left, far_ends, far_start) \
-                    if far_start is not None else \
-                    assumed_free_keys(self.tree, left, far_ends, self.hit_keys,
-                                      start_ft=self.near_ft)
+                keys = self._assumed_keys(left, far_ends, far_start)
                 with self._carving(TWO_LOOK_SIDES):
                     mark_keys_free(self.tree, self.two_look_sides.confirm(
                         keys, (est.x, est.z, est.heading_deg)))
@@ -874,27 +867,27 @@ class Perception:
 
     def _blank_seen(self, left, ends, starts, res: float) -> None:
         """Under ``pivot_proof``: every cell on the look's assumed lines
-        ``ends`` (seen before or not, as :meth:`_assumed_low_keys` /
-        :func:`~planner.octree.assumed_free_keys` without ``only_unknown``)
+        ``ends`` (seen before or not, as :meth:`_assumed_keys` without
+        ``only_unknown``)
         remembers the nearest look that had it blank (:attr:`blank_near`):
         the assumption carves a cell once, from the first and farthest look."""
-        keys = self._assumed_low_keys(left, ends, starts, only_unknown=False) \
-            if starts is not None else \
-            assumed_free_keys(self.tree, left, ends, self.hit_keys, start_ft=self.near_ft,
-                              only_unknown=False)
+        keys = self._assumed_keys(left, ends, starts, only_unknown=False)
         if not len(keys):
             return
         c = key_centres(keys, res)
         for k, d in zip(keys.tolist(), np.hypot(c[:, 0] - left[0], c[:, 2] - left[2]).tolist()):
             self.blank_near[k] = min(self.blank_near.get(k, math.inf), d)
 
-    def _assumed_low_keys(self, left, ends, starts, only_unknown: bool = True) -> np.ndarray:
+    def _assumed_keys(self, left, ends, starts, only_unknown: bool = True) -> np.ndarray:
         """:func:`~planner.octree.assumed_free_keys` of the assumed lines
         ``ends``, each from its own start (``FloorScan.free_start`` /
-        ``far_start``, at least ``near_ft``) on: the blank columns beside a
-        hit are carved only where that hit's ray proves the band; lines
-        grouped by start, the keys united (one update per cell per look)."""
-        starts = np.asarray(starts, float)
+        ``far_start`` under sight_lines="low", at least ``near_ft``; None:
+        all from ``near_ft``) on: the blank columns beside a hit are carved
+        only where that hit's ray proves the band; lines grouped by start,
+        the keys united (one update per cell per look), less this look's
+        shadows (:meth:`_off_shadows`)."""
+        starts = np.full(len(ends), self.near_ft) if starts is None else \
+            np.asarray(starts, float)
         out = [np.zeros(0, np.int64)]
         for s in np.unique(starts[np.isfinite(starts)]):
             sel = starts == s
