@@ -147,10 +147,13 @@ def test_the_heading_may_turn_two_of_its_sigmas_and_no_more():
 def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
     """Room 684 (the 1985 eyes, the bench's goal and noise seed; the defaults of
     2026-12-05 01:35, as traced): the floor's ends along its side walls, a skirting of
-    the floor's grey, lie 0.8-1 ft beyond the walls.  With the fix's heading allowed 3 sigma they turn it
-    4-6 deg at looks 3, 11 and 12, 17 deg off the truth by look 12, and the vehicle hits a
-    box at look 16 (the dead reckoning alone ends 0.1 ft off); within 2 sigma no
-    collision."""
+    the floor's grey, lie 0.8-1 ft beyond the walls.  With the fix's heading allowed 3
+    sigma they turn it 4-6 deg at look 3, and more than 10 deg off the truth by look 12;
+    within 2 sigma look 3's fix keeps it within 2 deg.  (Until 2026-12-06 the 3-sigma run
+    went on to 17 deg by look 12 and hit a box at look 16, and this test said so; on the
+    machine of 2026-12-07, at the same commit, it is 14.8 deg and no hit: something below
+    the code, the machine or the libraries pip installed there, rounds the run apart by
+    look 11.  The false turns hold on both; the collision is not asserted.)"""
     from planner.loop import DriveConfig, run
     from rigtools import DRIVE_BEFORE_2026_12_05_0430, bench_task
     from world.odometry import OdometryNoise
@@ -158,9 +161,11 @@ def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
     res = {k: run(room, start, DriveConfig(goal=goal, wall_fix_sigmas=k, max_looks=20,
                                            **DRIVE_BEFORE_2026_12_05_0430),
                   noise=OdometryNoise(seed=684), keep_maps=False) for k in (3.0, 2.0)}
-    assert res[3.0].collisions == 1 and "hit something" in res[3.0].reason
-    off = [abs(c.estimate.heading_deg - c.true.heading_deg) for c in res[3.0].cycles]
-    assert max(off) > 15.0
+    off = {k: [abs(c.estimate.heading_deg - c.true.heading_deg) for c in r.cycles]
+           for k, r in res.items()}
+    assert 4.0 < off[3.0][2] < 6.5                   # look 3: the skirting's turn taken
+    assert off[2.0][2] < 2.0                         # ... and refused within 2 sigma
+    assert max(off[3.0][:12]) > 10.0
     assert res[2.0].collisions == 0
 
 
