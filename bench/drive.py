@@ -437,7 +437,7 @@ def main(argv=None) -> int:
         "sight_lines": args.sight_lines, "stand_in": args.stand_in, "learn_floor": args.learn_floor,
         "sides_apart": list(args.sides_apart),
         "occupied": args.occupied, "hit_at": args.hit_at,
-        "feature_pose": args.feature_pose, "goal_region": args.goal_region, "approach": args.approach,
+        "feature_pose": args.feature_pose, "goal_region": args.goal_region, "approach": args.approach, "finish": args.finish,
         "floor_eyes": args.floor_eyes, "expire_uncertain": args.expire_uncertain,
         "min_pivot_deg": args.min_pivot_deg,
         "cell_ft": voi.resolution, "octree_depth": voi.depth,

@@ -41,7 +41,8 @@ from pathlib import Path
 # the ring's never-seen cells away from anything seen and the plan past the once-seen
 # features' outer sigma are the defaults since 2026-12-05); the hits the plan's walls
 # explain starting features and a tiled floor's one-grey runs proving the floor anywhere
-# (the defaults before 2026-12-06 20:30), alone and together; the two heads.  Expiry is
+# (the defaults before 2026-12-06 20:30), alone and together; the run ended as soon as
+# the estimate enters the goal's disc (the default before 2026-12-07); the two heads.  Expiry is
 # measured on each look's hits and on the fused features.
 OPTIONS = [
     "--clearance-at anywhere-exact",
@@ -61,6 +62,7 @@ OPTIONS = [
     "--wall-hits feature",
     "--one-grey-runs prove",
     "--wall-hits feature --one-grey-runs prove",
+    "--finish edge",
     "--min-confidence 0.2",
     "--wall-fix-far-sigmas 2",
     "--free-cells shadows",

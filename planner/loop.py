@@ -172,6 +172,10 @@ STAND_INS = tuple(STAND_IN_SHARES)    # DriveConfig.stand_in: the bottom rows' g
 REFUTE_HITS = ("off", "under", "through")        # DriveConfig.refute_hits
 HEADS = ("fixed", "pan-tilt", "assist")   # DriveConfig.head
 APPROACHES = ("path", "disc")         # DriveConfig.approach: the last move near the goal
+FINISHES = ("edge", "inner")          # DriveConfig.finish: where in the goal's disc the run ends
+FINISH_INNER_FT = 0.4                 # finish="inner": the estimate this near the goal ends it
+FINISH_NEARER_FT = 0.05               # finish="inner": a cycle begun in the disc that brings
+                                      # the estimate less nearer than this ends it
 HEAD_SWEEP_DEG = (45.0, -45.0, 90.0, -90.0)   # the head's pans when it looks round
 MAP_EXTENTS = ("seen", "walls", "fallback")   # DriveConfig.map_extent: what the floor map covers
 FINE_MAPS = ("off", "fallback")      # DriveConfig.fine_map: half cells where no map has a way
@@ -400,6 +404,13 @@ class DriveConfig:
                                           # allows the one ending nearest the goal, inside
                                           # tolerance_ft - 0.1 (motion.disc_approach); "path":
                                           # the path's prefix only (the default before)
+    finish: str = "inner"                 # where in the goal's disc the run ends (not 1985):
+                                          # "inner" (the default since 2026-12-07): on toward
+                                          # the goal until the estimate is within
+                                          # FINISH_INNER_FT, or a cycle begun in the disc
+                                          # brings it no nearer (each such cycle also looks,
+                                          # and so fixes the estimate); "edge" (before): as
+                                          # soon as the estimate is within tolerance_ft
     goal_region: str = "disc"             # what the planner plans to (not 1985): "disc"
                                           # (the default since 2026-12-05 11:10): the
                                           # standable cell reachable from the estimate inside
@@ -866,7 +877,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("sight_lines", SIGHT_LINES), ("stand_in", STAND_INS),
                           ("occupied", OCCUPIEDS),
                           ("hit_at", PLACES), ("feature_pose", FEATURE_POSES),
-                          ("approach", APPROACHES), ("head", HEADS),
+                          ("approach", APPROACHES), ("finish", FINISHES), ("head", HEADS),
                           ("refute_hits", REFUTE_HITS), ("map_extent", MAP_EXTENTS),
                           ("fine_map", FINE_MAPS),
                           ("plan_walls", PLAN_WALLS), ("learn_floor", LEARN_FLOORS),
@@ -1108,10 +1119,30 @@ class Drive:
         return State(*compose_step((self.look_est.x, self.look_est.z, self.look_est.heading_deg),
                                    self.look_dead, self.veh.dead)[0])
 
+    def goal_left_ft(self) -> float:
+        """The estimate's distance from the goal now."""
+        est = self.current()
+        return math.hypot(est.x - self.goal[0], est.z - self.goal[1])
+
     def at_goal(self) -> bool:
         """The loop's success test: the estimate within the goal's tolerance."""
-        est = self.current()
-        return math.hypot(est.x - self.goal[0], est.z - self.goal[1]) <= self.cfg.tolerance_ft
+        return self.goal_left_ft() <= self.cfg.tolerance_ft
+
+    def finished(self, disc_left_ft: float | None) -> bool:
+        """Whether the run ends at the goal before the next cycle.  Under
+        ``finish="edge"`` as soon as :meth:`at_goal`; under ``"inner"`` once the
+        estimate is within :data:`FINISH_INNER_FT`, or within the tolerance when
+        the last cycle began in the disc ``disc_left_ft`` from the goal and brought
+        it less than :data:`FINISH_NEARER_FT` nearer.  Why: the estimate is a tenth
+        of a foot or more off, and a run ended at the disc's edge by the estimate
+        may lie outside it by the truth."""
+        if self.cfg.finish == "edge":
+            return self.at_goal()
+        left = self.goal_left_ft()
+        if left <= FINISH_INNER_FT:
+            return True
+        return left <= self.cfg.tolerance_ft and disc_left_ft is not None \
+            and disc_left_ft - left < FINISH_NEARER_FT
 
     # -- the cycle's steps ------------------------------------------------------------
 
@@ -1625,7 +1656,8 @@ def step_back_reach_ft(cfg: DriveConfig) -> float:
 def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_maps: bool = True,
         perception_factory=Perception) -> DriveResult:
     """Drive from ``start`` to ``cfg.goal`` in ``room`` (a world Room): cycle
-    (:meth:`Drive.cycle`) until the estimate is within the goal's tolerance, the
+    (:meth:`Drive.cycle`) until the estimate is within the goal's tolerance
+    (:meth:`Drive.finished`: under ``finish="inner"`` on into the disc), the
     vehicle hits something, ``max_stuck`` looks pass without progress or
     ``max_looks`` are used up.
 
@@ -1637,13 +1669,17 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
     drive = Drive(room, start, cfg, noise, keep_maps, perception_factory)
     t_start = time.perf_counter()
     reached, reason = False, ""
+    # finish="inner": the estimate's distance from the goal when the last cycle began
+    # inside the goal's disc (None: it began outside)
+    disc_left_ft = None
     try:
         if steps_back(cfg) and not drive.step_back()[1]:
             return drive.result(False, HIT, time.perf_counter() - t_start)
         for look_no in range(1, cfg.max_looks + 1):
-            if drive.at_goal():
+            if drive.finished(disc_left_ft):
                 reached, reason = True, "goal reached"
                 break
+            disc_left_ft = drive.goal_left_ft() if drive.at_goal() else None
             cyc, ok = drive.cycle(look_no)
             drive.cycles.append(cyc)
             if on_cycle:
@@ -1652,6 +1688,9 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
                 reason = HIT
                 break
             if drive.stuck >= cfg.max_stuck:
+                if cfg.finish == "inner" and drive.at_goal():
+                    reached, reason = True, "goal reached"
+                    break
                 reason = f"stopped after {cfg.max_stuck} looks without progress: " + \
                          (drive.last_reason or cyc.note)
                 break

@@ -184,7 +184,7 @@ LOOP_OPTION_GROUPS = (
       "--goal-evidence",
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent", "--fine-map")),
     ("the motion", "what the vehicle may do with the path",
-     ("--pivot", "--move-ring", "--steer", "--min-pivot-deg", "--approach", "--look-ahead", "--look-around", "--progress",
+     ("--pivot", "--move-ring", "--steer", "--min-pivot-deg", "--approach", "--finish", "--look-ahead", "--look-around", "--progress",
       "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
 )
 
@@ -192,7 +192,7 @@ LOOP_OPTION_GROUPS = (
 def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
-    from planner.loop import APPROACHES, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
+    from planner.loop import APPROACHES, FINISHES, FINISH_INNER_FT, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
     MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, FREE_CELLS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
         WALL_POINTS, WALL_FIX_FIRSTS
@@ -295,6 +295,13 @@ def add_loop_options(p) -> None:
              "1985): where the path's safe prefix drives nowhere, the straight move "
              "the same safety rules allow that ends nearest the goal inside its "
              "tolerance less 0.1 ft; path: the path's safe prefix only (before)")
+    opt("--finish", choices=FINISHES, default=C.finish,
+        help="where in the goal's disc the run ends: inner (default since 2026-12-07; "
+             f"not 1985): on toward the goal until the estimate is within {FINISH_INNER_FT} "
+             "ft of it, or a cycle begun in the disc brings it no nearer (each such cycle "
+             "looks again, and so fixes the estimate: a run ended at the disc's edge by "
+             "the estimate may lie outside it by the truth); edge (before): as soon as "
+             "the estimate is within the tolerance")
     opt("--goal-region", choices=GOALS, default=C.goal_region,
         help="what the planner plans to: disc (default since 2026-12-05; not 1985): "
              "the standable cell nearest the goal inside its tolerance less 0.1 ft, the "
@@ -647,7 +654,7 @@ def loop_config(args, goal, fail):
                        progress=args.progress,
                        look_ahead=args.look_ahead, seen_cost=args.seen_cost,
                        uncertain=args.uncertain, track_free=args.track_free,
-                       goal_region=args.goal_region, approach=args.approach, floor_eyes=args.floor_eyes,
+                       goal_region=args.goal_region, approach=args.approach, finish=args.finish, floor_eyes=args.floor_eyes,
                        expire_uncertain=args.expire_uncertain,
                        min_pivot_deg=args.min_pivot_deg,
                        blank_carve=args.blank_carve, carve=args.carve, profile=profile,

@@ -197,3 +197,57 @@ def test_rig_drive_and_the_bench_take_approach(monkeypatch, tmp_path):
     assert drive_config(monkeypatch, tmp_path).approach == "disc"    # the default since 2026-12-02
     with pytest.raises(ValueError, match="approach"):
         run(None, EST, DriveConfig(goal=GOAL, approach="nearest"))
+
+
+class _Left:
+    """Drive's goal tests on a stand-in whose estimate lies ``left`` ft from the goal."""
+    from planner.loop import Drive as _D
+    at_goal, finished = _D.at_goal, _D.finished
+
+    def __init__(self, left, finish):
+        self.cfg, self.left = DriveConfig(goal=GOAL, finish=finish), left
+
+    def goal_left_ft(self):
+        return self.left
+
+
+def test_the_run_ends_at_the_disc_edge_or_inside_it():
+    from planner.loop import FINISH_INNER_FT, FINISH_NEARER_FT
+    tol = DriveConfig.tolerance_ft
+    assert (FINISH_INNER_FT, FINISH_NEARER_FT, tol) == (0.4, 0.05, 0.75)
+    # edge (the default before 2026-12-07): the estimate inside the tolerance, whatever came before
+    assert _Left(0.74, "edge").finished(None)
+    assert not _Left(0.76, "edge").finished(0.7)
+    # inner: not at the edge on arriving ...
+    assert not _Left(0.74, "inner").finished(None)
+    assert not _Left(0.74, "inner").finished(0.80)          # came 0.06 ft nearer
+    # ... but within 0.4 ft, or when a cycle begun in the disc came under 0.05 ft nearer
+    assert _Left(0.40, "inner").finished(None)
+    assert _Left(0.70, "inner").finished(0.74)
+    assert _Left(0.74, "inner").finished(0.70)               # the look's fix moved it back
+    assert not _Left(0.76, "inner").finished(0.70)           # ... out of the disc: go on
+    assert not _Left(0.60, "inner").finished(0.70)
+
+
+def test_rig_drive_and_the_bench_take_finish(monkeypatch, tmp_path):
+    from rigtools import drive_config
+    assert drive_config(monkeypatch, tmp_path, "--finish", "inner").finish == "inner"
+    assert drive_config(monkeypatch, tmp_path, "--finish", "edge").finish == "edge"
+    assert drive_config(monkeypatch, tmp_path).finish == "inner"     # the default since 2026-12-07
+    with pytest.raises(ValueError, match="finish"):
+        run(None, EST, DriveConfig(goal=GOAL, finish="centre"))
+
+
+def test_a_run_ended_at_the_disc_edge_by_the_estimate_lies_outside_it_by_the_truth():
+    # bench/drive.py's room 107 (its odometry noise, the defaults): under the finish
+    # before 2026-12-07, "edge", the estimate enters the disc 0.53 ft from the goal after
+    # 11 looks and the run ends there, but the TRUE pose is 0.86 ft away.  Under "inner"
+    # one more look fixes the estimate on the walls, the vehicle moves 0.4 ft on, and the
+    # truth agrees (docs/planner.md, "The run's end inside the goal's disc").
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(107, "finish", ("edge", "inner"))
+    edge, inner = res["edge"], res["inner"]
+    assert edge.reached and edge.collisions == 0
+    assert edge.final_true_error_ft > DriveConfig.tolerance_ft
+    assert_reached_by_the_truth(inner, goal)
+    assert inner.looks > edge.looks
