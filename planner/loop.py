@@ -1679,7 +1679,8 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
             if drive.finished(disc_left_ft):
                 reached, reason = True, "goal reached"
                 break
-            disc_left_ft = drive.goal_left_ft() if drive.at_goal() else None
+            left = drive.goal_left_ft()
+            disc_left_ft = left if left <= cfg.tolerance_ft else None
             cyc, ok = drive.cycle(look_no)
             drive.cycles.append(cyc)
             if on_cycle:
