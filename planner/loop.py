@@ -212,6 +212,12 @@ class DriveConfig:
                                           # up (16 since 2026-12-05 12:00, not 1985; 8
                                           # before: the evidence's looks from one place, up
                                           # to 3 at each blocker, used it up)
+    looks_per_viewpoint: int = 3          # looks the evidence takes at one blocker from one
+                                          # place (turned to it, then looking again while it
+                                          # stays in view and unresolved) before it drives
+                                          # to another place to see it from (motion.look_at;
+                                          # a cell hit once needs more than one look through
+                                          # it to be cleared)
     lines: tuple = tuple(range(8, 113, 2))
     voi: VolumeOfInterest = VolumeOfInterest(32.0, 7)
     band: tuple[float, float] = (-0.5, FLOOR_Y - 0.25)   # room Y of the vehicle's passage
@@ -891,7 +897,7 @@ def _check_config(cfg: DriveConfig) -> None:
                           ("tile_edges", TILE_EDGES)):
         if getattr(cfg, name) not in allowed:
             raise ValueError(f"unknown {name} {getattr(cfg, name)!r}; one of {', '.join(allowed)}")
-    for name in ("max_looks", "max_stuck"):
+    for name in ("max_looks", "max_stuck", "looks_per_viewpoint"):
         count = getattr(cfg, name)
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise ValueError(f"{name} {count!r}: a count of looks, at least 1")

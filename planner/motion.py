@@ -712,7 +712,6 @@ def forward_to_turn(fm: FloorMap, est: State, aims, safe: Passable, seen, prof: 
     return None
 
 
-LOOKS_PER_VIEWPOINT = 3      # looks at one blocker from one place before trying another
 
 
 def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft: float,
@@ -774,7 +773,7 @@ def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,
         seg = back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
         if seg:
             return seg, f" (backing off to look at ({u[0]:.1f}, {u[1]:.1f}))"
-    if d >= near_ft + 0.2 and looked < LOOKS_PER_VIEWPOINT:
+    if d >= near_ft + 0.2 and looked < cfg.looks_per_viewpoint:
         if abs(off) <= HALF_FOV_DEG - 4.0:
             # the look just taken saw it and left it unresolved: a cell hit once
             # needs more than one look through it to be cleared; look again

@@ -185,7 +185,7 @@ LOOP_OPTION_GROUPS = (
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent", "--fine-map")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--move-ring", "--steer", "--min-pivot-deg", "--approach", "--finish", "--look-ahead", "--look-around", "--progress",
-      "--reverse", "--turn-room", "--max-looks", "--max-stuck")),
+      "--reverse", "--turn-room", "--max-looks", "--max-stuck", "--looks-per-viewpoint")),
 )
 
 
@@ -596,6 +596,10 @@ def add_loop_options(p) -> None:
     opt("--max-stuck", type=int, default=C.max_stuck, metavar="N",
         help=f"give up after N looks in a row without progress (--progress; default "
              f"{C.max_stuck} since 2026-12-05, not 1985; 8 before), saying why")
+    opt("--looks-per-viewpoint", type=int, default=C.looks_per_viewpoint, metavar="N",
+        help="the looks the evidence a path lacks takes at one blocker from one place "
+             "(turned to it, then looking again while it stays unresolved) before it "
+             f"drives to another place to see it from (default {C.looks_per_viewpoint})")
 
 
 def first_look_note(cycles, slow_s: float = 1.0) -> str:
@@ -643,7 +647,8 @@ def loop_config(args, goal, fail):
     profile = replace(DEFAULT, reverse=args.reverse == "on", head=args.head == "pan-tilt",
                       margin_ft=DEFAULT.margin_ft if args.margin is None else args.margin)
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
-                       max_looks=args.max_looks, max_stuck=args.max_stuck, eyes=args.eyes,
+                       max_looks=args.max_looks, max_stuck=args.max_stuck,
+                       looks_per_viewpoint=args.looks_per_viewpoint, eyes=args.eyes,
                        match=args.match,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,

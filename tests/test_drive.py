@@ -270,14 +270,17 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     from rig.main import main
     c = drive_config(monkeypatch, tmp_path, "--clearance-at", "centre", "--growth", "across",
                      "--look-around", "sweep", "--progress", "evidence", "--uncertain",
-                     "look", "--reverse", "on", "--track-free", "swept")
+                     "look", "--reverse", "on", "--track-free", "swept",
+                     "--looks-per-viewpoint", "2")
     assert c.clearance_at == "centre" and c.growth == "across"
+    assert c.looks_per_viewpoint == 2
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("sweep", "evidence", "look", "swept", True)
     assert drive_config(monkeypatch, tmp_path, "--clearance-at",
                         "anywhere-exact").clearance_at == "anywhere-exact"
     c = drive_config(monkeypatch, tmp_path)
     assert c.clearance_at == "anywhere" and c.growth == "covariance"
+    assert c.looks_per_viewpoint == 3
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("evidence", "moved", "core", "poses", False)   # look_around: since 2026-12-04;
                                                         # uncertain: since 2026-12-05

@@ -120,6 +120,30 @@ def test_fetch_evidence_backs_off_to_look_at_what_is_too_near_to_see():
     assert len(seg) == 1 and seg[0].angle_deg == pytest.approx(-90.0, abs=5.0)
 
 
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_the_evidence_looks_again_from_one_place_looks_per_viewpoint_times(n):
+    """Standing where the corridor's blocker (0, 2.125) shows, facing it:
+    ``DriveConfig.looks_per_viewpoint`` (default 3) calls in a row look again
+    with no motion, the next one drives off to another place to see it from."""
+    fm = corridor_map()
+    safe = clearance_map(fm, R, "free", uncertain="blocked")
+    seen = fm.cells != UNKNOWN
+    cfg = DriveConfig(goal=(0.0, 8.0), looks_per_viewpoint=n)
+    there = State(0.0, 2.125 - NEAR - 0.5, 0.0)
+    tried = {}
+    for _ in range(n):
+        seg, note = fetch_evidence(fm, safe, seen, there, [(there.x, there.z), (0.0, 8.0)],
+                                    NEAR, DEFAULT, cfg, tried)
+        assert seg == [] and "looking again at (-0.1, 2.1)" in note
+    seg, note = fetch_evidence(fm, safe, seen, there, [(there.x, there.z), (0.0, 8.0)], NEAR,
+                                DEFAULT, cfg, tried)
+    assert seg and "looking again" not in note and "to look at (-0.1, 2.1) from" in note
+    assert DriveConfig.looks_per_viewpoint == 3
+    with pytest.raises(ValueError, match="looks_per_viewpoint 0"):
+        from planner.loop import _check_config
+        _check_config(DriveConfig(goal=(0.0, 8.0), looks_per_viewpoint=0))
+
+
 def test_plan_passes_uncertain_cells_only_when_no_way_avoids_them():
     """A wall across the map with one gap, an uncertain cell in the gap: the
     dissertation's plan (uncertain blocked) finds no way; ``uncertain="look"``
