@@ -63,6 +63,8 @@ OPTIONS = [
     "--one-grey-runs prove",
     "--wall-hits feature --one-grey-runs prove",
     "--finish edge",
+    "--max-looks 60",
+    "--looks-per-viewpoint 2",
     "--min-confidence 0.2",
     "--wall-fix-far-sigmas 2",
     "--free-cells shadows",

@@ -591,8 +591,9 @@ def add_loop_options(p) -> None:
              "an older look's free edge beside a hit gives up; under --proof-heading "
              "window, of the heading (default 2)")
     opt("--max-looks", type=int, default=C.max_looks, metavar="N",
-        help=f"stop after N cycles, each one look of the fixed rig (default {C.max_looks}; "
-             "under --head assist a cycle's added look of the head comes on top)")
+        help=f"stop after N cycles, each one look of the fixed rig (default {C.max_looks} "
+             "since 2026-12-07, 60 before; under --head assist a cycle's added look of the "
+             "head comes on top)")
     opt("--max-stuck", type=int, default=C.max_stuck, metavar="N",
         help=f"give up after N looks in a row without progress (--progress; default "
              f"{C.max_stuck} since 2026-12-05, not 1985; 8 before), saying why")

@@ -185,8 +185,8 @@ def test_room_774_pivots_into_its_box_under_the_disc_and_not_when_swept():
     from world.odometry import OdometryNoise
     from rigtools import DRIVE_BEFORE_2026_12_06_1540, bench_task
     room, start, goal = bench_task(774)
-    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, max_looks=12, occupied="looks",
-                                           **DRIVE_BEFORE_2026_12_06_1540),
+    res = {p: run(room, start, DriveConfig(goal=goal, pivot=p, occupied="looks",
+                                           **{**DRIVE_BEFORE_2026_12_06_1540, "max_looks": 12}),
                   noise=OdometryNoise(seed=774), keep_maps=False) for p in ("disc", "swept")}
     assert res["disc"].collisions == 1 and "hit something" in res["disc"].reason
     assert res["disc"].cycles[-1].command == "TURN -70"

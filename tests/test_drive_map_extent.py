@@ -237,8 +237,8 @@ def test_room_538_reached_round_the_far_side_where_the_seen_map_stops():
     Both under ``uncertain="blocked"``, the default then: under "core" the seen map's
     run plans past the narrow way's once-seen features and uses up the 24 looks."""
     from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(538, "map_extent", ("seen", "fallback"), max_looks=24,
-                             uncertain="blocked", **DRIVE_BEFORE_2026_12_06_1540)
+    goal, res = bench_drives(538, "map_extent", ("seen", "fallback"), uncertain="blocked",
+                             **{**DRIVE_BEFORE_2026_12_06_1540, "max_looks": 24})
     seen, fallback = res["seen"], res["fallback"]
     assert not seen.reached and "narrower than the vehicle" in seen.reason, seen.reason
     assert seen.collisions == 0

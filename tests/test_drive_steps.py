@@ -183,3 +183,22 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
         for bad in (0, -1, 2.5, True):
             with pytest.raises(ValueError, match=name):
                 _check_config(DriveConfig(goal=GOAL, **{name: bad}))
+
+
+def test_room_220_is_reached_in_its_65th_look_under_90_looks_and_not_under_60(
+        monkeypatch, tmp_path):
+    """``max_looks`` 90 (the default since 2026-12-07 06:30; 60 before): bench/drive.py's
+    room 220 under its own odometry noise uses up 60 looks without reaching its goal and
+    reaches it in 65 under 90, with no collision, its true pose inside the goal's disc
+    (the world's exact geometry judges it).  The first 60 looks are the same drive: the
+    count only bounds the loop.  ``rig drive --max-looks`` sets it."""
+    from rigtools import assert_reached_by_the_truth, bench_drives, drive_config
+    assert DriveConfig.max_looks == 90
+    assert drive_config(monkeypatch, tmp_path, "--max-looks", "60").max_looks == 60
+    monkeypatch.undo()                                  # (drive_config stubs the loop)
+    goal, res = bench_drives(220, "max_looks", (60, 90))
+    assert not res[60].reached and res[60].reason == "stopped: 60 looks used up"
+    assert res[60].collisions == 0
+    assert_reached_by_the_truth(res[90], goal)
+    assert res[90].looks == 65
+    assert [c.true for c in res[90].cycles[:60]] == [c.true for c in res[60].cycles]

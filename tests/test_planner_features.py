@@ -192,8 +192,8 @@ def test_room_156s_passage_stays_open_on_the_fused_map_and_closes_on_the_per_loo
     the far side at look 3, where the seen map has no way for two looks."""
     from rigtools import DRIVE_BEFORE_2026_12_06_1540, assert_reached_by_the_truth, bench_drives
     assert DriveConfig.occupied == "model"
-    goal, res = bench_drives(156, "occupied", ("looks", "model"), max_looks=20,
-                             map_extent="seen", **DRIVE_BEFORE_2026_12_06_1540)
+    goal, res = bench_drives(156, "occupied", ("looks", "model"), map_extent="seen",
+                             **{**DRIVE_BEFORE_2026_12_06_1540, "max_looks": 20})
     looks, model = res["looks"], res["model"]
     assert not looks.reached and "narrower than the vehicle" in looks.reason, looks.reason
     assert looks.collisions == 0

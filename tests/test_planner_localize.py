@@ -158,8 +158,8 @@ def test_room_684s_skirting_turns_the_heading_only_under_the_wider_window():
     from rigtools import DRIVE_BEFORE_2026_12_05_0430, bench_task
     from world.odometry import OdometryNoise
     room, start, goal = bench_task(684)
-    res = {k: run(room, start, DriveConfig(goal=goal, wall_fix_sigmas=k, max_looks=20,
-                                           **DRIVE_BEFORE_2026_12_05_0430),
+    res = {k: run(room, start, DriveConfig(goal=goal, wall_fix_sigmas=k,
+                                           **{**DRIVE_BEFORE_2026_12_05_0430, "max_looks": 20}),
                   noise=OdometryNoise(seed=684), keep_maps=False) for k in (3.0, 2.0)}
     off = {k: [abs(c.estimate.heading_deg - c.true.heading_deg) for c in r.cycles]
            for k, r in res.items()}
@@ -385,8 +385,8 @@ def test_the_floor_ends_hold_the_heading_where_the_edges_cannot():
     goal = random_goal(room, start, DEFAULT, np.random.default_rng(471))
 
     def drive(points):
-        res = run(room, start, DriveConfig(goal=goal, **{**traced, "wall_points": points},
-                                           max_looks=30),
+        res = run(room, start, DriveConfig(goal=goal, **{**traced, "wall_points": points,
+                                                           "max_looks": 30}),
                   noise=OdometryNoise(seed=471), keep_maps=False)
         off = [abs((c.estimate.heading_deg - c.true.heading_deg + 180.0) % 360.0 - 180.0)
                for c in res.cycles]
