@@ -712,8 +712,6 @@ def forward_to_turn(fm: FloorMap, est: State, aims, safe: Passable, seen, prof: 
     return None
 
 
-
-
 def fetch_evidence(fm: FloorMap, safe: Passable, seen, est: State, pts, near_ft: float,
                     prof: VehicleProfile, cfg, tried: dict):
     """(commands, note) that go and get the evidence the path lacks, or None.
