@@ -1138,17 +1138,17 @@ class Drive:
         """The loop's success test: the estimate within the goal's tolerance."""
         return self.goal_left_ft() <= self.cfg.tolerance_ft
 
-    def finished(self, disc_left_ft: float | None) -> bool:
-        """Whether the run ends at the goal before the next cycle.  Under
-        ``finish="edge"`` as soon as :meth:`at_goal`; under ``"inner"`` once the
-        estimate is within :data:`FINISH_INNER_FT`, or within the tolerance when
+    def finished(self, left: float, disc_left_ft: float | None) -> bool:
+        """Whether the run ends at the goal before the next cycle, the estimate
+        ``left`` ft from it (:meth:`goal_left_ft`).  Under ``finish="edge"`` as
+        soon as it is within the tolerance (:meth:`at_goal`); under ``"inner"``
+        once it is within :data:`FINISH_INNER_FT`, or within the tolerance when
         the last cycle began in the disc ``disc_left_ft`` from the goal and brought
         it less than :data:`FINISH_NEARER_FT` nearer.  Why: the estimate is a tenth
         of a foot or more off, and a run ended at the disc's edge by the estimate
         may lie outside it by the truth."""
         if self.cfg.finish == "edge":
-            return self.at_goal()
-        left = self.goal_left_ft()
+            return left <= self.cfg.tolerance_ft
         if left <= FINISH_INNER_FT:
             return True
         return left <= self.cfg.tolerance_ft and disc_left_ft is not None \
@@ -1686,10 +1686,10 @@ def run(room, start: State, cfg: DriveConfig, noise=None, on_cycle=None, keep_ma
         if steps_back(cfg) and not drive.step_back()[1]:
             return drive.result(False, HIT, time.perf_counter() - t_start)
         for look_no in range(1, cfg.max_looks + 1):
-            if drive.finished(disc_left_ft):
+            left = drive.goal_left_ft()
+            if drive.finished(left, disc_left_ft):
                 reached, reason = True, "goal reached"
                 break
-            left = drive.goal_left_ft()
             disc_left_ft = left if left <= cfg.tolerance_ft else None
             cyc, ok = drive.cycle(look_no)
             drive.cycles.append(cyc)

@@ -200,15 +200,15 @@ def test_rig_drive_and_the_bench_take_approach(monkeypatch, tmp_path):
 
 
 class _Left:
-    """Drive's goal tests on a stand-in whose estimate lies ``left`` ft from the goal."""
+    """Drive's end test on a stand-in whose estimate lies ``left`` ft from the goal."""
     from planner.loop import Drive as _D
-    at_goal, finished = _D.at_goal, _D.finished
+    _finished = _D.finished
 
     def __init__(self, left, finish):
         self.cfg, self.left = DriveConfig(goal=GOAL, finish=finish), left
 
-    def goal_left_ft(self):
-        return self.left
+    def finished(self, disc_left_ft):
+        return self._finished(self.left, disc_left_ft)
 
 
 def test_the_run_ends_at_the_disc_edge_or_inside_it():
