@@ -190,13 +190,18 @@ def test_the_bundled_lab_on_oracle_edges_is_reached_with_the_disc_move():
     assert "goal's disc" in " ".join(c.note for c in res.cycles)
 
 
-def test_rig_drive_and_the_bench_take_approach(monkeypatch, tmp_path):
+@pytest.mark.parametrize("name, values, default, bad", [
+    ("approach", ("disc", "path"), "disc", "nearest"),     # the default since 2026-12-02
+    ("finish", ("inner", "edge"), "inner", "centre"),      # the default since 2026-12-07
+])
+def test_rig_drive_and_the_bench_take_the_approach_and_the_finish(monkeypatch, tmp_path, name,
+                                                                  values, default, bad):
     from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path, "--approach", "disc").approach == "disc"
-    assert drive_config(monkeypatch, tmp_path, "--approach", "path").approach == "path"
-    assert drive_config(monkeypatch, tmp_path).approach == "disc"    # the default since 2026-12-02
-    with pytest.raises(ValueError, match="approach"):
-        run(None, EST, DriveConfig(goal=GOAL, approach="nearest"))
+    for value in values:
+        assert getattr(drive_config(monkeypatch, tmp_path, f"--{name}", value), name) == value
+    assert getattr(drive_config(monkeypatch, tmp_path), name) == default
+    with pytest.raises(ValueError, match=name):
+        run(None, EST, DriveConfig(goal=GOAL, **{name: bad}))
 
 
 class _Left:
@@ -227,15 +232,6 @@ def test_the_run_ends_at_the_disc_edge_or_inside_it():
     assert _Left(0.74, "inner").finished(0.70)               # the look's fix moved it back
     assert not _Left(0.76, "inner").finished(0.70)           # ... out of the disc: go on
     assert not _Left(0.60, "inner").finished(0.70)
-
-
-def test_rig_drive_and_the_bench_take_finish(monkeypatch, tmp_path):
-    from rigtools import drive_config
-    assert drive_config(monkeypatch, tmp_path, "--finish", "inner").finish == "inner"
-    assert drive_config(monkeypatch, tmp_path, "--finish", "edge").finish == "edge"
-    assert drive_config(monkeypatch, tmp_path).finish == "inner"     # the default since 2026-12-07
-    with pytest.raises(ValueError, match="finish"):
-        run(None, EST, DriveConfig(goal=GOAL, finish="centre"))
 
 
 def test_a_run_ended_at_the_disc_edge_by_the_estimate_lies_outside_it_by_the_truth():
