@@ -596,7 +596,8 @@ def add_loop_options(p) -> None:
              "head comes on top)")
     opt("--max-stuck", type=int, default=C.max_stuck, metavar="N",
         help=f"give up after N looks in a row without progress (--progress; default "
-             f"{C.max_stuck} since 2026-12-05, not 1985; 8 before), saying why")
+             f"{C.max_stuck} since 2026-12-07, not 1985; 16 before, 8 before 2026-12-05), "
+             "saying why")
     opt("--looks-per-viewpoint", type=int, default=C.looks_per_viewpoint, metavar="N",
         help="the looks the evidence a path lacks takes at one blocker from one place "
              "(turned to it, then looking again while it stays unresolved) before it "

@@ -168,7 +168,7 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import drive_config
-    assert DriveConfig.max_stuck == 16                  # since 2026-12-05 12:00 (8 before)
+    assert DriveConfig.max_stuck == 24                  # since 2026-12-07 08:30 (16 before)
     assert drive_config(monkeypatch, tmp_path, "--max-stuck", "3").max_stuck == 3
     for n in (2, 3):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
@@ -202,3 +202,20 @@ def test_room_220_is_reached_in_its_65th_look_under_90_looks_and_not_under_60(
     assert_reached_by_the_truth(res[90], goal)
     assert res[90].looks == 65
     assert [c.true for c in res[90].cycles[:60]] == [c.true for c in res[60].cycles]
+
+
+def test_room_337_is_reached_under_24_looks_without_progress_and_not_under_16():
+    """``max_stuck`` 24 (the default since 2026-12-07 08:30; 16 before): bench/drive.py's
+    room 337 under its own odometry noise makes no progress for 16 looks in a row and gives
+    up at its 36th look under 16 (looking round in place since its 20th); under 24 it
+    moves on at its 37th look and the goal is reached by the truth in 40, with no
+    collision.  The two runs are the same drive until the first gives up: the count only
+    decides when to stop.  ``rig drive --max-stuck`` sets it (the test above)."""
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(337, "max_stuck", (16, 24))
+    assert not res[16].reached and res[16].looks == 36
+    assert res[16].reason.startswith("stopped after 16 looks without progress")
+    assert res[16].collisions == 0
+    assert_reached_by_the_truth(res[24], goal)
+    assert res[24].looks == 40
+    assert [c.true for c in res[24].cycles[:36]] == [c.true for c in res[16].cycles]

@@ -850,8 +850,9 @@ def test_room_341_is_reached_when_a_run_up_a_wall_of_a_tiles_grey_ends_before_it
     # bench/drive.py's room 341 under its own odometry noise: the floor's tiles are of
     # greys 3 and 5, the right wall of 5, and the goal lies 5.8 ft before that wall.
     # Every run toward it goes on up the wall, so under "none" nothing there is proven
-    # and the run stops unreached (its 90 looks all but used up: after 16 without progress
-    # at look 86; with 60 looks, before 2026-12-07 06:30, they were); under "foot" (its
+    # and the run stops unreached (its 90 looks used up; with 16 without progress, before
+    # 2026-12-07 08:30, it gave up at look 86; with 60 looks, before 06:30, they were
+    # used up); under "foot" (its
     # end at the walls' foot) and
     # "texture" (the default: its end where the tiles are last seen) the goal is
     # reached.  The world's exact geometry judges it.  ("foot" is not the default: a
