@@ -852,12 +852,10 @@ def test_room_341_is_reached_when_a_run_up_a_wall_of_a_tiles_grey_ends_before_it
     # Every run toward it goes on up the wall, so under "none" nothing there is proven
     # and the run stops unreached (its 90 looks used up; with 16 without progress, before
     # 2026-12-07 08:30, it gave up at look 86; with 60 looks, before 06:30, they were
-    # used up); under "foot" (its
-    # end at the walls' foot) and
-    # "texture" (the default: its end where the tiles are last seen) the goal is
-    # reached.  The world's exact geometry judges it.  ("foot" is not the default: a
-    # box of the floor's grey before such a wall it proves free as well, rooms 95 and
-    # 248, docs/planner.md.)
+    # used up); under "foot" (its end at the walls' foot) and "texture" (the default: its
+    # end where the tiles are last seen) the goal is reached.  The world's exact geometry
+    # judges it.  ("foot" is not the default: a box of the floor's grey before such a wall
+    # it proves free as well, rooms 95 and 248, docs/planner.md.)
     from planner.loop import DriveConfig, _check_config
     from rigtools import assert_reached_by_the_truth, bench_drives, drive_config
     assert drive_config(monkeypatch, tmp_path).wall_runs == "texture"
