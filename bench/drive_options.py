@@ -42,7 +42,9 @@ from pathlib import Path
 # features' outer sigma are the defaults since 2026-12-05); the hits the plan's walls
 # explain starting features and a tiled floor's one-grey runs proving the floor anywhere
 # (the defaults before 2026-12-06 20:30), alone and together; the run ended as soon as
-# the estimate enters the goal's disc (the default before 2026-12-07); the two heads.  Expiry is
+# the estimate enters the goal's disc (the default before 2026-12-07); 60 looks and 16
+# looks without progress (the defaults before 2026-12-07 06:30 and 08:30); two looks
+# from one place at a blocker, not three; the two heads.  Expiry is
 # measured on each look's hits and on the fused features.
 OPTIONS = [
     "--clearance-at anywhere-exact",
@@ -64,6 +66,7 @@ OPTIONS = [
     "--wall-hits feature --one-grey-runs prove",
     "--finish edge",
     "--max-looks 60",
+    "--max-stuck 16",
     "--looks-per-viewpoint 2",
     "--min-confidence 0.2",
     "--wall-fix-far-sigmas 2",
