@@ -398,6 +398,8 @@ def main(argv=None) -> int:
             row["wall_fixes"] = res.wall_fixes
         if res.drift_eroded is not None:
             row["drift_eroded"] = res.drift_eroded
+        if res.retraces is not None:
+            row["retraces"] = res.retraces
         if last:
             # the final map's free cells inside a box as the vehicle stands now (its frame)
             row["free_inside_now"] = free_inside_now(last.fmap, room.obstacles,
@@ -430,7 +432,7 @@ def main(argv=None) -> int:
         "match": args.match,
         "pose": args.pose, "pose_method": args.pose_method, "margin_ft": args.margin,
         "clearance_at": args.clearance_at, "pivot": args.pivot, "growth": args.growth, "uncertain": args.uncertain,
-        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "wall_points": args.wall_points, "proof_heading": args.proof_heading, "floor_end_check": args.floor_end_check, "proof_hits": args.proof_hits, "free_cells": args.free_cells, "looks_per_viewpoint": args.looks_per_viewpoint, "drift_sigmas": args.drift_sigmas, "min_range_ft": args.min_range, "min_confidence": args.min_confidence, "wall_fix_far_sigmas": args.wall_fix_far_sigmas, "wall_fix_sigmas": args.wall_fix_sigmas, "wall_fix_widen": args.wall_fix_widen, "wall_fix_first": args.wall_fix_first, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse, "move_ring": args.move_ring, "passage": args.passage,
+        "look_around": args.look_around, "look_ahead": args.look_ahead, "head": args.head, "assist_pivot_ft": args.assist_pivot_ft or None, "rejoin": args.rejoin, "blind_zone": args.blind_zone, "map_extent": args.map_extent, "plan_walls": args.plan_walls, "free_drift": args.free_drift, "free_gaps": args.free_gaps, "wall_points": args.wall_points, "proof_heading": args.proof_heading, "floor_end_check": args.floor_end_check, "proof_hits": args.proof_hits, "free_cells": args.free_cells, "looks_per_viewpoint": args.looks_per_viewpoint, "drift_sigmas": args.drift_sigmas, "min_range_ft": args.min_range, "min_confidence": args.min_confidence, "wall_fix_far_sigmas": args.wall_fix_far_sigmas, "wall_fix_sigmas": args.wall_fix_sigmas, "wall_fix_widen": args.wall_fix_widen, "wall_fix_first": args.wall_fix_first, "seen_cost": args.seen_cost, "progress": args.progress, "reverse": args.reverse, "backing": args.backing, "move_ring": args.move_ring, "passage": args.passage,
         "track_free": args.track_free, "blank_carve": args.blank_carve, "carve": args.carve,
         "blank_px": args.blank_px if args.blank_px >= 0 else None,
         "blank_limit": args.blank_limit, "blank_sides": args.blank_sides,

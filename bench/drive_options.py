@@ -9,7 +9,7 @@ the defaults, collisions, path / optimum at most, looks per metre and the true
 box cells its final maps show free.
 
     python bench/drive_options.py --rooms 100                      # the built-in list below
-    python bench/drive_options.py --first 101 --rooms 200 --option "--reverse on" --option "--goal-region point"
+    python bench/drive_options.py --first 101 --rooms 200 --option "--reverse on --backing map" --option "--goal-region point"
     python bench/drive_options.py --rooms 100 --eyes truth         # every option with oracle edges
 
 Each run's JSON is kept in ``--dir`` (one file per option, the name its flags), so
@@ -43,13 +43,14 @@ from pathlib import Path
 # explain starting features and a tiled floor's one-grey runs proving the floor anywhere
 # (the defaults before 2026-12-06 20:30), alone and together; the run ended as soon as
 # the estimate enters the goal's disc (the default before 2026-12-07); 60 looks and 16
-# looks without progress (the defaults before 2026-12-07 06:30 and 08:30); two looks
+# looks without progress (the defaults before 2026-12-07 06:30 and 08:30); no backing
+# along its own way where it cannot turn (the default before 12:15); two looks
 # from one place at a blocker, not three; the two heads.  Expiry is
 # measured on each look's hits and on the fused features.
 OPTIONS = [
     "--clearance-at anywhere-exact",
     "--clearance-at centre",
-    "--reverse on",
+    "--reverse on --backing map",
     "--progress evidence",
     "--uncertain look",
     "--refute-hits through",
@@ -67,11 +68,12 @@ OPTIONS = [
     "--finish edge",
     "--max-looks 60",
     "--max-stuck 16",
+    "--backing map",
     "--looks-per-viewpoint 2",
     "--min-confidence 0.2",
     "--wall-fix-far-sigmas 2",
     "--free-cells shadows",
-    "--free-cells shadows --reverse on",
+    "--free-cells shadows --reverse on --backing map",
     "--pivot small-swept",
     "--track-free swept",
     "--stand-in majority",

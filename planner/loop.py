@@ -111,8 +111,10 @@ the goal looking blocked from afar), the vehicle heads for the reachable cell
 nearest the goal; when it cannot move at all it fetches the evidence its path
 lacks (``look_around="evidence"``, the default since 2026-12-04: a look where the
 path has not been seen free, from where it shows; ``"sweep"``, before: toward the
-goal first, then sweeping), and gives up with the planner's reason after
-``max_stuck`` looks without progress.
+goal first, then sweeping); where it can neither pivot nor move on to where it could,
+it undoes its own last motions (``backing="trail"``, the default since 2026-12-07 12:15:
+back over ground its wheels swept, then a look from there); and it gives up with the
+planner's reason after ``max_stuck`` looks without progress.
 
 This module holds the loop's configuration (:class:`DriveConfig`, checked by
 :func:`_check_config`), the cycle's steps by name (:class:`Drive`: :meth:`~Drive.look`,
@@ -143,7 +145,8 @@ from .localize import HEADING_SIGMAS
 from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn, head_blank_ft, \
     steered_prefix, inner_ring_sweep, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
-    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen, goal_blocker, look_at
+    near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen, goal_blocker, look_at, \
+    push_trail, retrace
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -157,6 +160,9 @@ LOOK_AROUNDS = ("sweep", "evidence")
 STRAIGHT_AFTER = 4                    # passage="stuck": looks without progress before a narrow way
 MOVE_RINGS = ("seen", "known", "start")   # DriveConfig.move_ring: a move's band beyond the footprint
 TURN_ROOMS = ("off", "forward")       # DriveConfig.turn_room: where a pivot is refused
+BACKINGS = ("map", "trail")          # DriveConfig.backing: where a vehicle that reverses backs
+RETRACE_FT = 1.5                     # backing="trail": the travel one retrace undoes
+RETRACES = 4                         # backing="trail": the most retraces in one run
 PROGRESSES = ("moved", "evidence")
 TRACK_FREES = ("poses", "swept")
 PIVOTS = ("disc", "margin", "swept", "small-swept", "swept-ring", "swept-ring-inner")  # what a pivot needs seen free (.pivot)
@@ -376,6 +382,19 @@ class DriveConfig:
                                           # since 2026-12-05 15:00): the shortest straight
                                           # move on after which one is (motion.forward_to_turn);
                                           # "off": it stays and looks again
+    backing: str = "trail"                # where the vehicle backs: "map" (the default
+                                          # before 2026-12-07 12:15): where the profile
+                                          # reverses, straight back over space seen free
+                                          # (motion.back_prefix), wherever it cannot turn or
+                                          # is too near what it must look at, and at the
+                                          # first look's step back; "trail" (not 1985; the
+                                          # default since; the vehicle then reverses,
+                                          # whatever the profile): only where it cannot turn at all
+                                          # (after turn_room's move), undoing its own last
+                                          # motions (motion.retrace: ground its wheels have
+                                          # swept, whatever the map shows), RETRACE_FT at a
+                                          # time, at most RETRACES times a run; else it
+                                          # moves as a vehicle that does not reverse
     look_around: str = "evidence"         # the vehicle cannot move: "sweep" (the default
                                           # before 2026-12-04): face the path, then turn
                                           # +35 / -70 deg in place; "evidence" (not 1985;
@@ -774,6 +793,7 @@ class DriveResult:
     wall_fixes: int | None = None              # under pose="walls": the looks that gave a fix
     drift_eroded: int | None = None            # under free_drift "erode", "moves": the FREE cells the
                                                # last map gave up to the drift
+    retraces: int | None = None                # under backing="trail": the retraces taken
 
     def track_errors(self, track=None) -> np.ndarray:
         """Distance (ft) of each point of a track (default: the estimate's) from
@@ -823,6 +843,7 @@ class DriveResult:
                if self.expired_uncertain is not None else {}),
             **({"wall_fixes": self.wall_fixes} if self.wall_fixes is not None else {}),
             **({"drift_eroded": self.drift_eroded} if self.drift_eroded is not None else {}),
+            **({"retraces": self.retraces} if self.retraces is not None else {}),
             "estimate_error_ft_final": round(float(self.track_errors()[-1]), 3),
             "dead_reckoning_error_ft_final":
                 round(float(self.track_errors(self.dead_track)[-1]), 3),
@@ -881,7 +902,8 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.pose not in POSES:
         raise ValueError(f"unknown camera estimate {cfg.pose!r}; one of {', '.join(POSES)}")
     for name, allowed in (("eyes", EYES), ("pivot", PIVOTS), ("look_around", LOOK_AROUNDS),
-                          ("turn_room", TURN_ROOMS), ("move_ring", MOVE_RINGS),
+                          ("turn_room", TURN_ROOMS), ("backing", BACKINGS),
+                          ("move_ring", MOVE_RINGS),
                           ("passage", PASSAGES), ("steer", STEERS),
                           ("progress", PROGRESSES), ("uncertain", UNCERTAIN_PLANS),
                           ("track_free", TRACK_FREES), ("goal_region", GOALS),
@@ -1074,6 +1096,9 @@ class Drive:
         if self.head and not prof.head:
             import dataclasses
             prof = dataclasses.replace(prof, head=True)
+        if cfg.backing == "trail" and not prof.reverse:
+            import dataclasses
+            prof = dataclasses.replace(prof, reverse=True)     # (BACK only to retrace)
         self.prof = prof
         self.veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
         self.walker = None
@@ -1120,6 +1145,10 @@ class Drive:
         self.last_reason = ""                 # the planner's NoPath of the last decision ("" if none)
         self._last_plan = None                # ((map, estimate, previous path), path or NoPath)
         self.sweep = 0                        # looks turned in place since the vehicle last moved
+        # backing="map": BACK over space seen free; "trail": only the retrace (look_round)
+        self.backs_on_map = prof.reverse and cfg.backing == "map"
+        self.trail: list = []                 # the motions executed, undone ones cancelled
+        self.retraces = 0                     # backing="trail": retraces taken
         self.prev_path = None                 # the path kept (planning.plan's keep_ft)
         self.known = None                     # the last floor map, its track free
 
@@ -1482,7 +1511,8 @@ class Drive:
         """No motion: turn to look, toward the goal first, then sweep (+35, -70 deg);
         with the head, the head looks round first; else back to where it can turn
         (``reverse``), or forward to where it can (``turn_room="forward"``: then
-        facing the path ``pts``, or turning as it would have here).
+        facing the path ``pts``, or turning as it would have here), or back
+        along its own way (``backing="trail"``).
         Returns (commands, note)."""
         prof = self.prof
         self.sweep += 1
@@ -1490,7 +1520,7 @@ class Drive:
         t = wrap(heading_to((est.x, est.z), self.goal) - est.heading_deg)
         if abs(t) < 10 or sweep > 1:
             t = 35.0 if sweep % 2 else -70.0
-        back = back_prefix(est, 1.0, safe, seen, prof) if prof.reverse else []
+        back = back_prefix(est, 1.0, safe, seen, prof) if self.backs_on_map else []
         if self.head and sweep <= len(HEAD_SWEEP_DEG) + 1:
             # the head looks round first: toward the goal, then to either side
             p = t if sweep == 1 else HEAD_SWEEP_DEG[sweep - 2]
@@ -1508,20 +1538,27 @@ class Drive:
                                  self.pivot_r)
             if on:
                 return on, note + " (cannot turn here: forward to where it can)"
+        if self.cfg.backing == "trail" and self.retraces < RETRACES:
+            # what it lacks may lie too near to show (near_visible_ft): back off
+            # along ground its wheels have swept, and look again
+            back = retrace(self.trail, RETRACE_FT)
+            if back:
+                self.retraces += 1
+                return back, note + " (cannot turn here: back along its own way)"
         return [], note + " (cannot turn: space within its radius not seen free)"
 
     def _decision_state(self):
         """What a decision changes besides the map and the head's aims (assist
         restores it when the head's look is added and the cycle decided again)."""
         return ({k: list(v) for k, v in self.tried.items()}, set(self.ahead_cells), self.sweep,
-                self.prev_path, self.last_reason)
+                self.prev_path, self.last_reason, self.retraces)
 
     def _restore_decision(self, saved) -> None:
         self.tried.clear()
         self.tried.update(saved[0])
         self.ahead_cells.clear()
         self.ahead_cells.update(saved[1])
-        self.sweep, self.prev_path, self.last_reason = saved[2:]
+        self.sweep, self.prev_path, self.last_reason, self.retraces = saved[2:]
 
     def act(self, seg, est: State) -> tuple[bool, float]:
         """Execute the commands ``seg``: the odometry's covariance and the estimate's
@@ -1530,6 +1567,8 @@ class Drive:
         before = (veh.true.x, veh.true.z)
         n_before = len(veh.dead_track)
         ok = veh.execute(seg)
+        for c in seg:
+            push_trail(self.trail, c)
         for a, b in zip(veh.dead_track[n_before - 1:], veh.dead_track[n_before:]):
             self.dead_cov = odometry_covariance(self.dead_cov, a, b, *self.odo)
             if self.model.odometry is not None and a != b:     # (a command that moved)
@@ -1554,10 +1593,11 @@ class Drive:
         floor whose whole trace lies in that spot, so the floor's grey is
         learned at the first look (:func:`planner.appearance.training_mask`:
         after Ulrich and Nourbakhsh's reference area in front of the robot).
-        A vehicle that does not reverse turns about, drives forward and turns
-        back.  Returns (the commands, no collision)."""
+        A vehicle that does not reverse (or reverses only along its own way,
+        ``backing="trail"``) turns about, drives forward and turns back.
+        Returns (the commands, no collision)."""
         d = self.cfg.learn_back_ft
-        seg = [Back(d)] if self.prof.reverse else [Turn(180.0), Forward(d), Turn(-180.0)]
+        seg = [Back(d)] if self.backs_on_map else [Turn(180.0), Forward(d), Turn(-180.0)]
         ok, _ = self.act(seg, self.veh.dead)
         return format_commands(seg), ok
 
@@ -1651,7 +1691,8 @@ class Drive:
                            floor_stats(model) if cfg.floor_eyes != "off" else {},
                            model.expired_total if model.expire_uncertain else None,
                            self.wall_fixes if self.walls else None,
-                           self.drift_eroded if cfg.free_drift != "off" else None)
+                           self.drift_eroded if cfg.free_drift != "off" else None,
+                           self.retraces if cfg.backing == "trail" else None)
 
 
 def steps_back(cfg: DriveConfig) -> bool:

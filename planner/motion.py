@@ -13,7 +13,10 @@ shown free.
   the head looks (:func:`head_aim`, :func:`head_look`, :func:`head_commands`);
 * fetching evidence when it cannot move (``look_around="evidence"``, the default
   since 2026-12-04): the blocking cells, a viewpoint to look at them from, backing off
-  (:func:`fetch_evidence`).
+  (:func:`fetch_evidence`);
+* the vehicle's own way back (``DriveConfig.backing="trail"``, the default since
+  2026-12-07): its motions kept (:func:`push_trail`) and undone where it cannot
+  turn (:func:`retrace`).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from typing import NamedTuple
 import cv2
 import numpy as np
 
-from vehicle.commands import Back, Forward, Pan, Tilt, Turn
+from vehicle.commands import Arc, Back, Forward, Pan, Tilt, Turn
 from vehicle.profile import VehicleProfile
 from vehicle.sim import State, advance
 from .floormap import FloorMap
@@ -676,6 +679,62 @@ def back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProf
     return [Back(round(d, 3))] if d > 0.05 else []
 
 
+def push_trail(trail: list, cmd) -> None:
+    """Add the executed motion ``cmd`` to ``trail`` (the run's own way back,
+    :func:`retrace`), cancelling what it undoes: a ``BACK`` against the
+    ``FORWARD`` before it, a ``TURN`` merged with the ``TURN`` before it (the
+    sweep of the merged turn lies inside the two it replaces).  ``PAN``,
+    ``TILT`` and ``STOP`` move no wheel and are left out; an ``ARC`` is kept
+    (and ends a retrace)."""
+    if not isinstance(cmd, (Turn, Back, Forward, Arc)):
+        return
+    if isinstance(cmd, Turn):
+        if trail and isinstance(trail[-1], Turn):
+            cmd = Turn(trail.pop().angle_deg + cmd.angle_deg)
+        if abs(cmd.angle_deg) > 1e-6:
+            trail.append(cmd)
+        return
+    if isinstance(cmd, Back):
+        d = cmd.distance_ft
+        while d > 1e-6 and trail and isinstance(trail[-1], Forward):
+            f = trail.pop().distance_ft
+            if f > d + 1e-6:
+                trail.append(Forward(f - d))
+            d -= f
+        if d > 1e-6:
+            trail.append(Back(d))
+        return
+    if isinstance(cmd, Forward) and cmd.distance_ft <= 1e-6:
+        return
+    trail.append(cmd)
+
+
+def retrace(trail, want_ft: float) -> list:
+    """The commands that undo the last motions of ``trail`` (:func:`push_trail`),
+    newest first, until ``want_ft`` of travel is undone: a ``TURN`` turned
+    back, a ``FORWARD`` backed (the last one cut to what is still wanted),
+    a ``BACK`` driven forward again.  It stops at an ``ARC`` and at the
+    trail's start.  [] when no travel would be undone (a retrace that only
+    turns gets the vehicle nowhere new).
+
+    The vehicle swept the ground of every motion it made, so their undoing
+    sweeps that ground again (up to the odometry's error of the undoing):
+    no look has to have shown it free."""
+    out, done = [], 0.0
+    for cmd in reversed(trail):
+        if done >= want_ft - 1e-6 or isinstance(cmd, Arc):
+            break
+        if isinstance(cmd, Turn):
+            out.append(Turn(-cmd.angle_deg))
+        elif isinstance(cmd, (Forward, Back)):
+            d = min(cmd.distance_ft, want_ft - done)
+            out.append(Back(round(d, 3)) if isinstance(cmd, Forward) else Forward(round(d, 3)))
+            done += d
+    while out and isinstance(out[-1], Turn):
+        out.pop()
+    return out if done > 0.05 else []
+
+
 TURN_ROOM_STEP_FT = 0.25     # turn_room="forward": the forward moves tried, this far apart
 
 
@@ -766,7 +825,8 @@ def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,
     d = math.hypot(u[0] - here[0], u[1] - here[1])
     off = wrap(heading_to(here, u) - est.heading_deg)
     looked = sum(math.hypot(q[0] - here[0], q[1] - here[1]) <= 0.5 for q in tried)
-    if d < near_ft + 0.2 and prof.reverse and abs(off) <= HALF_FOV_DEG - 4.0:
+    if d < near_ft + 0.2 and prof.reverse and cfg.backing == "map" and \
+            abs(off) <= HALF_FOV_DEG - 4.0:
         # too near to show, and ahead: back straight off until it shows
         seg = back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
         if seg:

@@ -185,7 +185,7 @@ LOOP_OPTION_GROUPS = (
       "--seen-cost", "--rejoin", "--blind-zone", "--map-extent", "--fine-map")),
     ("the motion", "what the vehicle may do with the path",
      ("--pivot", "--move-ring", "--steer", "--min-pivot-deg", "--approach", "--finish", "--look-ahead", "--look-around", "--progress",
-      "--reverse", "--turn-room", "--max-looks", "--max-stuck", "--looks-per-viewpoint")),
+      "--reverse", "--backing", "--turn-room", "--max-looks", "--max-stuck", "--looks-per-viewpoint")),
 )
 
 
@@ -193,7 +193,7 @@ def add_loop_options(p) -> None:
     """The closed loop's options (:class:`planner.loop.DriveConfig`), shared by
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, FINISHES, FINISH_INNER_FT, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
-        TURN_ROOMS, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
+        TURN_ROOMS, BACKINGS, RETRACE_FT, RETRACES, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
     MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, FREE_CELLS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.motion import PIVOT_INNER_FT, STEER_MAX_DEG
@@ -362,7 +362,15 @@ def add_loop_options(p) -> None:
              "the default; not 1985: a face of that grey there fills the bottom rows, "
              "room 881)")
     opt("--reverse", choices=("off", "on"), default="off",
-        help="the vehicle may BACK straight over space seen free (default off)")
+        help="the vehicle's profile reverses (default off); with --backing map it may "
+             "then BACK straight over space seen free")
+    opt("--backing", choices=BACKINGS, default=C.backing,
+        help="where the vehicle backs: 'trail' (default since 2026-12-07 12:15; not 1985; "
+             "the vehicle then reverses, with or without --reverse on): only where it cannot "
+             f"turn at all, undoing its own last {RETRACE_FT:g} ft of motion (ground its "
+             f"wheels swept, whatever the map shows), at most {RETRACES} times a run; 'map' "
+             "(the default before): only with --reverse on, straight back over space seen "
+             "free")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,
         help="where no pivot is allowed (its swept cells not seen free) and the vehicle "
              "cannot back: 'forward' (default since 2026-12-05 15:00; not 1985): the "
@@ -658,6 +666,7 @@ def loop_config(args, goal, fail):
                        occupied=args.occupied, hit_at=args.hit_at,
                        feature_pose=args.feature_pose,
                        look_around=args.look_around, turn_room=args.turn_room,
+                       backing=args.backing,
                        progress=args.progress,
                        look_ahead=args.look_ahead, seen_cost=args.seen_cost,
                        uncertain=args.uncertain, track_free=args.track_free,

@@ -319,7 +319,7 @@ STEP_BACK_FT = 2 * DriveConfig.learn_back_ft
 # once-seen blocker let go and a far turn held, 16:45; the hits the plan's walls explain
 # and a tiled floor's one-grey runs proved only near seen floor, 20:30; the run on inside
 # the goal's disc, 2026-12-07; 90 looks, not 60, 06:30; 24 looks without progress, not 16,
-# 08:30.)
+# 08:30; backing along its own way where it cannot turn, 12:15.)
 DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls="plan",
                                learn_floor="off", wall_fix_widen=0.0, pivot="disc",
                                goal_region="point", max_stuck=8, occupied="looks",
@@ -328,7 +328,7 @@ DRIVE_BEFORE_2026_12_04 = dict(look_around="sweep", free_drift="off", plan_walls
                                wall_runs="none", move_ring="seen", passage="circle",
                                steer="off", wall_fix_most=None,
                                wall_hits="feature", one_grey_runs="prove", finish="edge",
-                               max_looks=60)
+                               max_looks=60, backing="map")
 
 # The drive's defaults before 2026-12-05 (docs/planner.md, "The estimate held to the walls,
 # the floor in view kept out of the boxes" and "The improved matcher"): the 1985 matcher,
@@ -346,7 +346,7 @@ DRIVE_BEFORE_2026_12_05 = dict(match="1985", free_gaps="keep", pose="dead_reckon
                                wall_runs="none", move_ring="seen", passage="circle",
                                steer="off", wall_fix_most=None,
                                wall_hits="feature", one_grey_runs="prove", finish="edge",
-                               max_looks=60)
+                               max_looks=60, backing="map")
 # The drive's defaults of 2026-12-05 01:35-04:30 differ from today's in the matcher (1985),
 # in the one-cell gaps of free space (kept unknown) and in every turn being a pivot.
 DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_deg=0.0,
@@ -357,7 +357,7 @@ DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_de
                                     wall_runs="none", move_ring="seen", passage="circle",
                                     steer="off", wall_fix_most=None,
                                     wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60)
+                                    max_looks=60, backing="map")
 
 # The drive's defaults before 2026-12-06 15:40 (docs/planner.md, "A floor end that moves
 # with the camera"): no half cells where no map has a way, and a run's end that moved with
@@ -367,7 +367,7 @@ DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_de
 DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo",
                                     goal_evidence="off", wall_fix_far=0,
                                     wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60, max_stuck=16)
+                                    max_looks=60, max_stuck=16, backing="map")
 
 # The drive's defaults before 2026-12-06 16:45 (docs/planner.md, "A once-seen blocker at the
 # goal let go, a far turn held for a second look"): no once-seen blocker at the goal let go,
@@ -376,17 +376,22 @@ DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo",
 # it turns back what came at 20:30 too.
 DRIVE_BEFORE_2026_12_06_1645 = dict(goal_evidence="off", wall_fix_far=0,
                                     wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60, max_stuck=16)
+                                    max_looks=60, max_stuck=16, backing="map")
 
 # The drive's defaults before 2026-12-06 20:30 (docs/planner.md, "Hits the plan's walls
 # explain"): a floor hit the plan's walls explain still starts a feature, and a tiled
 # floor's run of one of its greys proves the floor as any run.  A test that traced a drive
 # under the defaults before then pins them.
 DRIVE_BEFORE_2026_12_06_2030 = dict(wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60, max_stuck=16)
+                                    max_looks=60, max_stuck=16, backing="map")
 
 # The drive's defaults before 2026-12-07 (docs/planner.md, "The run's end inside the goal's
 # disc"): the run ends as soon as the estimate enters the goal's disc.  A test that traced a
 # drive's last looks under the defaults before then pins it (and what came at 06:30 and
 # 08:30 turned back too).
-DRIVE_BEFORE_2026_12_07 = dict(finish="edge", max_looks=60, max_stuck=16)
+DRIVE_BEFORE_2026_12_07 = dict(finish="edge", max_looks=60, max_stuck=16, backing="map")
+
+# The drive's defaults before 2026-12-07 12:15 (docs/planner.md, "Back along its own
+# way"): where it cannot turn at all, the vehicle stands and looks again.  A test that
+# traced a drive's stand-still under the defaults before then pins it.
+DRIVE_BEFORE_2026_12_07_1215 = dict(backing="map")

@@ -284,6 +284,7 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("evidence", "moved", "core", "poses", False)   # look_around: since 2026-12-04;
                                                         # uncertain: since 2026-12-05
+    assert c.backing == "trail"                         # since 2026-12-07 12:15
     with pytest.raises(SystemExit):
         main(["drive", "--out", str(tmp_path), "--growth", "sideways"])
 

@@ -283,9 +283,11 @@ def test_room_105_is_reached_when_a_move_may_start_where_its_pivot_may_sweep():
     # sweep, refuses every forward move, and 16 looks pass without progress.  With
     # the ring where the move starts let through as the pivot's is ("start", the
     # default) the goal is reached.  The world's exact geometry judges it.  (16 looks
-    # without progress, the defaults' count when it was traced, before 2026-12-07 08:30.)
+    # without progress, the defaults' count when it was traced, before 2026-12-07 08:30,
+    # and standing to look again where it cannot turn, before 12:15.)
     from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(105, "move_ring", ("seen", "start"), max_stuck=16)
+    goal, res = bench_drives(105, "move_ring", ("seen", "start"), max_stuck=16,
+                             backing="map")
     assert not res["seen"].reached and res["seen"].collisions == 0
     assert "16 looks without progress: path to the goal (kept)" in res["seen"].reason
     assert_reached_by_the_truth(res["start"], goal)
@@ -299,9 +301,11 @@ def test_room_540_is_reached_when_a_move_s_ring_may_be_never_seen():
     # world's exact geometry judges it.  (Without the steered leg, steer="off": since
     # 2026-12-06 the default steers the kept path's cut leg where the vehicle would
     # look round, and reaches this goal under "seen" too; 16 looks without progress, the
-    # defaults' count when it was traced, before 2026-12-07 08:30.)
+    # defaults' count when it was traced, before 2026-12-07 08:30, and standing to look
+    # again where it cannot turn, before 12:15.)
     from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(540, "move_ring", ("seen", "known"), steer="off", max_stuck=16)
+    goal, res = bench_drives(540, "move_ring", ("seen", "known"), steer="off", max_stuck=16,
+                             backing="map")
     assert not res["seen"].reached and res["seen"].collisions == 0
     assert "16 looks without progress" in res["seen"].reason
     assert_reached_by_the_truth(res["known"], goal)
@@ -332,10 +336,12 @@ def test_room_750_cannot_turn_under_swept_and_reaches_its_goal_under_swept_ring(
     # margin's ring and it stops "cannot turn"; the ring's rule (the default since
     # 2026-12-05 19:10) lets those cells be, nothing seen lying within the planning
     # radius of them, and the goal is reached.  The world's exact geometry judges it.
+    # (Under "swept" the vehicle stands and looks again where it cannot turn, as it did
+    # when this was traced, before 2026-12-07 12:15: backing="map".)
     from world.odometry import OdometryNoise
     from rigtools import assert_reached_by_the_truth, bench_task
     room, start, goal = bench_task(750)
-    swept = run(room, start, DriveConfig(goal=goal, pivot="swept"),
+    swept = run(room, start, DriveConfig(goal=goal, pivot="swept", backing="map"),
                 noise=OdometryNoise(seed=750), keep_maps=False)
     assert not swept.reached and "cannot turn" in swept.reason
     assert swept.collisions == 0

@@ -235,10 +235,11 @@ def test_room_170_moves_on_to_turn_where_it_stood_before():
     drives on the seen map alone (the default before 2026-12-05 16:30) and with the
     margin's ring seen free (pivot="swept", the default before 19:10).  (Room 385 showed
     it until a move's band was checked to both edges, 19:50: its drive without turning
-    room now reaches the goal.)"""
+    room now reaches the goal.)  Both where it cannot turn stand and look again
+    (backing="map", the default before 2026-12-07 12:15)."""
     from rigtools import assert_reached_by_the_truth, bench_drives
     goal, res = bench_drives(170, "turn_room", ("off", "forward"), map_extent="seen",
-                             pivot="swept")
+                             pivot="swept", backing="map")
     off, on = res["off"], res["forward"]
     assert not off.reached and "cannot turn: space within its radius" in off.reason
     assert off.collisions == 0
@@ -248,7 +249,7 @@ def test_room_170_moves_on_to_turn_where_it_stood_before():
 
 def test_the_evidence_options_drive_the_tiny_room_without_collision():
     """The named options together (look at what the path lacks, progress by
-    evidence, reverse allowed, plan through uncertain cells) still reach the
+    evidence, backing over the map allowed, plan through uncertain cells) still reach the
     tiny room's goal with oracle eyes, no collision; a bad option value is
     refused."""
     import dataclasses
@@ -258,7 +259,7 @@ def test_the_evidence_options_drive_the_tiny_room_without_collision():
     # band: the tiny room's bare floor frees nothing before 8 ft under low (test_drive_sight_lines.py)
     cfg = DriveConfig(goal=GOAL, eyes="truth", look_around="evidence", progress="evidence",
                       uncertain="look", profile=dataclasses.replace(DEFAULT, reverse=True),
-                      sight_lines="band")
+                      backing="map", sight_lines="band")
     res = run(tiny_room(), State(0.0, 0.0, 0.0), cfg, noise=OdometryNoise(seed=1))
     assert res.reached, res.reason
     assert res.collisions == 0

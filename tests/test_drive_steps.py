@@ -90,7 +90,8 @@ def test_the_step_back_stands_the_vehicle_behind_its_start_and_learns_the_floor(
     """``learn_floor="step-back"`` with the noise off: before the first look
     the vehicle stands exactly 1.25 ft behind its start, heading as it was
     (a forward-only vehicle by TURN 180, FORWARD 1.25, TURN -180; one that
-    reverses by BACK 1.25), and that one look learns the tiny room's floor
+    reverses and backs over the map, ``backing="map"``, by BACK 1.25), and that one
+    look learns the tiny room's floor
     grey (6, its floor quad's) from the clear spot's floor; without the step
     the look shows none of the clear spot and learns nothing."""
     from dataclasses import replace
@@ -101,7 +102,7 @@ def test_the_step_back_stands_the_vehicle_behind_its_start_and_learns_the_floor(
     for how in ("off", "step-back"):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
                   DriveConfig(goal=GOAL, floor_eyes="bound", learn_floor=how, max_looks=1,
-                              profile=prof))
+                              profile=prof, backing="map"))
         learned[how] = res.floor
         if how == "step-back":
             look_pose = res.cycles[0].true
@@ -164,7 +165,8 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     features draw the box's seen face thinner, and the goal's disc then holds unknown
     floor behind the box, which the planner may aim at; turn_room="off": with "forward"
     the vehicle moves on to where it can turn; and fine_map="off": on half cells the
-    goal's disc, which reaches 0.25 ft past the box's near face, has a way to it.)"""
+    goal's disc, which reaches 0.25 ft past the box's near face, has a way to it; and
+    backing="map": under "trail" the vehicle backs along its step back's way.)"""
     from planner.loop import run
     from world.odometry import OdometryNoise
     from rigtools import drive_config
@@ -173,7 +175,7 @@ def test_max_stuck_gives_up_after_that_many_looks_without_a_move(monkeypatch, tm
     for n in (2, 3):
         res = run(tiny_room(), State(0.0, 0.0, 0.0),
                   DriveConfig(goal=(1.9, 4.0), eyes="truth", max_stuck=n, occupied="looks",
-                              turn_room="off", fine_map="off"),
+                              turn_room="off", fine_map="off", backing="map"),
                   noise=OdometryNoise(seed=1))
         assert len(res.cycles) == n
         assert res.reason.startswith(f"stopped after {n} looks without progress: goal not "

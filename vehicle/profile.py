@@ -12,8 +12,10 @@ a camera 3 ft up with the rig's 37 deg tall view sees no floor nearer than
 moved about 2.5 ft per look), forward only.  ``reverse`` (off by default;
 the HERO-1's drive wheel turns either way) allows ``BACK``: the closed loop
 may then back straight along its heading over space seen free, to see what is
-too near to show in a look or to get room to pivot (measured, not adopted:
-docs/planner.md).  ``margin_ft`` is added to the
+too near to show in a look or to get room to pivot (``DriveConfig.backing="map"``;
+measured, not adopted: docs/planner.md).  The closed loop's default
+(``backing="trail"``, since 2026-12-07) lets the vehicle back only to undo its own
+last motions where it cannot turn, whatever this flag says.  ``margin_ft`` is added to the
 vehicle's radius when planning, against the error of the position estimate.
 
 The head (``head``, off by default: the rig is fixed, pan 0 and tilt 0 on top
