@@ -387,8 +387,8 @@ DRIVE_BEFORE_2026_12_06_2030 = dict(wall_hits="feature", one_grey_runs="prove", 
 
 # The drive's defaults before 2026-12-07 (docs/planner.md, "The run's end inside the goal's
 # disc"): the run ends as soon as the estimate enters the goal's disc.  A test that traced a
-# drive's last looks under the defaults before then pins it (and what came at 06:30 and
-# 08:30 turned back too).
+# drive's last looks under the defaults before then pins it (and what came at 06:30,
+# 08:30 and 12:15 turned back too).
 DRIVE_BEFORE_2026_12_07 = dict(finish="edge", max_looks=60, max_stuck=16, backing="map")
 
 # The drive's defaults before 2026-12-07 12:15 (docs/planner.md, "Back along its own
