@@ -1538,9 +1538,11 @@ class Drive:
                                  self.pivot_r)
             if on:
                 return on, note + " (cannot turn here: forward to where it can)"
-        if self.cfg.backing == "trail" and self.retraces < RETRACES:
+        if self.cfg.backing == "trail" and self.retraces < RETRACES and \
+                math.hypot(est.x - self.goal[0], est.z - self.goal[1]) > self.cfg.tolerance_ft:
             # what it lacks may lie too near to show (near_visible_ft): back off
-            # along ground its wheels have swept, and look again
+            # along ground its wheels have swept, and look again (not from inside the
+            # goal's disc, where standing still ends the run at the goal: room 661)
             back = retrace(self.trail, RETRACE_FT)
             if back:
                 self.retraces += 1

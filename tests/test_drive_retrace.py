@@ -141,3 +141,23 @@ def test_the_result_says_how_often_the_vehicle_retraced():
                   DriveConfig(goal=GOAL, eyes="truth", max_looks=1, backing=backing))
         got = res.as_json()
         assert {k: got[k] for k in ("retraces",) if k in got} == want, backing
+
+
+def test_room_661_does_not_retrace_out_of_the_goal_s_disc():
+    """bench/drive.py's room 661 under its own odometry noise: at its 20th look the
+    estimate stands 0.65 ft from the goal, inside its 0.75 ft disc, where the vehicle
+    cannot turn.  Standing still there ends the run at the goal (``finish="inner"``: a
+    cycle in the disc that brings it no nearer); a retrace from there backed it out of the
+    disc, and it never came back (53 looks).  So no retrace is taken inside the disc: the
+    drive is the same as under ``backing="map"``, and reached by the truth."""
+    from rigtools import DRIVE_BEFORE_2026_12_07_1215, assert_reached_by_the_truth, bench_task
+    from world.odometry import OdometryNoise
+    room, start, goal = bench_task(661)
+    trail = run(room, start, DriveConfig(goal=goal), noise=OdometryNoise(seed=661),
+                keep_maps=False)
+    assert_reached_by_the_truth(trail, goal)
+    assert trail.retraces == 0
+    assert any("cannot turn" in c.note for c in trail.cycles)
+    before = run(room, start, DriveConfig(goal=goal, **DRIVE_BEFORE_2026_12_07_1215),
+                 noise=OdometryNoise(seed=661), keep_maps=False)
+    assert [c.true for c in trail.cycles] == [c.true for c in before.cycles]
