@@ -390,7 +390,8 @@ class DriveConfig:
                                           # first look's step back; "trail" (not 1985; the
                                           # default since; the vehicle then reverses,
                                           # whatever the profile): only where it cannot turn at all
-                                          # (after turn_room's move), undoing its own last
+                                          # (after turn_room's move) outside the goal's
+                                          # disc, undoing its own last
                                           # motions (motion.retrace: ground its wheels have
                                           # swept, whatever the map shows), RETRACE_FT at a
                                           # time, at most RETRACES times a run; else it

@@ -367,7 +367,7 @@ def add_loop_options(p) -> None:
     opt("--backing", choices=BACKINGS, default=C.backing,
         help="where the vehicle backs: 'trail' (default since 2026-12-07 12:15; not 1985; "
              "the vehicle then reverses, with or without --reverse on): only where it cannot "
-             f"turn at all, undoing its own last {RETRACE_FT:g} ft of motion (ground its "
+             f"turn at all, outside the goal's disc, undoing its own last {RETRACE_FT:g} ft of motion (ground its "
              f"wheels swept, whatever the map shows), at most {RETRACES} times a run; 'map' "
              "(the default before): only with --reverse on, straight back over space seen "
              "free")
