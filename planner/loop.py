@@ -146,7 +146,7 @@ from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn,
     steered_prefix, inner_ring_sweep, \
     shortcut_first_leg, head_commands, head_look, looked_ahead, path_heading, mark_track_free, safe_prefix, looked_free, \
     near_visible_ft, pivot_allowed, pivot_radius_ft, PivotSweep, SMALL_TURN_DEG, clear_unseen, goal_blocker, look_at, \
-    push_trail, retrace
+    push_trail, retrace, backs_over_map
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
     TwoLookSides
@@ -389,13 +389,13 @@ class DriveConfig:
                                           # is too near what it must look at, and at the
                                           # first look's step back; "trail" (not 1985; the
                                           # default since; the vehicle then reverses,
-                                          # whatever the profile): only where it cannot turn at all
-                                          # (after turn_room's move) outside the goal's
-                                          # disc, undoing its own last
-                                          # motions (motion.retrace: ground its wheels have
-                                          # swept, whatever the map shows), RETRACE_FT at a
-                                          # time, at most RETRACES times a run; else it
-                                          # moves as a vehicle that does not reverse
+                                          # whatever the profile): only where it cannot
+                                          # turn at all (after turn_room's move) outside
+                                          # the goal's disc, undoing its own last motions
+                                          # (motion.retrace: ground its wheels have swept,
+                                          # whatever the map shows), RETRACE_FT at a time,
+                                          # at most RETRACES times a run; else it moves as
+                                          # a vehicle that does not reverse
     look_around: str = "evidence"         # the vehicle cannot move: "sweep" (the default
                                           # before 2026-12-04): face the path, then turn
                                           # +35 / -70 deg in place; "evidence" (not 1985;
@@ -1095,10 +1095,8 @@ class Drive:
         self.assist = cfg.head == "assist"
         prof = cfg.profile
         if self.head and not prof.head:
-            import dataclasses
             prof = dataclasses.replace(prof, head=True)
         if cfg.backing == "trail" and not prof.reverse:
-            import dataclasses
             prof = dataclasses.replace(prof, reverse=True)     # (BACK only to retrace)
         self.prof = prof
         self.veh = Vehicle(room.obstacles, room.bounds, start, prof, noise)
@@ -1147,7 +1145,7 @@ class Drive:
         self._last_plan = None                # ((map, estimate, previous path), path or NoPath)
         self.sweep = 0                        # looks turned in place since the vehicle last moved
         # backing="map": BACK over space seen free; "trail": only the retrace (look_round)
-        self.backs_on_map = prof.reverse and cfg.backing == "map"
+        self.backs_on_map = backs_over_map(prof, cfg)
         self.trail: list = []                 # the motions executed, undone ones cancelled
         self.retraces = 0                     # backing="trail": retraces taken
         self.prev_path = None                 # the path kept (planning.plan's keep_ft)

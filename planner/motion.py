@@ -679,6 +679,13 @@ def back_prefix(est: State, dist: float, safe: Passable, seen, prof: VehicleProf
     return [Back(round(d, 3))] if d > 0.05 else []
 
 
+def backs_over_map(prof: VehicleProfile, cfg) -> bool:
+    """May the vehicle ``BACK`` straight over space seen free (:func:`back_prefix`):
+    its profile reverses and ``cfg.backing`` is "map".  Under "trail" it backs only to
+    retrace its own way (:func:`retrace`)."""
+    return prof.reverse and cfg.backing == "map"
+
+
 def push_trail(trail: list, cmd) -> None:
     """Add the executed motion ``cmd`` to ``trail`` (the run's own way back,
     :func:`retrace`), cancelling what it undoes: a ``BACK`` against the
@@ -825,8 +832,7 @@ def look_at(u, fm: FloorMap, safe: Passable, seen, est: State, near_ft: float,
     d = math.hypot(u[0] - here[0], u[1] - here[1])
     off = wrap(heading_to(here, u) - est.heading_deg)
     looked = sum(math.hypot(q[0] - here[0], q[1] - here[1]) <= 0.5 for q in tried)
-    if d < near_ft + 0.2 and prof.reverse and cfg.backing == "map" and \
-            abs(off) <= HALF_FOV_DEG - 4.0:
+    if d < near_ft + 0.2 and backs_over_map(prof, cfg) and abs(off) <= HALF_FOV_DEG - 4.0:
         # too near to show, and ahead: back straight off until it shows
         seg = back_prefix(est, near_ft + 0.5 - d, safe, seen, prof)
         if seg:

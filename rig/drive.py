@@ -367,10 +367,10 @@ def add_loop_options(p) -> None:
     opt("--backing", choices=BACKINGS, default=C.backing,
         help="where the vehicle backs: 'trail' (default since 2026-12-07 12:15; not 1985; "
              "the vehicle then reverses, with or without --reverse on): only where it cannot "
-             f"turn at all, outside the goal's disc, undoing its own last {RETRACE_FT:g} ft of motion (ground its "
-             f"wheels swept, whatever the map shows), at most {RETRACES} times a run; 'map' "
-             "(the default before): only with --reverse on, straight back over space seen "
-             "free")
+             f"turn at all, outside the goal's disc, undoing its own last {RETRACE_FT:g} ft "
+             f"of motion (ground its wheels swept, whatever the map shows), at most "
+             f"{RETRACES} times a run; 'map' (the default before): only with --reverse on, "
+             "straight back over space seen free")
     opt("--turn-room", choices=TURN_ROOMS, default=C.turn_room,
         help="where no pivot is allowed (its swept cells not seen free) and the vehicle "
              "cannot back: 'forward' (default since 2026-12-05 15:00; not 1985): the "
