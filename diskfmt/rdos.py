@@ -54,6 +54,7 @@ __all__ = ["JHData", "LinkTimeout", "LockedError", "NotAProtocolFile", "default_
 # while a third locked a new file (two holders at once).
 ESTAR_LOCK = "ESTAR.LCK"
 NSTAR_LOCK = "NSTAR.LCK"
+LOCK_PROBE_GRACE_S = 0.25      # lock(): how long a lock held by a held() probe is waited out
 NSTAR_BUSY = "NSTAR.BSY"
 STALE_DIR = "STALE"
 LOCK_MODE = 0o664          # group-writable: a shared jhdata/ serves a group of users
@@ -527,14 +528,23 @@ class JHData:
         """Hold an exclusive lock file for the life of this process (two ESTARs on
         one directory would steal each other's answers).  The file is kept."""
         fd = _open_lock_file(self.dir / name)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError as exc:
-            os.close(fd)
-            if exc.errno in (errno.EAGAIN, errno.EACCES):
-                raise LockedError(f"another {self.me} is already running on "
-                                  f"{self.dir} (it holds {name}); stop it first") from None
-            raise
+        # A peer's held() probe takes a shared lock for an instant; a holder keeps its
+        # lock for life.  Refused only if still locked after LOCK_PROBE_GRACE_S (a
+        # probe caught at the wrong instant had made a starting NSTAR give up).
+        deadline = time.monotonic() + LOCK_PROBE_GRACE_S
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except OSError as exc:
+                if exc.errno not in (errno.EAGAIN, errno.EACCES):
+                    os.close(fd)
+                    raise
+                if time.monotonic() >= deadline:
+                    os.close(fd)
+                    raise LockedError(f"another {self.me} is already running on "
+                                      f"{self.dir} (it holds {name}); stop it first") from None
+                time.sleep(0.005)
         try:                                  # who holds it, for a person looking
             os.ftruncate(fd, 0)
             os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)

@@ -77,6 +77,25 @@ def test_lock_refuses_a_second_holder_and_is_released_on_close(tmp_path):
     b.close()
 
 
+def test_lock_waits_out_a_peers_momentary_probe(tmp_path):
+    """A peer asking held() takes a shared lock for an instant; a process
+    starting just then must not take it for a holder (a starting NSTAR gave up
+    "already running" while the test's watcher polled held())."""
+    import fcntl
+    a = JHData(tmp_path, me="NSTAR", peer="ESTAR")
+    (tmp_path / "NSTAR.LCK").write_bytes(b"")
+    probe = os.open(tmp_path / "NSTAR.LCK", os.O_RDONLY)
+    fcntl.flock(probe, fcntl.LOCK_SH | fcntl.LOCK_NB)        # a probe caught mid-way
+    threading.Timer(0.05, lambda: os.close(probe)).start()   # ... and let go
+    a.lock("NSTAR.LCK")                                      # before the fix: LockedError
+    b = JHData(tmp_path, me="NSTAR", peer="ESTAR")
+    assert b.held("NSTAR.LCK")
+    with pytest.raises(LockedError, match="another NSTAR is already running"):
+        b.lock("NSTAR.LCK")                                  # a real holder still refuses
+    a.close()
+    b.close()
+
+
 def test_missing_directory_is_one_clear_error(tmp_path):
     with pytest.raises(FileNotFoundError, match="does not exist"):
         JHData(tmp_path / "nope", me="ESTAR", peer="NSTAR")
