@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from diskfmt.jit import jit
-from estar.masl import NPIX1, NPIX2
+from estar.masl import NPIX1, NPIX2, masl_requests
 try:                                   # MASL's shift bounds (named search_bounds since)
     from estar.masl import search_bounds as _search_bounds_kernel
 except ImportError:                    # pragma: no cover - the older name
@@ -640,6 +640,49 @@ def lcsl_line(iyloc, nfeat1, nmatch, imatch, consts, range_done, range_mq, offse
                     point_words[npt, j] = pos[base + j]
                 npt += 1
     return npt
+
+
+@jit
+def frame_lines_kernel(frame, windows, nfeat_out, ifeat_out, maps_out, requests_out):
+    """What the improved matcher asks NSTAR for, for every line 0..119 of the
+    frame store (:func:`matching.mode.fetch_line`): CFEAT's two slices
+    (``nfeat_out[y]``, ``ifeat_out[y]``) and the edge bit map of every NBLOB
+    request MASL makes on the line with no map cached
+    (:func:`estar.masl.masl_requests`; ``requests_out[y]`` of them), as
+    IBLB1/IBLB2 hold it: ``maps_out[y, image-1, edge-1]`` is flag word 1 then
+    the 16 column words as the Nova's signed 16-bit words, the other edges
+    all 0.  ``windows``: :func:`new_windows`."""
+    level_windows(frame, windows)
+    ifeat1 = np.zeros((4, 50), dtype=np.int32)
+    ifeat2 = np.zeros((4, 50), dtype=np.int32)
+    pix = np.zeros(128, dtype=np.int64)
+    work = np.zeros((3, 130), dtype=np.int64)      # eyes.exqvfl.new_work()
+    maps = np.zeros((2, 100, 4), dtype=np.uint64)
+    bits = np.zeros((2, 100), dtype=np.int64)
+    requests = np.zeros((200, 4), dtype=np.int64)
+    have1 = np.zeros(100, dtype=np.bool_)
+    have2 = np.zeros(100, dtype=np.bool_)
+    grey = np.zeros((2, 320), dtype=np.uint8)
+    columns = maps.view(np.uint16)                 # [image, edge, column]: as nblob_many
+    maps_out[:] = 0
+    for y in range(120):
+        nfeat1, nfeat2 = cfeat(frame, y, pix, ifeat1, ifeat2, work)
+        nfeat_out[y, 0] = nfeat1
+        nfeat_out[y, 1] = nfeat2
+        ifeat_out[y, 0] = ifeat1
+        ifeat_out[y, 1] = ifeat2
+        have1[:] = False
+        have2[:] = False
+        n = masl_requests(nfeat1, ifeat1, nfeat2, ifeat2, have1, have2, requests)
+        requests_out[y] = n
+        nblob_many(frame, windows, y, requests, n, maps, bits, grey)
+        for k in range(n):
+            img = requests[k, 0] - 1
+            row = requests[k, 1] - 1
+            maps_out[y, img, row, 0] = 1
+            for c in range(16):
+                word = np.int64(columns[img, row, c])
+                maps_out[y, img, row, 1 + c] = word - 65536 if word >= 32768 else word
 
 
 @jit

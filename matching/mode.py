@@ -85,6 +85,7 @@ class ImprovedMatcher:
                              replace(params, min_confidence=0.0))
         self._second_constraints = replace(constraints, subpixel=False)
         self._lines: dict[int, LineData] = {}
+        self._frame: dict[int, LineData] | None = None    # frame_verdicts' lines
         self._first: dict[int, list[Verdict]] = {}
         self._second: dict[int, list[Verdict]] = {}
         self._rounds: dict[tuple[int, int], list[Verdict]] = {}
@@ -103,6 +104,22 @@ class ImprovedMatcher:
         data = LineData(iyloc, list(features1), list(features2), np.array(maps1),
                         np.array(maps2))
         self._remember(iyloc, data)
+        verdicts = self._verdicts(eclipse, iyloc, data)
+        if getattr(eclipse, "debug", 0) & 4:
+            eclipse.listing.records(verdict_listing(verdicts, self.constraints))
+        return VerdictTables(verdicts), verdicts
+
+    def frame_verdicts(self, frame: list[LineData], lines) -> list[list[Verdict]]:
+        """The verdicts of each of ``lines`` with every line's data given at
+        once (``frame``: lines 0..119, as :func:`fetch_line` would get them;
+        the eyes' compiled line source, :mod:`eyes.improved`) instead of asked
+        for through ESTAR's link: the verdicts :meth:`tables_for` gives ESTAR
+        line by line (tests/test_eyes_improved.py).  For one frame per matcher."""
+        self._frame = {d.iyloc: d for d in frame}
+        self._max_lines = max(self._max_lines, len(frame))     # every line stays held
+        return [self._verdicts(None, y, self._line(None, y)) for y in lines]
+
+    def _verdicts(self, eclipse, iyloc: int, data: LineData) -> list[Verdict]:
         profiles = None
         if self.constraints.subpixel:
             from .subpixel import line_profile
@@ -119,9 +136,7 @@ class ImprovedMatcher:
                 from .subpixel import refine_verdicts
                 verdicts = refine_verdicts(verdicts, data, profiles,
                                            self.params.subpixel_max_change)
-        if getattr(eclipse, "debug", 0) & 4:
-            eclipse.listing.records(verdict_listing(verdicts, self.constraints))
-        return VerdictTables(verdicts), verdicts
+        return verdicts
 
     def _remember(self, iyloc: int, data: LineData) -> None:
         if iyloc in self._lines and not _same(self._lines[iyloc], data):
@@ -147,7 +162,8 @@ class ImprovedMatcher:
 
     def _line(self, eclipse, y: int) -> LineData:
         if y not in self._lines:
-            self._remember(y, fetch_line(eclipse, y))
+            self._remember(y, self._frame[y] if self._frame is not None
+                           else fetch_line(eclipse, y))
         else:                                     # least recently used leaves first
             self._lines[y] = self._lines.pop(y)
         return self._lines[y]

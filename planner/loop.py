@@ -7,9 +7,10 @@ the path as needed during the traversal".
 * **scan**: the rig's whole-picture scan of the pair (:func:`scan_look`): by the eyes
   (``eyes.scan_pair``, the compiled 1985 frame scan, bit for bit ``rig.scan.scan_pair``)
   with ``match="1985"`` (the default), or with ``match="improved"`` (``rig drive --match
-  improved``, not 1985) by the in-process rig with the improved matcher of package
-  ``matching`` (``rig.scan.scan_pair(..., matcher=make_matcher("improved"))``, as ``rig walk
-  --match improved``): a verdict per edge, so an edge without a right match is left out
+  improved``, not 1985) by the improved matcher of package ``matching`` on the eyes'
+  compiled line source (``eyes.improved.scan_pair``, line for line the in-process rig's
+  ``rig.scan.scan_pair(..., matcher=make_matcher("improved"))``, as ``rig walk --match
+  improved``): a verdict per edge, so an edge without a right match is left out
   instead of located at the best available;
 * **model update / camera estimate**: ``pose="fused"`` (``rig drive --pose
   fused``) runs the walk's per-look step (:class:`model.mapping.Walker`) on the
@@ -866,21 +867,20 @@ class DriveResult:
 def scan_look(left, right, lines, match: str = "1985"):
     """The rig's scan (a ``rig.scan.ScanResult``) of one look's .BI pair over
     ``lines``.  ``"1985"``: the eyes (the compiled frame scan, the same result
-    as the reference rig, bit for bit).  ``"improved"`` (not 1985): the
-    in-process reference rig with a fresh improved matcher (its default
-    constraints: order, lr, neighbours, region, confirm), as ``rig walk
-    --match improved``; its line results carry the verdicts
-    (``matching.mode.located_points`` gives each point's confidence).  The
-    neighbours constraint asks NSTAR for lines IY-1 and IY+1 as well, so a
-    scan of every second line fetches the lines between too."""
+    as the reference rig, bit for bit).  ``"improved"`` (not 1985): a fresh
+    improved matcher (its default constraints: order, lr, neighbours, region,
+    confirm) on the eyes' compiled slices and edge maps of every line
+    (:mod:`eyes.improved`), the scan the in-process reference rig gives with
+    it, as ``rig walk --match improved``, line for line (only its count of
+    NBLOB round trips is MASL's alone); its line results carry the verdicts
+    (``matching.mode.located_points`` gives each point's confidence)."""
     if match not in MATCHES:
         raise ValueError(f"unknown stereo matcher {match!r}; one of {', '.join(MATCHES)}")
     if match == "1985":
         from eyes import scan_pair
         return scan_pair(left, right, lines=lines)
-    from matching.mode import make_matcher
-    from rig.scan import scan_pair
-    return scan_pair(left, right, lines, matcher=make_matcher("improved"))
+    from eyes.improved import scan_pair
+    return scan_pair(left, right, lines)
 
 
 def true_range_points(points, look):

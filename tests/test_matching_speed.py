@@ -70,11 +70,17 @@ def fixture_looks():
 
 
 def test_the_scan_of_a_look_is_the_plain_matchers_bit_for_bit():
+    """The drive's scan (the eyes' line source, eyes.improved) and ESTAR's with
+    the matcher (whose count of NBLOB round trips is the plain matcher's too)."""
+    from matching.mode import make_matcher
     from planner.loop import scan_look
+    from rig.scan import scan_pair
     reasons = set()
     for (left, right), lines, want in fixture_looks():
+        estar = scan_record(scan_pair(left, right, lines, matcher=make_matcher("improved")))
+        assert estar["requests"] == want["requests"]
+        assert estar["lines"] == want["lines"] and estar["points"] == want["points"]
         got = scan_record(scan_look(left, right, lines, "improved"))
-        assert got["requests"] == want["requests"]
         assert got["lines"].keys() == want["lines"].keys()
         for y in want["lines"]:
             assert got["lines"][y] == want["lines"][y], f"line {y}"
