@@ -58,6 +58,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from diskfmt.jit import jit
 from .floormap import FREE, FLOOR_Y, FloorMap
 
 ROWS, COLS = 120, 128
@@ -141,15 +142,38 @@ def training_mask(rays: FloorRays, known: FloorMap, lowest_ft: float,
         sub = np.zeros_like(ok)
         sub[::2, ::2] = True
         ok &= sub
-    idx = np.flatnonzero(ok)               # the pixels still in, step by step
-    fx, fz = rays.x.ravel(), rays.z.ravel()
-    for s in steps:
-        x = rays.origin[0] + s * (fx[idx] - rays.origin[0])
-        z = rays.origin[2] + s * (fz[idx] - rays.origin[2])
-        idx = idx[_cells_free(known, x, z)]
+    idx = np.flatnonzero(ok)
+    free = np.zeros(len(idx), bool)
+    _trace_free(float(rays.origin[0]), float(rays.origin[2]), rays.x.ravel(), rays.z.ravel(),
+                idx, np.asarray(steps, dtype=np.float64), known.cells, float(known.x0),
+                float(known.z0), float(known.cell), FREE, free)
     out = np.zeros(ok.size, bool)
-    out[idx] = True
+    out[idx[free]] = True
     return out.reshape(ok.shape)
+
+
+@jit
+def _trace_free(ox, oz, fx, fz, idx, steps, cells, x0, z0, cell, free_value, out):
+    """``out[n]``: whether every point ``o + s (f - o)`` (s in ``steps``) of
+    pixel ``idx[n]``'s floor trace lies in a FREE cell (as :func:`_cells_free`
+    judges one point).  A pixel stops at its first cell not free: compiled,
+    pixel by pixel, instead of a pass over every pixel still in per step
+    (up to 97 steps a look)."""
+    for n in range(len(idx)):
+        p = idx[n]
+        keep = True
+        for s in steps:
+            i = np.floor((oz + s * (fz[p] - oz) - z0) / cell)
+            j = np.floor((ox + s * (fx[p] - ox) - x0) / cell)
+            if not (np.isfinite(i) and np.isfinite(j)):
+                keep = False
+                break
+            ii, jj = int(i), int(j)
+            if (ii < 0 or jj < 0 or ii >= cells.shape[0] or jj >= cells.shape[1]
+                    or cells[ii, jj] != free_value):
+                keep = False
+                break
+        out[n] = keep
 
 
 def floor_greys(hist, min_samples: int = MIN_SAMPLES, min_share: float = MIN_SHARE):
@@ -267,14 +291,12 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     that prove (the trace); the others only lead in, for
     :func:`keep_before_hit` to stop a trace that lies past a hit."""
     frac = 1.0 - lowest_ft / rays.height
-    rr, cc = [], []
-    for c in np.flatnonzero(top < ROWS):
-        rows = np.unique(np.concatenate([np.arange(top[c], ROWS, row_step), [top[c], ROWS - 1]]))
-        rr.append(rows)
-        cc.append(np.full(len(rows), c))
-    if not rr:
+    # per column (in order) its rows top, top + row_step, ... and the bottom one
+    below = np.arange(ROWS)[None, :] - np.asarray(top)[:, None]
+    cc, rr = np.nonzero((below >= 0) & ((below % row_step == 0)
+                                         | (np.arange(ROWS) == ROWS - 1)[None, :]))
+    if not len(rr):
         return None
-    rr, cc = np.concatenate(rr), np.concatenate(cc)
     d = rays.dist[rr, cc]
     far = np.minimum(d, clip_ft[cc]) - res          # stop a cell short, as a sight line
     near = frac * d
@@ -285,7 +307,9 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     lead = np.where(n > 0, np.floor(near / (res / 2)).astype(int), 0) if lead_in \
         else np.zeros(len(n), int)
     ray = np.repeat(np.arange(len(rr)), n + lead)
-    k = np.concatenate([np.arange(-a, m) for a, m in zip(lead, n)])
+    # each ray's steps -lead .. n - 1
+    first = np.cumsum(n + lead) - (n + lead)
+    k = np.arange(len(ray)) - first[ray] - lead[ray]
     dist = near[ray] + k * (res / 2)
     o = rays.origin
     ux = (rays.x[rr, cc] - o[0]) / d

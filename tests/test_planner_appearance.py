@@ -87,6 +87,62 @@ def test_proof_runs_from_the_near_limit_to_the_run_and_the_clip():
     assert floor_proof(rays, np.full(128, ROWS), clip, h, res) is None
 
 
+def _floor_proof_column_by_column(rays, top, clip_ft, lowest_ft, res, row_step=4,
+                                  lead_in=False):
+    """floor_proof as it was written before it was made array-wise: a column,
+    then a ray, at a time."""
+    frac = 1.0 - lowest_ft / rays.height
+    rr, cc = [], []
+    for c in np.flatnonzero(top < ROWS):
+        rows = np.unique(np.concatenate([np.arange(top[c], ROWS, row_step), [top[c], ROWS - 1]]))
+        rr.append(rows)
+        cc.append(np.full(len(rows), c))
+    if not rr:
+        return None
+    rr, cc = np.concatenate(rr), np.concatenate(cc)
+    d = rays.dist[rr, cc]
+    far = np.minimum(d, clip_ft[cc]) - res
+    near = frac * d
+    n = np.where(far > near, np.floor((far - near) / (res / 2)).astype(int) + 1, 0)
+    n[~np.isfinite(d)] = 0
+    if n.sum() == 0:
+        return None
+    lead = np.where(n > 0, np.floor(near / (res / 2)).astype(int), 0) if lead_in \
+        else np.zeros(len(n), int)
+    ray = np.repeat(np.arange(len(rr)), n + lead)
+    k = np.concatenate([np.arange(-a, m) for a, m in zip(lead, n)])
+    dist = near[ray] + k * (res / 2)
+    o = rays.origin
+    ux = (rays.x[rr, cc] - o[0]) / d
+    uz = (rays.z[rr, cc] - o[2]) / d
+    pts = np.column_stack([o[0] + dist * ux[ray], np.full(len(dist), o[1]),
+                           o[2] + dist * uz[ray]])
+    return pts, ray, dist, k >= 0
+
+
+def test_the_array_wise_proof_equals_the_column_by_column_one():
+    rng = np.random.default_rng(11)
+    pose = Pose(0.3, -0.7, 20.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    compared = 0
+    for k in range(20):
+        top = rng.integers(1, ROWS + 1, 128)
+        top[rng.random(128) < 0.3] = ROWS                 # columns without a run
+        clip = rng.uniform(1.0, 14.0, 128)
+        for lead_in in (False, True):
+            for row_step in (1, 4):
+                want = _floor_proof_column_by_column(rays, top, clip, 0.8, 0.25, row_step,
+                                                     lead_in)
+                got = floor_proof(rays, top, clip, 0.8, 0.25, row_step, lead_in)
+                assert (got is None) == (want is None)
+                if want is not None:
+                    for a, b in zip(got, want, strict=True):
+                        assert a.dtype == b.dtype and np.array_equal(a, b)
+                    compared += len(want[0])
+    assert compared > 10000
+    assert floor_proof(rays, np.full(128, ROWS), np.full(128, 9.0), 0.8, 0.25) is None
+
+
 def test_a_lead_in_stops_a_proof_that_lies_past_a_hit_nearer_than_its_trace():
     """proof_hits="line" (room 293): a box 1.25 ft ahead, nearer than the
     picture's bottom row, whose face of the floor's grey fills the bottom
@@ -141,6 +197,61 @@ def test_training_pixels_need_their_whole_hiding_stretch_free():
     o = rays.origin
     to_cell = np.hypot(0.125 - o[0], 5.125 - o[2])
     assert (d * (1 - 0.8 / H) <= to_cell + 0.4).all() and (d >= to_cell - 0.4).all()
+
+
+def _training_mask_step_by_step(rays, known, lowest_ft, max_ft=12.0, whole_trace=False):
+    """training_mask as it was written before its trace was compiled: every
+    pixel still in, one step of the trace at a time (planner.appearance._cells_free)."""
+    from planner.appearance import _cells_free
+    frac = 1.0 - lowest_ft / rays.height
+    ok = np.isfinite(rays.dist) & (rays.dist <= max_ft)
+    steps = (frac, (1 + frac) / 2, 1.0)
+    if whole_trace:
+        steps = np.linspace(0.0, 1.0, int(np.ceil(max_ft / (known.cell / 2))) + 1)
+        sub = np.zeros_like(ok)
+        sub[::2, ::2] = True
+        ok &= sub
+    idx = np.flatnonzero(ok)
+    fx, fz = rays.x.ravel(), rays.z.ravel()
+    for s in steps:
+        x = rays.origin[0] + s * (fx[idx] - rays.origin[0])
+        z = rays.origin[2] + s * (fz[idx] - rays.origin[2])
+        idx = idx[_cells_free(known, x, z)]
+    out = np.zeros(ok.size, bool)
+    out[idx] = True
+    return out.reshape(ok.shape)
+
+
+@pytest.mark.parametrize("whole_trace", [False, True])
+def test_the_compiled_training_trace_equals_the_step_by_step_one(whole_trace):
+    """Random maps and camera poses, some cells on a trace's very edge: the
+    same pixels, compiled (numba) and as plain Python."""
+    import planner.appearance as appearance
+    rng = np.random.default_rng(3)
+    kept = partial = 0
+    for k in range(12):
+        pose = Pose(float(rng.uniform(-2, 2)), float(rng.uniform(-2, 2)),
+                    float(rng.uniform(-180, 180)), PITCH)
+        rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+        fm = empty_map((-10.0, 10.0 - 0.25 * (k % 3), -10.0, 14.0), 0.25, fill=FREE)
+        fm.cells[rng.random(fm.cells.shape) < 0.01 * (k % 4)] = OCCUPIED
+        want = _training_mask_step_by_step(rays, fm, 0.8, whole_trace=whole_trace)
+        got = training_mask(rays, fm, 0.8, whole_trace=whole_trace)
+        assert np.array_equal(got, want)
+        plain = getattr(appearance._trace_free, "py_func", None)
+        if plain is not None and k < 2:
+            original = appearance._trace_free
+            appearance._trace_free = plain
+            try:
+                assert np.array_equal(training_mask(rays, fm, 0.8, whole_trace=whole_trace),
+                                      want)
+            finally:
+                appearance._trace_free = original
+        kept += int(got.sum())
+        partial += 0 < got.sum() < _training_mask_step_by_step(
+            rays, empty_map((-10.0, 10.0, -10.0, 14.0), 0.25, fill=FREE), 0.8,
+            whole_trace=whole_trace).sum()
+    assert kept > 1000 and partial >= 3              # occupied cells cut some pixels
 
 
 def test_the_floor_run_of_a_rendered_look_shows_only_floor():
