@@ -52,14 +52,15 @@ def render_looks(rooms: int, looks: int, supersample: int = 2):
 
 def scan_digest(scan) -> str:
     """A digest of a scan's points and verdicts, every field (floats by repr,
-    which names a float exactly)."""
+    which names a float exactly).  Not its count of NBLOB round trips: through
+    ESTAR (before 2026-12-07) it counted the matcher's own fetches too, which
+    the eyes' line source (eyes.improved) does not make."""
     from dataclasses import astuple
     h = hashlib.sha256()
     for p in scan.points:
         h.update(repr(astuple(p)).encode())
     for r in scan.results:
         h.update(repr([astuple(v) for v in r.verdicts or ()]).encode())
-    h.update(repr(scan.requests).encode())
     return h.hexdigest()
 
 
