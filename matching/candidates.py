@@ -25,6 +25,7 @@ directions, so that the constraints of :mod:`matching.assign` can weigh it:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -61,7 +62,15 @@ def _half(a: int) -> int:
 
 def slice_edges(features) -> SliceEdges:
     """The edges of a slice's feature list ``[(start, stop, lgrey, rgrey), ...]``
-    (``Slice.features()``), with MASL's shift bounds."""
+    (``Slice.features()``), with MASL's shift bounds.
+
+    Remembered by the list's content (the arrays read-only): a look's rows
+    often repeat a slice (a blank wall, a box's sides)."""
+    return _slice_edges(tuple(tuple(f) for f in features))
+
+
+@lru_cache(maxsize=4096)
+def _slice_edges(features: tuple) -> SliceEdges:
     n = len(features)
     rows = []
     for k, (start, stop, lg, rg) in enumerate(features, start=1):
@@ -74,6 +83,7 @@ def slice_edges(features) -> SliceEdges:
         rows.append((stop, 1, k + 50, rg, k, right, stop - start))
     rows.sort()                           # by (x, side, edge): the edge numbers are unique
     arr = np.array(rows, dtype=np.int64).reshape(-1, 7).T.copy()
+    arr.flags.writeable = False
     return SliceEdges(edge=arr[2], x=arr[0], side=arr[1], grey=arr[3], feature=arr[4],
                       bound=arr[5], width=arr[6])
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from .verdict import (CONSTRAINTS, Assignment, Constraints, LineData, Params, Verdict,
                       assignment_verdicts, confirm, line_assignment, line_candidates,
-                      match_line, matched_edges, neighbour_lines, readmit, rematch_params,
+                      edge_columns, match_line, neighbour_lines, readmit, rematch_params,
                       rematches, shares_assignment)
 
 MODES = ("1985", "improved")
@@ -218,7 +218,7 @@ class ImprovedMatcher:
         return self._confirmed_entry(eclipse, y, rounds)[0]
 
     def _confirmed_entry(self, eclipse, y: int, rounds: int) -> tuple[list[Verdict], list]:
-        """(verdicts, their matched_edges) of line y after ``rounds`` confirm
+        """(verdicts, their edge_columns) of line y after ``rounds`` confirm
         passes, round 0 included: each line's are read by the lines IY-7..IY+7
         in turn, so the matches are made once, with the verdicts."""
         key = (y, rounds)
@@ -237,8 +237,8 @@ class ImprovedMatcher:
             around = [self._confirmed_entry(eclipse, n, rounds - 1)
                       for n in neighbour_lines(y, p, p.confirm_reach) if 0 <= n <= 119]
             verdicts = confirm(data, before, [v for v, _ in around], p, judged,
-                               matches=[m for _, m in around])
-        entry = self._confirms[key] = (verdicts, matched_edges(verdicts))
+                               columns=[m for _, m in around])
+        entry = self._confirms[key] = (verdicts, edge_columns(verdicts))
         return entry
 
     def _base(self, eclipse, y: int) -> list[Verdict]:

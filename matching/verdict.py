@@ -381,7 +381,7 @@ def assignment_verdicts(data: LineData, a: Assignment, constraints: Constraints,
     other edge; sorted by edge number."""
     out = a.chosen
     if constraints.neighbours:
-        lines = [matched_edges(line) for line in neighbours or ()]
+        lines = [edge_columns(line) for line in neighbours or ()]
         out = {i: _neighbour_check(v, lines, p) for i, v in out.items()}
     out = {i: (replace(v, matched=False, reason="ambiguous")
                if v.matched and v.confidence < p.min_confidence else v)
@@ -419,20 +419,31 @@ def farther_ends_dropped(verdicts: list[Verdict], tolerance: float) -> list[Verd
     return out
 
 
-def matched_edges(verdicts: list[Verdict]) -> list[tuple[bool, int, float]]:
-    """A line's matches as its neighbouring lines' rules read them:
-    (right end?, x, disparity) of each matched edge."""
-    return [(v.edge > 50, v.x, v.disparity) for v in verdicts if v.matched]
+def edge_columns(verdicts: list[Verdict]) -> dict[tuple[bool, int], list[float]]:
+    """A line's matches as its neighbouring lines' rules look them up: for
+    each (right end?, x) the disparities of the matched edges there."""
+    out: dict[tuple[bool, int], list[float]] = {}
+    for v in verdicts:
+        if v.matched:
+            out.setdefault((v.edge > 50, v.x), []).append(v.disparity)
+    return out
+
+
+def column_support(lines, side: bool, x0: int, d: float, dx: int, dd: float) -> int:
+    """How many of ``lines`` (each its :func:`edge_columns`) have a matched
+    edge of the same side within ``dx`` px of column ``x0`` (integer
+    columns: the columns x0-dx..x0+dx) at a disparity within ``dd`` of ``d``."""
+    near = range(x0 - int(dx), x0 + int(dx) + 1)
+    return sum(any(abs(nd - d) <= dd for x in near for nd in line.get((side, x), ()))
+               for line in lines)
 
 
 def _neighbour_check(v: Verdict, lines, p: Params) -> Verdict:
-    """``lines``: per neighbouring line, its :func:`matched_edges`."""
+    """``lines``: per neighbouring line, its :func:`edge_columns`."""
     if not v.matched:
         return v
-    side, x0, d = v.edge > 50, v.x, v.disparity
-    dx, dd = p.neighbour_dx, p.neighbour_dd
-    support = sum(any(abs(x - x0) <= dx and s == side and abs(nd - d) <= dd
-                      for s, x, nd in line) for line in lines)
+    support = column_support(lines, v.edge > 50, v.x, v.disparity, p.neighbour_dx,
+                             p.neighbour_dd)
     if support == 0:
         if p.unsupported_factor is not None:
             return replace(v, confidence=v.confidence * p.unsupported_factor)
@@ -499,7 +510,7 @@ CONFIRMABLE = ("occluded", "not on a vertical line", "ambiguous")
 
 def confirm(data: LineData, verdicts: list[Verdict], neighbours,
             params: Params = Params(), cands: Candidates | None = None,
-            constraints: Constraints = Constraints(), matches=None) -> list[Verdict]:
+            constraints: Constraints = Constraints(), columns=None) -> list[Verdict]:
     """The ``confirm`` pass: a second look at the edges the line's rules
     dropped.  An edge left without a match for a reason in
     :data:`CONFIRMABLE` keeps its *own* choice: the partner the assignment
@@ -522,7 +533,7 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     as used at once.  Reason "confirmed"; confidence = the share of the
     neighbouring lines that agree times 1 - cost/256.  ``cands``: the line's
     :func:`judged_candidates` under ``constraints``, when already at hand;
-    ``matches``: the :func:`matched_edges` of each of ``neighbours``, when
+    ``columns``: the :func:`edge_columns` of each of ``neighbours``, when
     already at hand (every line's verdicts vouch for fourteen others)."""
     p = params
     c = judged_candidates(line_candidates(data, p), constraints, p) if cands is None else cands
@@ -536,7 +547,7 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
     pos1 = {e: i for i, e in enumerate(c.left.edge.tolist())}
     pos2 = {e: j for j, e in enumerate(right_edge)}
     pairs = sorted((pos1[v.edge], pos2[v.partner]) for v in verdicts if v.matched)
-    lines = [matched_edges(line) for line in neighbours] if matches is None else matches
+    lines = [edge_columns(line) for line in neighbours] if columns is None else columns
     n_lines = max(1, len(neighbours))
     dx, dd = p.neighbour_dx, p.confirm_dd
     by_edge = {v.edge: v for v in verdicts}
@@ -555,10 +566,7 @@ def confirm(data: LineData, verdicts: list[Verdict], neighbours,
         hi = min((b for a, b in pairs if a > i), default=len(c.right))
         if not lo < j < hi:                             # used, or out of order
             continue
-        side, x0, d = v.edge > 50, v.x, loc1[k] - loc2[k]
-        # the column first: it is the test that fails most
-        support = sum(any(abs(x - x0) <= dx and s == side and abs(nd - d) <= dd
-                          for s, x, nd in line) for line in lines)
+        support = column_support(lines, v.edge > 50, v.x, loc1[k] - loc2[k], dx, dd)
         if support < p.confirm_support:
             continue
         conf = support / n_lines * max(0.0, 1.0 - cost[k] / 256.0)
