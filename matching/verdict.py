@@ -62,6 +62,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from diskfmt.jit import jit
 from .candidates import Candidates, candidates
 from .order import assign
 
@@ -208,30 +209,44 @@ def _mutual(c: Candidates, tol: float) -> np.ndarray:
     keep = np.zeros(len(c), dtype=bool)
     if len(c) == 0:
         return keep
-    row_best = np.full(len(c.left), np.inf)
-    col_best = np.full(len(c.right), np.inf)
-    np.minimum.at(row_best, c.i, c.cost)
-    np.minimum.at(col_best, c.j, c.cost)
-    return (c.cost <= row_best[c.i] + tol) & (c.cost <= col_best[c.j] + tol)
+    _mutual_kernel(c.i, c.j, c.cost, len(c.left), len(c.right), float(tol), keep)
+    return keep
+
+
+@jit
+def _mutual_kernel(ci, cj, cost, n_left, n_right, tol, keep):
+    """:func:`_mutual` on the arrays (each edge's best cost, then the test)."""
+    row_best = np.full(n_left, np.inf)
+    col_best = np.full(n_right, np.inf)
+    for k in range(len(ci)):
+        row_best[ci[k]] = min(row_best[ci[k]], cost[k])
+        col_best[cj[k]] = min(col_best[cj[k]], cost[k])
+    for k in range(len(ci)):
+        keep[k] = cost[k] <= row_best[ci[k]] + tol and cost[k] <= col_best[cj[k]] + tol
 
 
 def _region_supported(c: Candidates, tol: float) -> np.ndarray:
     """Candidates whose features' other ends are also a candidate pair with a
     disparity within ``tol``."""
-    if len(c) == 0:
-        return np.zeros(0, dtype=bool)
-    f1 = c.left.feature[c.i]
-    f2 = c.right.feature[c.j]
-    side = c.left.side[c.i]
-    best: dict[tuple[int, int, int], list[float]] = {}
-    for a, b, s, d in zip(f1.tolist(), f2.tolist(), side.tolist(), c.disp.tolist()):
-        best.setdefault((a, b, s), []).append(d)
     keep = np.zeros(len(c), dtype=bool)
-    for k, (a, b, s, d) in enumerate(zip(f1.tolist(), f2.tolist(), side.tolist(),
-                                         c.disp.tolist())):
-        other = best.get((a, b, 1 - s))
-        keep[k] = other is not None and min(abs(d - o) for o in other) <= tol
+    if len(c) == 0:
+        return keep
+    _region_kernel(c.left.feature[c.i], c.right.feature[c.j], c.left.side[c.i], c.disp,
+                   float(tol), keep)
     return keep
+
+
+@jit
+def _region_kernel(f1, f2, side, disp, tol, keep):
+    """:func:`_region_supported` on the arrays: pair k is kept when a pair of
+    the same two features' other ends lies within ``tol`` of its disparity
+    (a line has a few dozen pairs: every two compared)."""
+    for k in range(len(f1)):
+        for m in range(len(f1)):
+            if (f1[m] == f1[k] and f2[m] == f2[k] and side[m] != side[k]
+                    and abs(disp[k] - disp[m]) <= tol):
+                keep[k] = True
+                break
 
 
 def _support(c: Candidates, neighbours, p: Params) -> np.ndarray:

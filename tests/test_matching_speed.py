@@ -176,6 +176,64 @@ def test_the_compiled_pair_search_equals_its_plain_python_and_marfs_shift_search
             assert best_shift(m1, m2, bound, cap, _POP) == (s[0], v[0])
 
 
+def _mutual_plain(c, tol):
+    """verdict._mutual as written before it was compiled."""
+    row_best = np.full(len(c.left), np.inf)
+    col_best = np.full(len(c.right), np.inf)
+    np.minimum.at(row_best, c.i, c.cost)
+    np.minimum.at(col_best, c.j, c.cost)
+    return (c.cost <= row_best[c.i] + tol) & (c.cost <= col_best[c.j] + tol)
+
+
+def _region_supported_plain(c, tol):
+    """verdict._region_supported as written before it was compiled."""
+    f1, f2, side = c.left.feature[c.i], c.right.feature[c.j], c.left.side[c.i]
+    best = {}
+    for a, b, s, d in zip(f1.tolist(), f2.tolist(), side.tolist(), c.disp.tolist()):
+        best.setdefault((a, b, s), []).append(d)
+    keep = np.zeros(len(c), dtype=bool)
+    for k, (a, b, s, d) in enumerate(zip(f1.tolist(), f2.tolist(), side.tolist(),
+                                         c.disp.tolist())):
+        other = best.get((a, b, 1 - s))
+        keep[k] = other is not None and min(abs(d - o) for o in other) <= tol
+    return keep
+
+
+def test_the_compiled_lr_and_region_rules_equal_their_plain_python():
+    """The lr and region rules on every line of the fixture looks with pairs
+    (and at tolerances that split them), compiled and as plain Python."""
+    from matching import verdict
+    from matching.verdict import Params, line_candidates
+    lines = _fixture_lines()
+    seen = kept_lr = kept_region = 0
+    for d in lines:
+        c = line_candidates(d, Params())
+        if len(c) == 0:
+            continue
+        seen += len(c)
+        for tol in (0.0, 1.0, 2.0, 16.0, 64.0):
+            lr = verdict._mutual(c, tol)
+            assert np.array_equal(lr, _mutual_plain(c, tol))
+            region = verdict._region_supported(c, tol)
+            assert np.array_equal(region, _region_supported_plain(c, tol))
+            kept_lr += int(lr.sum())
+            kept_region += int(region.sum())
+    # each rule keeps some pairs and drops others
+    assert seen > 200 and 0 < kept_lr < 5 * seen and 0 < kept_region < 5 * seen
+    # the kernels' own bodies run as plain Python give the same
+    c = next(line_candidates(d, Params()) for d in lines if len(line_candidates(d, Params())) > 8)
+    for kernel, args in ((verdict._mutual_kernel, (c.i, c.j, c.cost, len(c.left), len(c.right),
+                                                    64.0)),
+                         (verdict._region_kernel, (c.left.feature[c.i], c.right.feature[c.j],
+                                                   c.left.side[c.i], c.disp, 2.0))):
+        outs = []
+        for fn in (kernel, getattr(kernel, "py_func", kernel)):
+            out = np.zeros(len(c), dtype=bool)
+            fn(*args, out)
+            outs.append(out)
+        assert np.array_equal(*outs)
+
+
 def test_the_scan_bench_times_this_tree(capsys):
     """bench/bench_scan.py, one look, this tree alone (its worker is a process of its own)."""
     import importlib.util
