@@ -89,9 +89,11 @@ pixel, and ``--no-noise`` turns the odometry noise off: together they leave the 
 and the loop alone to fail.
 
 Each look is scanned with the improved stereo matcher (package ``matching``, on
-the in-process rig; the drive's default since 2026-12-05); ``--match 1985`` scans
-it with the 1985 eyes instead; ``scan_ms_per_cycle`` is the scan's own share of
-the time.
+the eyes' compiled slices and edge maps since 2026-12-07; the drive's default
+since 2026-12-05); ``--match 1985`` scans it with the 1985 eyes instead;
+``scan_ms_per_cycle`` is the scan's own share of the time.  ``work_ms`` is
+wall-clock time, which the machine's other work stretches; ``work_cpu_ms`` the
+same span in the loop thread's CPU time.
 
 Numbers go into docs/planner.md with the command that made them.
 """
@@ -372,6 +374,7 @@ def main(argv=None) -> int:
                # the room to spare the task leaves in the true room (planner.planning.task_slack)
                "slack_ft": task_slack(room, (start.x, start.z), goal, DEFAULT, voi.resolution),
                "work_ms_per_cycle": res.work_ms_per_cycle,
+               "work_cpu_ms_per_cycle": res.work_cpu_ms_per_cycle,
                "work_ms_per_look": res.work_ms_per_look,
                "scan_ms_per_cycle": res.scan_ms_per_cycle,
                "ms_per_cycle_with_look": 1e3 * res.seconds_per_cycle,
@@ -454,6 +457,8 @@ def main(argv=None) -> int:
         "looks_per_metre": looks / trav_m if trav_m else None,
         "work_ms_per_cycle_median": float(np.median([r["work_ms_per_cycle"] for r in rows])),
         "work_ms_per_look_median": float(np.median([r["work_ms_per_look"] for r in rows])),
+        "work_cpu_ms_per_cycle_median": float(np.median([r["work_cpu_ms_per_cycle"]
+                                                         for r in rows])),
         "scan_ms_per_cycle_median": float(np.median([r["scan_ms_per_cycle"] for r in rows])),
         "ms_per_cycle_with_look_median": float(np.median([r["ms_per_cycle_with_look"]
                                                           for r in rows])),

@@ -764,6 +764,8 @@ class Cycle:
     track_len: int = 0          # poses in the true (and estimate) track once the cycle's
                                 # commands ran: the track has one pose per command, not per cycle
     head_looks: int = 0         # head="assist": the head's looks added to this cycle's
+    work_cpu_s: float = 0.0     # work_s as this thread's CPU time: what the machine's other
+                                # work does not stretch (time.thread_time)
 
 
 @dataclass
@@ -817,6 +819,11 @@ class DriveResult:
         return 1e3 * float(sum(c.work_s for c in self.cycles)) / self.looks if self.looks else 0.0
 
     @property
+    def work_cpu_ms_per_cycle(self) -> float:
+        """``work_ms_per_cycle`` in this thread's CPU time."""
+        return 1e3 * float(np.mean([c.work_cpu_s for c in self.cycles])) if self.cycles else 0.0
+
+    @property
     def scan_ms_per_cycle(self) -> float:
         return 1e3 * float(np.mean([c.scan_s for c in self.cycles])) if self.cycles else 0.0
 
@@ -834,6 +841,7 @@ class DriveResult:
             "seconds_per_cycle": round(self.seconds_per_cycle, 4),
             "work_ms_per_cycle": round(self.work_ms_per_cycle, 2),
             "work_ms_per_look": round(self.work_ms_per_look, 2),
+            "work_cpu_ms_per_cycle": round(self.work_cpu_ms_per_cycle, 2),
             "render_ms_per_cycle": round(self.render_ms_per_cycle, 2),
             "scan_ms_per_cycle": round(self.scan_ms_per_cycle, 2), "match": self.match,
             "seconds": round(self.seconds, 3), "octree_bytes": self.octree_bytes,
@@ -859,6 +867,7 @@ class DriveResult:
                         "path_left_ft": None if c.path_left_ft is None
                         else round(c.path_left_ft, 3),
                         "work_ms": round(1e3 * c.work_s, 2),
+                        "work_cpu_ms": round(1e3 * c.work_cpu_s, 2),
                         "scan_ms": round(1e3 * c.scan_s, 2),
                         "render_ms": round(1e3 * c.render_s, 2)} for c in self.cycles],
         }
@@ -1191,20 +1200,20 @@ class Drive:
         """Look and scan: both cameras rendered at the TRUE pose (the head at ``pan``,
         ``tilt``), the rig's scan of the pair, its located points (their ranges the
         true ones under ``eyes="truth"``).  Returns (look, scan, points, the time the
-        rendering ended, the scan's seconds)."""
+        rendering ended, this thread's CPU time then, the scan's seconds)."""
         from world.render import render_look
         cfg = self.cfg
         look = render_look(self.room, camera_pose(self.veh.true, pan, tilt, self.prof),
                            seed=cfg.look_seed + look_no + 100000 * extra_looks,
                            supersample=cfg.supersample)
-        t1 = time.perf_counter()
+        t1, c1 = time.perf_counter(), time.thread_time()
         scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
         scan_s = time.perf_counter() - t1
         points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
         if cfg.min_confidence:
             from matching.mode import vouched_points
             points = vouched_points(scan.results, points, cfg.min_confidence)
-        return look, scan, points, t1, scan_s
+        return look, scan, points, t1, c1, scan_s
 
     def estimate(self, look, scan, points=(), pan: float = 0.0, tilt: float = 0.0) -> State:
         """The camera estimate at the look: the dead-reckoned pose, or under
@@ -1631,13 +1640,14 @@ class Drive:
             saved = self._decision_state()
             pan = tilt = 0.0
         # summed over the cycle's looks (under assist the head's look decides it again)
-        render_s = work_s = scan_s = 0.0
+        render_s = work_s = work_cpu_s = scan_s = 0.0
         while True:
             t0 = time.perf_counter()
             tp = veh.true
             if not assist:
                 pan, tilt = veh.pan_deg, veh.tilt_deg
-            look, scan, points, t1, look_scan_s = self.look(look_no, extra_looks, pan, tilt)
+            look, scan, points, t1, c1, look_scan_s = self.look(look_no, extra_looks, pan,
+                                                                 tilt)
             render_s += t1 - t0
             scan_s += look_scan_s
             est = self.estimate(look, scan, points, pan, tilt)
@@ -1657,6 +1667,7 @@ class Drive:
                     self._restore_decision(saved)
                     extra_looks, assist_note = 1, got[1].replace(" (head at", " (assist: head at")
                     work_s += time.perf_counter() - t1
+                    work_cpu_s += time.thread_time() - c1
                     continue
             break
         seg, note = d.commands, d.note
@@ -1671,12 +1682,13 @@ class Drive:
             seg = head_commands(seg, est, fm, d.path, self.prof, self.cfg, veh.pan_deg,
                                 veh.tilt_deg, self.aimed)
         work_s += time.perf_counter() - t1
+        work_cpu_s += time.thread_time() - c1
         ok, moved = self.act(seg, est)
         self.count_progress(moved, d.left_ft, fm)
         cyc = Cycle(look_no, tp, est, len(self.model.points),
                     int(self.model.tree.getNumLeafNodes()), d.left_ft, format_commands(seg), note,
                     render_s, work_s, list(d.path), fm if self.keep_maps else None, scan_s,
-                    len(veh.true_track), extra_looks)
+                    len(veh.true_track), extra_looks, work_cpu_s)
         return cyc, ok
 
     def result(self, reached: bool, reason: str, seconds: float) -> DriveResult:

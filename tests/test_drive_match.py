@@ -79,6 +79,9 @@ def test_the_loop_on_the_improved_matcher_reaches_the_tiny_room_goal():
     data = res.as_json()
     assert data["match"] == "improved"
     assert all(0 < c["scan_ms"] <= c["work_ms"] for c in data["cycles"])
+    # the loop's CPU time: no more than the wall-clock time it was measured over
+    # (1 ms for the two clocks' granularity)
+    assert all(0 < c["work_cpu_ms"] <= c["work_ms"] + 1.0 for c in data["cycles"])
 
 
 def test_rig_drive_match_reaches_the_loop(tmp_path, monkeypatch):
