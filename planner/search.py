@@ -346,32 +346,40 @@ def quadtree(ok: np.ndarray) -> Quadtree:
         m = u.shape[0] // 2
         uniform.append(u.reshape(m, 2, m, 2).all(axis=(1, 3)))
     taken = np.zeros((n, n), bool)
+    label = np.full((n, n), -1, np.int64)
     I0, J0, S = [], [], []
     for lev in range(levels, -1, -1):
         s = 2 ** lev
         u = uniform[lev]
         cover = taken.reshape(n // s, s, n // s, s).any(axis=(1, 3))
-        ii, jj = np.nonzero(u & ~cover)
-        for a, b in zip(ii, jj):
-            taken[a * s:(a + 1) * s, b * s:(b + 1) * s] = True
+        new = u & ~cover
+        ii, jj = np.nonzero(new)
+        # this level's blocks, numbered on from the larger ones' in row order
+        ids = np.full(new.shape, -1, np.int64)
+        ids[ii, jj] = np.arange(len(I0), len(I0) + len(ii))
+        cells = np.repeat(np.repeat(ids, s, 0), s, 1)
+        label = np.where(cells >= 0, cells, label)
+        taken |= cells >= 0
         I0.extend((ii * s).tolist())
         J0.extend((jj * s).tolist())
         S.extend([s] * len(ii))
-    label = np.full((n, n), -1, np.int64)
-    for k, (a, b, s) in enumerate(zip(I0, J0, S)):
-        label[a:a + s, b:b + s] = k
     return Quadtree(np.array(I0, int), np.array(J0, int), np.array(S, int),
                     label[:nz, :nx], levels)
 
 
 def _adjacency(label: np.ndarray) -> dict[int, set[int]]:
-    adj: dict[int, set[int]] = {}
+    """Each block's neighbours (blocks sharing a side) from the label map."""
+    m = int(label.max()) + 1 if label.size else 0
+    if m == 0:
+        return {}
+    keys = [np.zeros(0, np.int64)]
     for a, b in ((label[:, :-1], label[:, 1:]), (label[:-1, :], label[1:, :])):
-        m = (a >= 0) & (b >= 0) & (a != b)
-        pairs = np.unique(np.stack([a[m], b[m]], 1), axis=0)
-        for u, v in pairs.tolist():
-            adj.setdefault(u, set()).add(v)
-            adj.setdefault(v, set()).add(u)
+        side = (a >= 0) & (b >= 0) & (a != b)
+        keys += [a[side] * m + b[side], b[side] * m + a[side]]
+    keys = np.unique(np.concatenate(keys))
+    adj: dict[int, set[int]] = {}
+    for u, v in zip((keys // m).tolist(), (keys % m).tolist()):
+        adj.setdefault(u, set()).add(v)
     return adj
 
 

@@ -264,6 +264,60 @@ def test_quadtree_covers_every_passable_cell_once():
     assert qt.size.max() >= 8            # big blocks where the room is open
 
 
+def _quadtree_block_by_block(ok):
+    """planner.search.quadtree's blocks as it first wrote them: each block of a
+    level marked and labelled one at a time."""
+    nz, nx = ok.shape
+    levels = max(1, int(math.ceil(math.log2(max(nz, nx)))))
+    n = 2 ** levels
+    full = np.zeros((n, n), bool)
+    full[:nz, :nx] = ok
+    uniform = [full]
+    for _ in range(levels):
+        m = uniform[-1].shape[0] // 2
+        uniform.append(uniform[-1].reshape(m, 2, m, 2).all(axis=(1, 3)))
+    taken = np.zeros((n, n), bool)
+    blocks = []
+    for lev in range(levels, -1, -1):
+        s = 2 ** lev
+        cover = taken.reshape(n // s, s, n // s, s).any(axis=(1, 3))
+        for a, b in zip(*np.nonzero(uniform[lev] & ~cover)):
+            taken[a * s:(a + 1) * s, b * s:(b + 1) * s] = True
+            blocks.append((a * s, b * s, s))
+    label = np.full((n, n), -1, np.int64)
+    for k, (a, b, s) in enumerate(blocks):
+        label[a:a + s, b:b + s] = k
+    return blocks, label[:nz, :nx]
+
+
+def test_the_quadtree_and_its_adjacency_equal_plain_loops():
+    from planner.search import _adjacency
+    rng = np.random.default_rng(4)
+    for trial in range(8):
+        ok = np.ones((int(rng.integers(20, 80)), int(rng.integers(20, 80))), bool)
+        for _ in range(10):
+            i, j = rng.integers(0, ok.shape[0]), rng.integers(0, ok.shape[1])
+            ok[i:i + rng.integers(2, 12), j:j + rng.integers(2, 12)] = False
+        ok[rng.random(ok.shape) < 0.01 * trial] = False
+        qt = quadtree(ok)
+        blocks, label = _quadtree_block_by_block(ok)
+        assert list(zip(qt.i0.tolist(), qt.j0.tolist(), qt.size.tolist())) == \
+            [tuple(int(v) for v in b) for b in blocks]
+        assert np.array_equal(qt.label, label)
+        # neighbours: blocks with cells side by side, cell by cell
+        want = {}
+        for i in range(ok.shape[0]):
+            for j in range(ok.shape[1]):
+                for di, dj in ((0, 1), (1, 0)):
+                    if i + di < ok.shape[0] and j + dj < ok.shape[1]:
+                        a, b = int(label[i, j]), int(label[i + di, j + dj])
+                        if a >= 0 and b >= 0 and a != b:
+                            want.setdefault(a, set()).add(b)
+                            want.setdefault(b, set()).add(a)
+        assert _adjacency(qt.label) == want and len(want) > 20
+    assert _adjacency(np.full((4, 4), -1)) == {} and _adjacency(np.zeros((3, 3), int)) == {}
+
+
 def test_commands_follow_the_path_exactly():
     pts = [(0.0, 0.0), (0.0, 3.0), (4.0, 6.0)]
     cmds = to_commands(pts, heading_deg=90.0)
