@@ -289,21 +289,32 @@ def _confidences(c: Candidates, chosen: np.ndarray, marginal: np.ndarray,
                  p: Params) -> list[float]:
     """For each chosen match k: its margin over its best rival (another
     partner of either of its edges), and over leaving it out, in units of
-    2 x occlusion.  All the line's matches at once: one rivals matrix, not a
-    pass over the candidates per match."""
-    if len(chosen) == 0:
-        return []
-    rivals = (c.i[chosen, None] == c.i[None, :]) | (c.j[chosen, None] == c.j[None, :])
-    rivals[np.arange(len(chosen)), chosen] = False
-    best_rival = np.where(rivals, marginal[None, :], np.inf).min(axis=1)
-    out = []
-    for k, rival, has_rival in zip(chosen.tolist(), best_rival.tolist(),
-                                   rivals.any(axis=1).tolist()):
-        gap = 2.0 * p.occlusion - float(c.cost[k])
-        if has_rival:
-            gap = min(gap, rival - float(marginal[k]))
-        out.append(min(1.0, max(0.0, gap / (2.0 * p.occlusion))))
-    return out
+    2 x occlusion."""
+    out = np.zeros(len(chosen))
+    if len(chosen):
+        _confidences_kernel(c.i, c.j, c.cost, chosen, marginal, 2.0 * p.occlusion, out)
+    return out.tolist()
+
+
+@jit
+def _confidences_kernel(ci, cj, cost, chosen, marginal, two_occlusion, out):
+    """:func:`_confidences` on the arrays; ``min`` and ``max`` as Python's
+    (the first argument unless the second is strictly beyond it)."""
+    for n in range(len(chosen)):
+        k = chosen[n]
+        rival = np.inf
+        has_rival = False
+        for m in range(len(ci)):
+            if m != k and (ci[m] == ci[k] or cj[m] == cj[k]):
+                has_rival = True
+                if marginal[m] < rival:
+                    rival = marginal[m]
+        gap = two_occlusion - cost[k]
+        if has_rival and rival - marginal[k] < gap:
+            gap = rival - marginal[k]
+        share = gap / two_occlusion
+        share = share if share > 0.0 else 0.0
+        out[n] = share if share < 1.0 else 1.0
 
 
 def match_line(data: LineData, constraints: Constraints = Constraints(),

@@ -199,13 +199,32 @@ def _region_supported_plain(c, tol):
     return keep
 
 
+def _confidences_plain(c, chosen, marginal, p):
+    """verdict._confidences as written before it was compiled."""
+    if len(chosen) == 0:
+        return []
+    rivals = (c.i[chosen, None] == c.i[None, :]) | (c.j[chosen, None] == c.j[None, :])
+    rivals[np.arange(len(chosen)), chosen] = False
+    best_rival = np.where(rivals, marginal[None, :], np.inf).min(axis=1)
+    out = []
+    for k, rival, has_rival in zip(chosen.tolist(), best_rival.tolist(),
+                                   rivals.any(axis=1).tolist()):
+        gap = 2.0 * p.occlusion - float(c.cost[k])
+        if has_rival:
+            gap = min(gap, rival - float(marginal[k]))
+        out.append(min(1.0, max(0.0, gap / (2.0 * p.occlusion))))
+    return out
+
+
 def test_the_compiled_lr_and_region_rules_equal_their_plain_python():
-    """The lr and region rules on every line of the fixture looks with pairs
-    (and at tolerances that split them), compiled and as plain Python."""
+    """The lr and region rules and the confidences on every line of the
+    fixture looks with pairs (at tolerances and occlusion costs that split
+    them), compiled and as plain Python."""
     from matching import verdict
-    from matching.verdict import Params, line_candidates
+    from matching.verdict import Constraints, Params, _choose, line_candidates
     lines = _fixture_lines()
     seen = kept_lr = kept_region = 0
+    shares = set()
     for d in lines:
         c = line_candidates(d, Params())
         if len(c) == 0:
@@ -218,8 +237,17 @@ def test_the_compiled_lr_and_region_rules_equal_their_plain_python():
             assert np.array_equal(region, _region_supported_plain(c, tol))
             kept_lr += int(lr.sum())
             kept_region += int(region.sum())
+        for occlusion in (8.0, 64.0, 200.0):
+            p = Params(occlusion=occlusion)
+            chosen, marginal = _choose(c, Constraints(), p)
+            every = np.arange(len(c))                   # each pair as if chosen: every rival
+            for picked in (chosen, every):
+                got = verdict._confidences(c, picked, marginal, p)
+                assert got == _confidences_plain(c, picked, marginal, p)
+                shares.update(got)
     # each rule keeps some pairs and drops others
     assert seen > 200 and 0 < kept_lr < 5 * seen and 0 < kept_region < 5 * seen
+    assert {0.0, 1.0} < shares                          # both clamps and values between
     # the kernels' own bodies run as plain Python give the same
     c = next(line_candidates(d, Params()) for d in lines if len(line_candidates(d, Params())) > 8)
     for kernel, args in ((verdict._mutual_kernel, (c.i, c.j, c.cost, len(c.left), len(c.right),
@@ -232,6 +260,15 @@ def test_the_compiled_lr_and_region_rules_equal_their_plain_python():
             fn(*args, out)
             outs.append(out)
         assert np.array_equal(*outs)
+    every = np.arange(len(c))
+    _, marginal = _choose(c, Constraints(), Params())
+    outs = []
+    for fn in (verdict._confidences_kernel, getattr(verdict._confidences_kernel, "py_func",
+                                                    verdict._confidences_kernel)):
+        out = np.zeros(len(c))
+        fn(c.i, c.j, c.cost, every, marginal, 128.0, out)
+        outs.append(out)
+    assert np.array_equal(*outs)
 
 
 def test_the_scan_bench_times_this_tree(capsys):
