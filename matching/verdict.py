@@ -445,22 +445,25 @@ def farther_ends_dropped(verdicts: list[Verdict], tolerance: float) -> list[Verd
     return out
 
 
-def edge_columns(verdicts: list[Verdict]) -> dict[tuple[bool, int], list[float]]:
+def edge_columns(verdicts: list[Verdict]) -> tuple[dict, dict]:
     """A line's matches as its neighbouring lines' rules look them up: for
-    each (right end?, x) the disparities of the matched edges there."""
-    out: dict[tuple[bool, int], list[float]] = {}
+    the left ends, then the right ends, the disparities of the matched
+    edges at each column x."""
+    at: tuple[dict, dict] = ({}, {})
     for v in verdicts:
         if v.matched:
-            out.setdefault((v.edge > 50, v.x), []).append(v.disparity)
-    return out
+            at[v.edge > 50].setdefault(v.x, []).append(v.disparity)
+    return at
 
 
 def column_support(lines, side: bool, x0: int, d: float, dx: int, dd: float) -> int:
     """How many of ``lines`` (each its :func:`edge_columns`) have a matched
     edge of the same side within ``dx`` px of column ``x0`` (integer
     columns: the columns x0-dx..x0+dx) at a disparity within ``dd`` of ``d``."""
+    if dx < 0:
+        return 0
     near = range(x0 - int(dx), x0 + int(dx) + 1)
-    return sum(any(abs(nd - d) <= dd for x in near for nd in line.get((side, x), ()))
+    return sum(any(abs(nd - d) <= dd for x in near for nd in line[side].get(x, ()))
                for line in lines)
 
 

@@ -271,6 +271,33 @@ def test_the_compiled_lr_and_region_rules_equal_their_plain_python():
     assert np.array_equal(*outs)
 
 
+def test_the_column_lookup_counts_what_a_pass_over_every_match_counts():
+    """column_support on edge_columns against the rule read literally: a line
+    supports when any matched edge of the same side lies within dx px and
+    dd px of disparity (random lines; dx 0, 2, 2.5 and -1)."""
+    from matching.verdict import Verdict, column_support, edge_columns
+    rng = np.random.default_rng(8)
+    lines = []
+    for y in range(14):
+        vs = []
+        for e in rng.choice(np.arange(1, 101), size=int(rng.integers(0, 12)), replace=False):
+            x = int(rng.integers(1, 40))
+            loc2 = float(x - rng.integers(2, 9))
+            vs.append(Verdict(y, int(e), x, bool(rng.random() < 0.8), "matched", 1,
+                              float(x), loc2, 10.0, 0.5))
+        lines.append(vs)
+    columns = [edge_columns(v) for v in lines]
+    counted = set()
+    for _ in range(400):
+        side, x0 = bool(rng.random() < 0.5), int(rng.integers(1, 40))
+        d, dx, dd = float(rng.integers(2, 9)), [0, 2, 2.5, -1][int(rng.integers(0, 4))], 1.0
+        want = sum(any(v.matched and (v.edge > 50) == side and abs(v.x - x0) <= dx
+                       and abs(v.disparity - d) <= dd for v in line) for line in lines)
+        assert column_support(columns, side, x0, d, dx, dd) == want
+        counted.add(want)
+    assert len(counted) >= 4
+
+
 def test_the_scan_bench_times_this_tree(capsys):
     """bench/bench_scan.py, one look, this tree alone (its worker is a process of its own)."""
     import importlib.util
