@@ -24,7 +24,7 @@ directions, so that the constraints of :mod:`matching.assign` can weigh it:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
@@ -50,6 +50,8 @@ class SliceEdges:
     feature: np.ndarray       # feature number 1..50
     bound: np.ndarray         # MASL's shift bound on this edge's side (IRGDL/IRGDR)
     width: np.ndarray         # its feature's width (stop - start)
+    # (5, n) rows x, side, grey, bound, width: what admissible_pairs reads
+    pair_rows: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __len__(self) -> int:
         return len(self.edge)
@@ -84,8 +86,10 @@ def _slice_edges(features: tuple) -> SliceEdges:
     rows.sort()                           # by (x, side, edge): the edge numbers are unique
     arr = np.array(rows, dtype=np.int64).reshape(-1, 7).T.copy()
     arr.flags.writeable = False
+    pair_rows = arr[[0, 1, 3, 5, 6]]
+    pair_rows.flags.writeable = False
     return SliceEdges(edge=arr[2], x=arr[0], side=arr[1], grey=arr[3], feature=arr[4],
-                      bound=arr[5], width=arr[6])
+                      bound=arr[5], width=arr[6], pair_rows=pair_rows)
 
 
 def shape_cost(map1, map2, bound: int, cap_overflow: bool = False) -> tuple[int, int]:
@@ -236,9 +240,8 @@ def candidates(features1, features2, maps1, maps2, use_shift: bool = True,
     # on arrays of a few elements
     pairs = np.empty((len(left) * len(right), 4), dtype=np.int64)
     scores = np.empty((len(left) * len(right), 3), dtype=np.float64)
-    n = admissible_pairs(np.stack((left.x, left.side, left.grey, left.bound, left.width)),
-                         np.asarray(maps1, dtype=np.int64)[left.edge - 1],
-                         np.stack((right.x, right.side, right.grey, right.bound, right.width)),
+    n = admissible_pairs(left.pair_rows, np.asarray(maps1, dtype=np.int64)[left.edge - 1],
+                         right.pair_rows,
                          np.asarray(maps2, dtype=np.int64)[right.edge - 1],
                          use_shift, float(grey_penalty), float(width_penalty),
                          float(max_disparity), cap_overflow, _POP, pairs, scores)
