@@ -331,12 +331,21 @@ def _plan(fm: FloorMap, est: State, goal, cfg: DriveConfig, prev, uncertain: str
         raise ValueError(f"seen_cost must be 0 (off) or more, not {cfg.seen_cost!r}")
     band = unseen_band(fm, cfg.profile.radius_ft) if cfg.seen_cost > 0 else None
 
+    found = {}
+
     def find(p, a, b):
-        if narrow is not None:
-            return shorten_straight(wide, narrow, search(p, a, b))
-        if band is None:
-            return shorten(p, search(p, a, b))
-        return seen_search(p, a, b, band, cfg.seen_cost)
+        # the blind zone's comparison and the plan search one map twice: once is
+        # enough (the map kept in the entry, so its id stays its own)
+        key = (id(p), tuple(map(float, a)), tuple(map(float, b)))
+        if key not in found:
+            if narrow is not None:
+                pts = shorten_straight(wide, narrow, search(p, a, b))
+            elif band is None:
+                pts = shorten(p, search(p, a, b))
+            else:
+                pts = seen_search(p, a, b, band, cfg.seen_cost)
+            found[key] = (p, pts)
+        return list(found[key][1])
 
     def cost(q):
         return path_length(q) if band is None else path_cost(fm, q, band, cfg.seen_cost)

@@ -259,3 +259,30 @@ def test_blind_zone_short_takes_the_way_round_only_within_keep_ft():
     assert plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="short"))[0] == plain
     with pytest.raises(ValueError, match="unknown blind_zone 'on'; one of off, any, short"):
         plan(fm, est, goal, DriveConfig(goal=goal, blind_zone="on"))
+
+
+def test_a_plan_searches_no_map_twice_for_the_same_ends(monkeypatch):
+    """blind_zone="short" compares the way round with the plain way, then
+    plans: each map is searched once for each pair of ends, and the paths are
+    those of the same plan searched every time."""
+    import planner.planning as planning
+    from planner.octree import UNKNOWN
+    fm = free_map()
+    i0, _ = fm.index(0.0, 1.1)
+    xs = fm.centre(0, np.arange(fm.shape[1]))[0]
+    fm.cells[i0, (xs > -0.75) & (xs < 0.75)] = UNKNOWN     # a short bar: the way round is kept
+    est, goal = State(0.0, 0.0, 0.0), (0.0, 5.0)
+    calls = []
+    search = planning.SEARCHES["dissertation"]
+
+    def counted(p, a, b):
+        calls.append((id(p), tuple(a), tuple(b)))
+        return search(p, a, b)
+    monkeypatch.setitem(planning.SEARCHES, "dissertation", counted)
+    for zone in ("short", "any", "off"):
+        calls.clear()
+        pts, _, _ = plan(fm, est, goal, DriveConfig(goal=goal, blind_zone=zone))
+        assert len(calls) == len(set(calls)) >= 1, zone
+        assert pts[0] == (0.0, 0.0) and pts[-1] == goal
+        if zone == "short":
+            assert len(calls) == 2                      # the way round and the plain way
