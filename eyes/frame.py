@@ -154,6 +154,19 @@ def _line_array(lines) -> np.ndarray:
     return np.asarray(list(lines), dtype=np.int64).reshape(-1)
 
 
+def checked_scan(left, right, lines):
+    """(left, right, lines) of a scan as arrays, or one ValueError naming what
+    is wrong: a picture not 120x128, a line outside 0..119."""
+    left, right = np.asarray(left), np.asarray(right)
+    for name, pic in (("left", left), ("right", right)):
+        if pic.shape != (120, 128):
+            raise ValueError(f"{name} picture is {pic.shape}, expected (120, 128)")
+    lines = _line_array(lines)
+    if len(lines) and (lines.min() < 0 or lines.max() > 119):
+        raise ValueError("lines must lie within 0..119")
+    return left, right, lines
+
+
 class Eyes:
     """The compiled frame scan for one calibration: ``Eyes(ds, dv).scan(left,
     right)`` gives what ``rig.scan.scan_pair(left, right, lines, ds, dv)``
@@ -178,13 +191,7 @@ class Eyes:
     def scan(self, left, right, lines=DEFAULT_LINES, keep_posit: bool = False) -> FrameScan:
         """Scan the 120x128 pair over ``lines`` (0..119, any order) as one fresh
         ESTAR and NSTAR would (COMMON blocks start empty)."""
-        left, right = np.asarray(left), np.asarray(right)
-        for name, pic in (("left", left), ("right", right)):
-            if pic.shape != (120, 128):
-                raise ValueError(f"{name} picture is {pic.shape}, expected (120, 128)")
-        lines = _line_array(lines)
-        if len(lines) and (lines.min() < 0 or lines.max() > 119):
-            raise ValueError("lines must lie within 0..119")
+        left, right, lines = checked_scan(left, right, lines)
         n = len(lines)
         self._frame = frame = build_frame(left, right, self._frame)
         nmatch = np.zeros(100, dtype=np.int64)

@@ -23,7 +23,7 @@ from diskfmt.dgreal import DGRealError
 from diskfmt.layouts import POSIT_BYTES
 from estar.program import LineResult
 from matching.verdict import LineData
-from .frame import DEFAULT_LINES, Eyes, _line_array, words_to_float
+from .frame import DEFAULT_LINES, Eyes, checked_scan, words_to_float
 from .kernels import build_frame, frame_lines_kernel, lcsl_line
 
 LINES = 120
@@ -52,15 +52,9 @@ class ImprovedEyes(Eyes):
     :class:`matching.mode.ImprovedMatcher` (None: the default constraints)."""
 
     def scan(self, left, right, lines=DEFAULT_LINES, matcher=None):
-        from matching.mode import make_matcher
+        from matching.mode import VerdictTables, make_matcher
         from rig.scan import ScanResult, points_of_line
-        left, right = np.asarray(left), np.asarray(right)
-        for name, pic in (("left", left), ("right", right)):
-            if pic.shape != (120, 128):
-                raise ValueError(f"{name} picture is {pic.shape}, expected (120, 128)")
-        lines = _line_array(lines)
-        if len(lines) and (lines.min() < 0 or lines.max() > 119):
-            raise ValueError("lines must lie within 0..119")
+        left, right, lines = checked_scan(left, right, lines)
         if matcher is None:
             matcher = make_matcher("improved")
         if matcher.constraints.subpixel:
@@ -79,12 +73,9 @@ class ImprovedEyes(Eyes):
             d = data[y]
             nfeat1 = len(d.features1)
             edges = [e for k in range(1, nfeat1 + 1) for e in (k, k + 50)]
-            # the verdicts' tables (matching.mode.VerdictTables) as COMMON /MATCH/
-            entries = {e: [] for e in edges}
-            for v in judged:
-                if v.matched:
-                    entries[v.edge] = [(v.partner, int(round(v.cost)), int(v.loc1),
-                                        int(v.loc2))]
+            # the verdicts' tables, as LCSL reads them through ESTAR, as COMMON /MATCH/
+            tables = VerdictTables(judged)
+            entries = {e: tables.entries(e) for e in edges}
             nmatch[:] = 0
             for e, rows in entries.items():
                 nmatch[e - 1] = len(rows)

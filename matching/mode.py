@@ -217,7 +217,7 @@ class ImprovedMatcher:
         """Line y's verdicts after ``rounds`` confirm passes (as match_lines)."""
         return self._confirmed_entry(eclipse, y, rounds)[0]
 
-    def _confirmed_entry(self, eclipse, y: int, rounds: int) -> tuple[list[Verdict], list]:
+    def _confirmed_entry(self, eclipse, y: int, rounds: int) -> tuple[list[Verdict], tuple]:
         """(verdicts, their edge_columns) of line y after ``rounds`` confirm
         passes, round 0 included: each line's are read by the lines IY-7..IY+7
         in turn, so the matches are made once, with the verdicts."""
