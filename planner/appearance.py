@@ -112,18 +112,6 @@ def floor_rays(R, origin, floor_y: float = FLOOR_Y) -> FloorRays:
     return FloorRays(x, z, dist, origin, float(h), R)
 
 
-def _cells_free(fm: FloorMap, x, z) -> np.ndarray:
-    i = np.floor((z - fm.z0) / fm.cell)
-    j = np.floor((x - fm.x0) / fm.cell)
-    ok = np.isfinite(i) & np.isfinite(j)
-    i = np.where(ok, i, -1).astype(int)
-    j = np.where(ok, j, -1).astype(int)
-    inside = ok & (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
-    out = np.zeros(np.shape(x), bool)
-    out[inside] = fm.cells[i[inside], j[inside]] == FREE
-    return out
-
-
 def training_mask(rays: FloorRays, known: FloorMap, lowest_ft: float,
                   max_ft: float = 12.0, whole_trace: bool = False) -> np.ndarray:
     """The pixels whose ray ends on floor the map shows free AND whose whole
@@ -134,14 +122,7 @@ def training_mask(rays: FloorRays, known: FloorMap, lowest_ft: float,
     trace from the camera's foot, sampled every half cell, of every second
     pixel of every second row (a quarter of the work; the floor's greys are
     a histogram's shares)."""
-    frac = 1.0 - lowest_ft / rays.height
-    ok = np.isfinite(rays.dist) & (rays.dist <= max_ft)
-    steps = (frac, (1 + frac) / 2, 1.0)
-    if whole_trace:
-        steps = np.linspace(0.0, 1.0, int(np.ceil(max_ft / (known.cell / 2))) + 1)
-        sub = np.zeros_like(ok)
-        sub[::2, ::2] = True
-        ok &= sub
+    ok, steps = training_traces(rays, known.cell, lowest_ft, max_ft, whole_trace)
     idx = np.flatnonzero(ok)
     free = np.zeros(len(idx), bool)
     _trace_free(float(rays.origin[0]), float(rays.origin[2]), rays.x.ravel(), rays.z.ravel(),
@@ -152,11 +133,26 @@ def training_mask(rays: FloorRays, known: FloorMap, lowest_ft: float,
     return out.reshape(ok.shape)
 
 
+def training_traces(rays: FloorRays, cell: float, lowest_ft: float, max_ft: float,
+                    whole_trace: bool):
+    """What :func:`training_mask` tests: (the pixels it may keep, (120, 128)
+    bool; the steps s of each one's trace o + s (f - o), f its floor point)."""
+    frac = 1.0 - lowest_ft / rays.height
+    ok = np.isfinite(rays.dist) & (rays.dist <= max_ft)
+    steps = (frac, (1 + frac) / 2, 1.0)
+    if whole_trace:
+        steps = np.linspace(0.0, 1.0, int(np.ceil(max_ft / (cell / 2))) + 1)
+        sub = np.zeros_like(ok)
+        sub[::2, ::2] = True
+        ok &= sub
+    return ok, steps
+
+
 @jit
 def _trace_free(ox, oz, fx, fz, idx, steps, cells, x0, z0, cell, free_value, out):
     """``out[n]``: whether every point ``o + s (f - o)`` (s in ``steps``) of
-    pixel ``idx[n]``'s floor trace lies in a FREE cell (as :func:`_cells_free`
-    judges one point).  A pixel stops at its first cell not free: compiled,
+    pixel ``idx[n]``'s floor trace lies in a FREE cell of ``cells`` (a point
+    off the map, or not finite, in none).  A pixel stops at its first cell not free: compiled,
     pixel by pixel, instead of a pass over every pixel still in per step
     (up to 97 steps a look)."""
     for n in range(len(idx)):
@@ -291,10 +287,7 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     that prove (the trace); the others only lead in, for
     :func:`keep_before_hit` to stop a trace that lies past a hit."""
     frac = 1.0 - lowest_ft / rays.height
-    # per column (in order) its rows top, top + row_step, ... and the bottom one
-    below = np.arange(ROWS)[None, :] - np.asarray(top)[:, None]
-    cc, rr = np.nonzero((below >= 0) & ((below % row_step == 0)
-                                         | (np.arange(ROWS) == ROWS - 1)[None, :]))
+    rr, cc = proof_rows(top, row_step)
     if not len(rr):
         return None
     d = rays.dist[rr, cc]
@@ -306,10 +299,7 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
         return None
     lead = np.where(n > 0, np.floor(near / (res / 2)).astype(int), 0) if lead_in \
         else np.zeros(len(n), int)
-    ray = np.repeat(np.arange(len(rr)), n + lead)
-    # each ray's steps -lead .. n - 1
-    first = np.cumsum(n + lead) - (n + lead)
-    k = np.arange(len(ray)) - first[ray] - lead[ray]
+    ray, k = ray_steps(lead, n)
     dist = near[ray] + k * (res / 2)
     o = rays.origin
     ux = (rays.x[rr, cc] - o[0]) / d
@@ -317,6 +307,25 @@ def floor_proof(rays: FloorRays, top: np.ndarray, clip_ft: np.ndarray, lowest_ft
     pts = np.column_stack([o[0] + dist * ux[ray], np.full(len(dist), o[1]),
                            o[2] + dist * uz[ray]])
     return pts, ray, dist, k >= 0
+
+
+def proof_rows(top, row_step: int):
+    """(rows, columns) of :func:`floor_proof`'s rays: column by column (those
+    with a run, ``top`` < 120), its rows top, top + row_step, ... and the
+    bottom one, each once, in order."""
+    below = np.arange(ROWS)[None, :] - np.asarray(top)[:, None]
+    cc, rr = np.nonzero((below >= 0) & ((below % row_step == 0)
+                                         | (np.arange(ROWS) == ROWS - 1)[None, :]))
+    return rr, cc
+
+
+def ray_steps(lead, n):
+    """(the ray of each sample, its step): ray q's steps -lead[q] .. n[q] - 1,
+    ray after ray."""
+    count = lead + n
+    ray = np.repeat(np.arange(len(n)), count)
+    first = np.cumsum(count) - count
+    return ray, np.arange(len(ray)) - first[ray] - lead[ray]
 
 
 def _from_camera(points, rays: FloorRays):

@@ -336,15 +336,8 @@ def quadtree(ok: np.ndarray) -> Quadtree:
     level by level (a block is kept at a level when its four children are all
     wholly passable)."""
     nz, nx = ok.shape
-    levels = max(1, int(math.ceil(math.log2(max(nz, nx)))))
-    n = 2 ** levels
-    full = np.zeros((n, n), bool)
-    full[:nz, :nx] = ok
-    uniform = [full]
-    for _ in range(levels):
-        u = uniform[-1]
-        m = u.shape[0] // 2
-        uniform.append(u.reshape(m, 2, m, 2).all(axis=(1, 3)))
+    uniform = uniform_levels(ok)
+    levels, n = len(uniform) - 1, uniform[0].shape[0]
     taken = np.zeros((n, n), bool)
     label = np.full((n, n), -1, np.int64)
     I0, J0, S = [], [], []
@@ -365,6 +358,21 @@ def quadtree(ok: np.ndarray) -> Quadtree:
         S.extend([s] * len(ii))
     return Quadtree(np.array(I0, int), np.array(J0, int), np.array(S, int),
                     label[:nz, :nx], levels)
+
+
+def uniform_levels(ok: np.ndarray) -> list[np.ndarray]:
+    """The quadtree's levels: level 0 the passable map padded to a power of two
+    (at least 2) square, level L+1 true where a 2x2 block of level L is."""
+    nz, nx = ok.shape
+    levels = max(1, int(math.ceil(math.log2(max(nz, nx)))))
+    n = 2 ** levels
+    full = np.zeros((n, n), bool)
+    full[:nz, :nx] = ok
+    uniform = [full]
+    for _ in range(levels):
+        m = uniform[-1].shape[0] // 2
+        uniform.append(uniform[-1].reshape(m, 2, m, 2).all(axis=(1, 3)))
+    return uniform
 
 
 def _adjacency(label: np.ndarray) -> dict[int, set[int]]:

@@ -87,59 +87,37 @@ def test_proof_runs_from_the_near_limit_to_the_run_and_the_clip():
     assert floor_proof(rays, np.full(128, ROWS), clip, h, res) is None
 
 
-def _floor_proof_column_by_column(rays, top, clip_ft, lowest_ft, res, row_step=4,
-                                  lead_in=False):
-    """floor_proof as it was written before it was made array-wise: a column,
-    then a ray, at a time."""
-    frac = 1.0 - lowest_ft / rays.height
-    rr, cc = [], []
-    for c in np.flatnonzero(top < ROWS):
-        rows = np.unique(np.concatenate([np.arange(top[c], ROWS, row_step), [top[c], ROWS - 1]]))
-        rr.append(rows)
-        cc.append(np.full(len(rows), c))
-    if not rr:
-        return None
-    rr, cc = np.concatenate(rr), np.concatenate(cc)
-    d = rays.dist[rr, cc]
-    far = np.minimum(d, clip_ft[cc]) - res
-    near = frac * d
-    n = np.where(far > near, np.floor((far - near) / (res / 2)).astype(int) + 1, 0)
-    n[~np.isfinite(d)] = 0
-    if n.sum() == 0:
-        return None
-    lead = np.where(n > 0, np.floor(near / (res / 2)).astype(int), 0) if lead_in \
-        else np.zeros(len(n), int)
-    ray = np.repeat(np.arange(len(rr)), n + lead)
-    k = np.concatenate([np.arange(-a, m) for a, m in zip(lead, n)])
-    dist = near[ray] + k * (res / 2)
-    o = rays.origin
-    ux = (rays.x[rr, cc] - o[0]) / d
-    uz = (rays.z[rr, cc] - o[2]) / d
-    pts = np.column_stack([o[0] + dist * ux[ray], np.full(len(dist), o[1]),
-                           o[2] + dist * uz[ray]])
-    return pts, ray, dist, k >= 0
-
-
-def test_the_array_wise_proof_equals_the_column_by_column_one():
+def test_the_proofs_rays_and_steps_equal_the_column_by_column_ones():
+    """floor_proof's rows and steps, made array-wise, against the loops it
+    was written with: a column, then a ray, at a time."""
+    from planner.appearance import proof_rows, ray_steps
     rng = np.random.default_rng(11)
-    pose = Pose(0.3, -0.7, 20.0, PITCH)
-    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
     compared = 0
-    for k in range(20):
+    for _ in range(20):
         top = rng.integers(1, ROWS + 1, 128)
         top[rng.random(128) < 0.3] = ROWS                 # columns without a run
-        clip = rng.uniform(1.0, 14.0, 128)
-        for lead_in in (False, True):
-            for row_step in (1, 4):
-                want = _floor_proof_column_by_column(rays, top, clip, 0.8, 0.25, row_step,
-                                                     lead_in)
-                got = floor_proof(rays, top, clip, 0.8, 0.25, row_step, lead_in)
-                assert (got is None) == (want is None)
-                if want is not None:
-                    for a, b in zip(got, want, strict=True):
-                        assert a.dtype == b.dtype and np.array_equal(a, b)
-                    compared += len(want[0])
+        for row_step in (1, 4):
+            rr, cc = [], []
+            for c in np.flatnonzero(top < ROWS):
+                rows = np.unique(np.concatenate([np.arange(top[c], ROWS, row_step),
+                                                 [top[c], ROWS - 1]]))
+                rr.append(rows)
+                cc.append(np.full(len(rows), c))
+            got = proof_rows(top, row_step)
+            for a, b in zip(got, (np.concatenate(rr), np.concatenate(cc)), strict=True):
+                assert a.dtype == b.dtype and np.array_equal(a, b)
+            compared += len(got[0])
+        n = rng.integers(0, 30, 400)
+        lead = np.where(n > 0, rng.integers(0, 20, 400), 0)
+        for lead_in in (lead, np.zeros(400, int)):
+            ray, k = ray_steps(lead_in, n)
+            assert np.array_equal(ray, np.repeat(np.arange(400), n + lead_in))
+            want = np.concatenate([np.arange(-a, m) for a, m in zip(lead_in, n)])
+            assert k.dtype == want.dtype and np.array_equal(k, want)
     assert compared > 10000
+    assert len(proof_rows(np.full(128, ROWS), 4)[0]) == 0
+    pose = Pose(0.3, -0.7, 20.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
     assert floor_proof(rays, np.full(128, ROWS), np.full(128, 9.0), 0.8, 0.25) is None
 
 
@@ -199,18 +177,25 @@ def test_training_pixels_need_their_whole_hiding_stretch_free():
     assert (d * (1 - 0.8 / H) <= to_cell + 0.4).all() and (d >= to_cell - 0.4).all()
 
 
+def _cells_free(fm, x, z):
+    """Which points (x, z) lie in a FREE cell of the map, array-wise (as
+    planner.appearance judged them before the trace was compiled)."""
+    i = np.floor((z - fm.z0) / fm.cell)
+    j = np.floor((x - fm.x0) / fm.cell)
+    ok = np.isfinite(i) & np.isfinite(j)
+    i = np.where(ok, i, -1).astype(int)
+    j = np.where(ok, j, -1).astype(int)
+    inside = ok & (i >= 0) & (j >= 0) & (i < fm.shape[0]) & (j < fm.shape[1])
+    out = np.zeros(np.shape(x), bool)
+    out[inside] = fm.cells[i[inside], j[inside]] == FREE
+    return out
+
+
 def _training_mask_step_by_step(rays, known, lowest_ft, max_ft=12.0, whole_trace=False):
     """training_mask as it was written before its trace was compiled: every
-    pixel still in, one step of the trace at a time (planner.appearance._cells_free)."""
-    from planner.appearance import _cells_free
-    frac = 1.0 - lowest_ft / rays.height
-    ok = np.isfinite(rays.dist) & (rays.dist <= max_ft)
-    steps = (frac, (1 + frac) / 2, 1.0)
-    if whole_trace:
-        steps = np.linspace(0.0, 1.0, int(np.ceil(max_ft / (known.cell / 2))) + 1)
-        sub = np.zeros_like(ok)
-        sub[::2, ::2] = True
-        ok &= sub
+    pixel still in, one step of the trace at a time."""
+    from planner.appearance import training_traces
+    ok, steps = training_traces(rays, known.cell, lowest_ft, max_ft, whole_trace)
     idx = np.flatnonzero(ok)
     fx, fz = rays.x.ravel(), rays.z.ravel()
     for s in steps:

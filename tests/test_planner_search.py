@@ -266,16 +266,11 @@ def test_quadtree_covers_every_passable_cell_once():
 
 def _quadtree_block_by_block(ok):
     """planner.search.quadtree's blocks as it first wrote them: each block of a
-    level marked and labelled one at a time."""
+    level marked and labelled one at a time (on the same levels)."""
+    from planner.search import uniform_levels
     nz, nx = ok.shape
-    levels = max(1, int(math.ceil(math.log2(max(nz, nx)))))
-    n = 2 ** levels
-    full = np.zeros((n, n), bool)
-    full[:nz, :nx] = ok
-    uniform = [full]
-    for _ in range(levels):
-        m = uniform[-1].shape[0] // 2
-        uniform.append(uniform[-1].reshape(m, 2, m, 2).all(axis=(1, 3)))
+    uniform = uniform_levels(ok)
+    levels, n = len(uniform) - 1, uniform[0].shape[0]
     taken = np.zeros((n, n), bool)
     blocks = []
     for lev in range(levels, -1, -1):
