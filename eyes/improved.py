@@ -7,7 +7,9 @@ the matcher asks NSTAR, over the link, for the slices and edge maps of every
 line within 22 of a scanned one, and ESTAR runs CFEAT, MASL and LCSL in
 Python around it.  Here :func:`eyes.kernels.frame_lines_kernel` makes every
 line's slices and maps in one compiled pass, the matcher judges the lines from
-them (:meth:`matching.mode.ImprovedMatcher.frame_verdicts`), and LCSL runs
+them (under its default rules compiled over the whole frame,
+:func:`matching.frame.frame_verdicts`; under any other,
+:meth:`matching.mode.ImprovedMatcher.frame_verdicts`), and LCSL runs
 compiled (:func:`eyes.kernels.lcsl_line`) on the verdicts' tables, COMMON
 /POSIT/ carried from line to line as ESTAR carries it.  The result is the
 ``ScanResult`` the ESTAR path gives, line for line (tests/test_eyes_improved.py),
@@ -29,20 +31,32 @@ from .kernels import build_frame, frame_lines_kernel, lcsl_line
 LINES = 120
 
 
-def frame_lines(frame: np.ndarray, windows: np.ndarray) -> tuple[list[LineData], np.ndarray]:
-    """(every line's :class:`matching.verdict.LineData`, as
-    :func:`matching.mode.fetch_line` gets it from NSTAR; MASL's NBLOB requests
-    per line) of the frame store ``frame`` (:func:`eyes.kernels.build_frame`)."""
+def frame_arrays(frame: np.ndarray, windows: np.ndarray):
+    """(nfeat (120, 2), ifeat (120, 2, 4, 50), maps (120, 2, 100, 17), MASL's NBLOB
+    requests per line (120,)) of the frame store ``frame``
+    (:func:`eyes.kernels.build_frame`): :func:`eyes.kernels.frame_lines_kernel`'s."""
     nfeat = np.empty((LINES, 2), dtype=np.int64)
     ifeat = np.empty((LINES, 2, 4, 50), dtype=np.int32)
     maps = np.empty((LINES, 2, 100, 17), dtype=np.int64)
     requests = np.empty(LINES, dtype=np.int64)
     frame_lines_kernel(frame, windows, nfeat, ifeat, maps, requests)
-    out = []
-    for y, (n, table) in enumerate(zip(nfeat.tolist(), ifeat.tolist())):
-        out.append(LineData(y, list(zip(*(row[:n[0]] for row in table[0]))),
-                            list(zip(*(row[:n[1]] for row in table[1]))), maps[y, 0], maps[y, 1]))
-    return out, requests
+    return nfeat, ifeat, maps, requests
+
+
+def line_data(y: int, nfeat, ifeat, maps) -> LineData:
+    """Line y of :func:`frame_arrays` as :func:`matching.mode.fetch_line` gets it
+    from NSTAR."""
+    n, table = nfeat[y].tolist(), ifeat[y].tolist()
+    return LineData(y, list(zip(*(row[:n[0]] for row in table[0]))),
+                    list(zip(*(row[:n[1]] for row in table[1]))), maps[y, 0], maps[y, 1])
+
+
+def frame_lines(frame: np.ndarray, windows: np.ndarray) -> tuple[list[LineData], np.ndarray]:
+    """(every line's :class:`matching.verdict.LineData`, as
+    :func:`matching.mode.fetch_line` gets it from NSTAR; MASL's NBLOB requests
+    per line) of the frame store ``frame`` (:func:`eyes.kernels.build_frame`)."""
+    nfeat, ifeat, maps, requests = frame_arrays(frame, windows)
+    return [line_data(y, nfeat, ifeat, maps) for y in range(LINES)], requests
 
 
 class ImprovedEyes(Eyes):
@@ -52,6 +66,7 @@ class ImprovedEyes(Eyes):
     :class:`matching.mode.ImprovedMatcher` (None: the default constraints)."""
 
     def scan(self, left, right, lines=DEFAULT_LINES, matcher=None):
+        from matching.frame import covers, frame_verdicts
         from matching.mode import VerdictTables, make_matcher
         from rig.scan import ScanResult, points_of_line
         left, right, lines = checked_scan(left, right, lines)
@@ -60,8 +75,13 @@ class ImprovedEyes(Eyes):
         if matcher.constraints.subpixel:
             raise ValueError("the subpixel constraint needs the .VD pictures (use rig scan)")
         self._frame = frame = build_frame(left, right, self._frame)
-        data, requests = frame_lines(frame, self._windows)
-        verdicts = matcher.frame_verdicts(data, lines.tolist())
+        nfeat, ifeat, maps, requests = frame_arrays(frame, self._windows)
+        if covers(matcher.constraints, matcher.params):   # the default rules, compiled
+            verdicts = frame_verdicts(nfeat, ifeat, maps, lines.tolist(), matcher.params)
+            data = {y: line_data(y, nfeat, ifeat, maps) for y in lines.tolist()}
+        else:
+            data = [line_data(y, nfeat, ifeat, maps) for y in range(LINES)]
+            verdicts = matcher.frame_verdicts(data, lines.tolist())
         pos = np.zeros(640, dtype=np.int64)
         nmatch = np.zeros(100, dtype=np.int64)
         imatch = np.zeros((100, 10, 4), dtype=np.int64)

@@ -114,7 +114,10 @@ class ImprovedMatcher:
         once (``frame``: lines 0..119, as :func:`fetch_line` would get them;
         the eyes' compiled line source, :mod:`eyes.improved`) instead of asked
         for through ESTAR's link: the verdicts :meth:`tables_for` gives ESTAR
-        line by line (tests/test_eyes_improved.py).  For one frame per matcher."""
+        line by line (tests/test_eyes_improved.py).  For one frame per matcher.
+        Under the default rules :func:`matching.frame.frame_verdicts` makes the
+        same verdicts compiled (tests/test_matching_frame.py); this is its
+        reference and the form of every other choice."""
         self._frame = {d.iyloc: d for d in frame}
         self._max_lines = max(self._max_lines, len(frame))     # every line stays held
         return [self._verdicts(None, y, self._line(None, y)) for y in lines]
