@@ -31,7 +31,7 @@ The stages, as :mod:`matching.verdict` writes them:
 
 from __future__ import annotations
 
-from dataclasses import replace
+from collections import namedtuple
 
 import numpy as np
 
@@ -132,186 +132,223 @@ def _around(y, reach, out):
     return n
 
 
+# The rules' numbers, as the kernels read them (a named tuple numba passes whole).
+Rules = namedtuple("Rules", "use_shift grey_penalty width_penalty lr_tolerance region_tolerance "
+                   "region_penalty occlusion smooth jump_cap neighbour_reach neighbour_dx "
+                   "neighbour_dd min_confidence confirm_reach confirm_support confirm_dd "
+                   "confirm_rounds")
+
+
+def rules_of(p: Params) -> Rules:
+    """The kernels' :class:`Rules` of the matcher's ``Params``."""
+    return Rules(bool(p.use_shift), float(p.grey_penalty), float(p.width_penalty),
+                 float(p.lr_tolerance), float(p.region_tolerance), float(p.region_penalty),
+                 float(p.occlusion), float(p.smooth), float(p.jump_cap), int(p.neighbour_reach),
+                 int(p.neighbour_dx), float(p.neighbour_dd), float(p.min_confidence),
+                 int(p.confirm_reach), int(p.confirm_support), float(p.confirm_dd),
+                 int(p.confirm_rounds))
+
+
 @jit
-def frame_kernel(nfeat, ifeat, maps, pop, use_shift, grey_penalty, width_penalty,
-                 lr_tolerance, region_tolerance, region_penalty, occlusion, smooth, jump_cap,
-                 neighbour_reach, neighbour_dx, neighbour_dd, min_confidence, confirm_reach,
-                 confirm_support, confirm_dd, confirm_rounds,
-                 n_left, ledge, lx, lside, redge,
-                 matched, reason, partner, loc1, loc2, cost, conf):
-    """The verdicts of every line of a frame (the module docstring's stages),
-    every left edge in the order along the line: ``n_left[y]`` edges, their
-    numbers ``ledge``, columns ``lx`` and sides ``lside``; ``matched``,
-    ``reason`` (a code of :data:`REASONS`), ``partner`` (the right edge's
-    position, -1 none; ``redge`` holds the right edges' numbers), ``loc1``,
-    ``loc2``, ``cost`` and ``conf``, all (120, 100)."""
-    lines = nfeat.shape[0]
-    # every line's judged candidates, one after the other
-    room = 0
-    for y in range(lines):
-        room += 4 * nfeat[y, 0] * nfeat[y, 1]
-    ji = np.empty(room, np.int64)
-    jj = np.empty(room, np.int64)
-    jcost = np.empty(room, np.float64)
-    jloc1 = np.empty(room, np.float64)
-    jloc2 = np.empty(room, np.float64)
-    jstart = np.zeros(lines + 1, np.int64)
-    n_right = np.zeros(lines, np.int64)
-    first = np.zeros((lines, MAX_EDGES), np.bool_)
-    disp = np.zeros((lines, MAX_EDGES), np.float64)
-    rows1 = np.empty((7, MAX_EDGES), np.int64)
-    rows2 = np.empty((7, MAX_EDGES), np.int64)
-    near = np.empty(2 * max(neighbour_reach, confirm_reach), np.int64)
-    two_occlusion = 2.0 * occlusion
-    for y in range(lines):
-        # 1. the candidates, lr, region, the assignment: the first pass
-        nl = _slice_rows(ifeat[y, 0], nfeat[y, 0], rows1)
-        nr = _slice_rows(ifeat[y, 1], nfeat[y, 1], rows2)
-        n_left[y], n_right[y] = nl, nr
-        for i in range(nl):
-            ledge[y, i], lx[y, i], lside[y, i] = rows1[2, i], rows1[0, i], rows1[1, i]
-            matched[y, i], reason[y, i], partner[y, i] = False, NO_CANDIDATE, -1
-            loc1[y, i] = loc2[y, i] = conf[y, i] = 0.0
-            cost[y, i] = np.nan
-        for j in range(nr):
-            redge[y, j] = rows2[2, j]
-        at = jstart[y]
-        jstart[y + 1] = at
-        if nl == 0 or nr == 0:
-            continue
-        maps1 = np.empty((nl, 17), np.int64)
-        maps2 = np.empty((nr, 17), np.int64)
-        for i in range(nl):
-            maps1[i] = maps[y, 0, rows1[2, i] - 1]
-        for j in range(nr):
-            maps2[j] = maps[y, 1, rows2[2, j] - 1]
-        pairs = np.empty((nl * nr, 4), np.int64)
-        scores = np.empty((nl * nr, 3), np.float64)
-        k_all = admissible_pairs(rows1[np.array([0, 1, 3, 5, 6]), :nl], maps1,
-                                 rows2[np.array([0, 1, 3, 5, 6]), :nr], maps2, use_shift,
-                                 grey_penalty, width_penalty, float(NPIX), False, pop,
-                                 pairs, scores)
-        if k_all == 0:
-            continue
-        for k in range(k_all):
-            reason[y, pairs[k, 0]] = OCCLUDED
-        ci, cj = pairs[:k_all, 0].copy(), pairs[:k_all, 1].copy()
-        keep = np.zeros(k_all, np.bool_)
-        _mutual_kernel(ci, cj, scores[:k_all, 0].copy(), nl, nr, lr_tolerance, keep)
-        kept = np.flatnonzero(keep)
-        still = np.zeros(nl, np.bool_)
-        for k in kept:
-            still[ci[k]] = True
-        for k in range(k_all):
-            if not still[ci[k]]:
-                reason[y, ci[k]] = NOT_MUTUAL
-        n = len(kept)
-        ci, cj = ci[kept], cj[kept]
-        c_cost, c_loc1, c_loc2 = scores[kept, 0], scores[kept, 1], scores[kept, 2]
-        c_disp = c_loc1 - c_loc2
-        supported = np.zeros(n, np.bool_)
-        f1 = np.empty(n, np.int64)
-        f2 = np.empty(n, np.int64)
-        side = np.empty(n, np.int64)
-        for k in range(n):
-            f1[k], f2[k], side[k] = rows1[4, ci[k]], rows2[4, cj[k]], rows1[1, ci[k]]
-        _region_kernel(f1, f2, side, c_disp, region_tolerance, supported)
-        for k in range(n):
-            c_cost[k] = c_cost[k] + (0.0 if supported[k] else region_penalty)
-            ji[at + k], jj[at + k], jcost[at + k] = ci[k], cj[k], c_cost[k]
-            jloc1[at + k], jloc2[at + k] = c_loc1[k], c_loc2[k]
-        jstart[y + 1] = at + n
-        if n == 0:
-            continue
-        # the pairs are in the order of (left edge, right edge): order_dp's own
-        benefit = c_cost - two_occlusion
-        fwd = np.zeros(n)
-        bwd = np.zeros(n)
-        pred = np.full(n, -1, np.int64)
-        last = order_dp(ci, cj, benefit, c_disp, smooth, jump_cap, fwd, bwd, pred)
-        path = np.empty(n, np.int64)          # the best path, from its last match back
-        n_path = 0
-        while last >= 0:
-            path[n_path] = last
-            n_path += 1
-            last = pred[last]
-        chosen = path[:n_path][::-1].copy()
-        marginal = fwd + bwd - benefit
-        shares = np.zeros(len(chosen))
-        _confidences_kernel(ci, cj, c_cost, chosen, marginal, two_occlusion, shares)
-        for t in range(len(chosen)):
-            k = chosen[t]
-            i = ci[k]
-            matched[y, i], reason[y, i], partner[y, i] = True, MATCHED, cj[k]
-            loc1[y, i], loc2[y, i], cost[y, i], conf[y, i] = (c_loc1[k], c_loc2[k],
-                                                              c_cost[k], shares[t])
-            first[y, i] = True
-            disp[y, i] = c_loc1[k] - c_loc2[k]
-    # 2. the second pass: the neighbour rule on the first pass, then ambiguity
-    for y in range(lines):
-        n_near = _around(y, neighbour_reach, near)
+def _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, first, disp, rows1,
+                rows2):
+    """Stage 1 on line ``y``: its edges into ``edges``, the assignment's verdicts
+    into ``verdicts`` (every left edge: matched, or why not), its judged
+    candidates (after lr and the region penalty) appended to ``judged``, the
+    matches and their disparities into ``first`` and ``disp``."""
+    n_left, n_right, ledge, lx, lside, redge = edges
+    matched, reason, partner, loc1, loc2, cost, conf = verdicts
+    ji, jj, jcost, jloc1, jloc2, jstart = judged
+    nl = _slice_rows(ifeat[y, 0], nfeat[y, 0], rows1)
+    nr = _slice_rows(ifeat[y, 1], nfeat[y, 1], rows2)
+    n_left[y], n_right[y] = nl, nr
+    for i in range(nl):
+        ledge[y, i], lx[y, i], lside[y, i] = rows1[2, i], rows1[0, i], rows1[1, i]
+        matched[y, i], reason[y, i], partner[y, i] = False, NO_CANDIDATE, -1
+        loc1[y, i] = loc2[y, i] = conf[y, i] = 0.0
+        cost[y, i] = np.nan
+    for j in range(nr):
+        redge[y, j] = rows2[2, j]
+    at = jstart[y]
+    jstart[y + 1] = at
+    if nl == 0 or nr == 0:
+        return
+    maps1 = np.empty((nl, 17), np.int64)
+    maps2 = np.empty((nr, 17), np.int64)
+    for i in range(nl):
+        maps1[i] = maps[y, 0, rows1[2, i] - 1]
+    for j in range(nr):
+        maps2[j] = maps[y, 1, rows2[2, j] - 1]
+    pairs = np.empty((nl * nr, 4), np.int64)
+    scores = np.empty((nl * nr, 3), np.float64)
+    k_all = admissible_pairs(rows1[np.array([0, 1, 3, 5, 6]), :nl], maps1,
+                             rows2[np.array([0, 1, 3, 5, 6]), :nr], maps2, r.use_shift,
+                             r.grey_penalty, r.width_penalty, float(NPIX), False, pop,
+                             pairs, scores)
+    if k_all == 0:
+        return
+    for k in range(k_all):
+        reason[y, pairs[k, 0]] = OCCLUDED
+    ci, cj = pairs[:k_all, 0].copy(), pairs[:k_all, 1].copy()
+    keep = np.zeros(k_all, np.bool_)
+    _mutual_kernel(ci, cj, scores[:k_all, 0].copy(), nl, nr, r.lr_tolerance, keep)
+    kept = np.flatnonzero(keep)
+    still = np.zeros(nl, np.bool_)
+    for k in kept:
+        still[ci[k]] = True
+    for k in range(k_all):
+        if not still[ci[k]]:
+            reason[y, ci[k]] = NOT_MUTUAL
+    n = len(kept)
+    ci, cj = ci[kept], cj[kept]
+    c_cost, c_loc1, c_loc2 = scores[kept, 0], scores[kept, 1], scores[kept, 2]
+    c_disp = c_loc1 - c_loc2
+    supported = np.zeros(n, np.bool_)
+    f1 = np.empty(n, np.int64)
+    f2 = np.empty(n, np.int64)
+    side = np.empty(n, np.int64)
+    for k in range(n):
+        f1[k], f2[k], side[k] = rows1[4, ci[k]], rows2[4, cj[k]], rows1[1, ci[k]]
+    _region_kernel(f1, f2, side, c_disp, r.region_tolerance, supported)
+    for k in range(n):
+        c_cost[k] = c_cost[k] + (0.0 if supported[k] else r.region_penalty)
+        ji[at + k], jj[at + k], jcost[at + k] = ci[k], cj[k], c_cost[k]
+        jloc1[at + k], jloc2[at + k] = c_loc1[k], c_loc2[k]
+    jstart[y + 1] = at + n
+    if n == 0:
+        return
+    # the pairs are in the order of (left edge, right edge): order_dp's own
+    two_occlusion = 2.0 * r.occlusion
+    benefit = c_cost - two_occlusion
+    fwd = np.zeros(n)
+    bwd = np.zeros(n)
+    pred = np.full(n, -1, np.int64)
+    last = order_dp(ci, cj, benefit, c_disp, r.smooth, r.jump_cap, fwd, bwd, pred)
+    path = np.empty(n, np.int64)          # the best path, from its last match back
+    n_path = 0
+    while last >= 0:
+        path[n_path] = last
+        n_path += 1
+        last = pred[last]
+    chosen = path[:n_path][::-1].copy()
+    marginal = fwd + bwd - benefit
+    shares = np.zeros(len(chosen))
+    _confidences_kernel(ci, cj, c_cost, chosen, marginal, two_occlusion, shares)
+    for t in range(len(chosen)):
+        k = chosen[t]
+        i = ci[k]
+        matched[y, i], reason[y, i], partner[y, i] = True, MATCHED, cj[k]
+        loc1[y, i], loc2[y, i], cost[y, i], conf[y, i] = (c_loc1[k], c_loc2[k],
+                                                          c_cost[k], shares[t])
+        first[y, i] = True
+        disp[y, i] = c_loc1[k] - c_loc2[k]
+
+
+@jit
+def _second_pass(r, edges, verdicts, first, disp, near):
+    """Stage 2 on every line: the neighbour rule on the first pass (``first``,
+    ``disp``), then the ambiguity rule."""
+    n_left, _, _, lx, lside, _ = edges
+    matched, reason, _, _, _, _, conf = verdicts
+    for y in range(len(n_left)):
+        n_near = _around(y, r.neighbour_reach, near)
         for i in range(n_left[y]):
             if not matched[y, i]:
                 continue
             support = _support(first, disp, lx, lside, n_left, near, n_near, lside[y, i],
-                               lx[y, i], disp[y, i], neighbour_dx, neighbour_dd)
+                               lx[y, i], disp[y, i], r.neighbour_dx, r.neighbour_dd)
             if support == 0:
                 matched[y, i], reason[y, i] = False, NOT_VERTICAL
                 continue
             factor = min(1.0, 0.75 + 0.125 * support)
             if factor != 1.0:
                 conf[y, i] = conf[y, i] * factor
-            if conf[y, i] < min_confidence:
+            if conf[y, i] < r.min_confidence:
                 matched[y, i], reason[y, i] = False, AMBIGUOUS
-    # 3. the confirm rounds, each reading the verdicts of the one before
-    for i in range(lines):
-        for e in range(n_left[i]):
-            disp[i, e] = loc1[i, e] - loc2[i, e]
-    for _ in range(confirm_rounds):
-        before = matched.copy()
-        before_disp = disp.copy()
-        for y in range(lines):
-            at, n = jstart[y], jstart[y + 1] - jstart[y]
-            if n == 0:
+
+
+@jit
+def _confirm_round(r, edges, verdicts, judged, disp, near):
+    """Stage 3, one round on every line, each reading the verdicts (and their
+    disparities ``disp``, kept up to date) of the round before."""
+    n_left, n_right, _, lx, lside, _ = edges
+    matched, reason, partner, loc1, loc2, cost, conf = verdicts
+    ji, jj, jcost, jloc1, jloc2, jstart = judged
+    before = matched.copy()
+    before_disp = disp.copy()
+    for y in range(len(n_left)):
+        at, n = jstart[y], jstart[y + 1] - jstart[y]
+        if n == 0:
+            continue
+        n_near = _around(y, r.confirm_reach, near)
+        n_lines = max(1, n_near)
+        for i in range(n_left[y]):
+            if before[y, i] or not (reason[y, i] == OCCLUDED or reason[y, i] == NOT_VERTICAL
+                                    or reason[y, i] == AMBIGUOUS):
                 continue
-            n_near = _around(y, confirm_reach, near)
-            n_lines = max(1, n_near)
-            for i in range(n_left[y]):
-                if before[y, i] or not (reason[y, i] == OCCLUDED or reason[y, i] == NOT_VERTICAL
-                                        or reason[y, i] == AMBIGUOUS):
+            k = -1
+            for q in range(at, at + n):          # its own choice, or its cheapest
+                if ji[q] != i:
                     continue
-                k = -1
-                for q in range(at, at + n):          # its own choice, or its cheapest
-                    if ji[q] != i:
-                        continue
-                    if partner[y, i] >= 0:
-                        if jj[q] == partner[y, i]:
-                            k = q
-                            break
-                    elif k < 0 or jcost[q] < jcost[k] or (jcost[q] == jcost[k]
-                                                          and jj[q] < jj[k]):
+                if partner[y, i] >= 0:
+                    if jj[q] == partner[y, i]:
                         k = q
-                if k < 0:
-                    continue
-                j = jj[k]
-                lo, hi = -1, n_right[y]
-                for a in range(n_left[y]):            # the line's matches so far
-                    if matched[y, a]:
-                        if a < i:
-                            lo = max(lo, partner[y, a])
-                        elif a > i:
-                            hi = min(hi, partner[y, a])
-                if not lo < j < hi:
-                    continue
-                support = _support(before, before_disp, lx, lside, n_left, near, n_near,
-                                   lside[y, i], lx[y, i], jloc1[k] - jloc2[k], neighbour_dx,
-                                   confirm_dd)
-                if support < confirm_support:
-                    continue
-                matched[y, i], reason[y, i], partner[y, i] = True, CONFIRMED, j
-                loc1[y, i], loc2[y, i], cost[y, i] = jloc1[k], jloc2[k], jcost[k]
-                conf[y, i] = support / n_lines * max(0.0, 1.0 - jcost[k] / 256.0)
-                disp[y, i] = jloc1[k] - jloc2[k]
+                        break
+                elif k < 0 or jcost[q] < jcost[k] or (jcost[q] == jcost[k]
+                                                      and jj[q] < jj[k]):
+                    k = q
+            if k < 0:
+                continue
+            j = jj[k]
+            lo, hi = -1, n_right[y]
+            for a in range(n_left[y]):            # the line's matches so far
+                if matched[y, a]:
+                    if a < i:
+                        lo = max(lo, partner[y, a])
+                    elif a > i:
+                        hi = min(hi, partner[y, a])
+            if not lo < j < hi:
+                continue
+            support = _support(before, before_disp, lx, lside, n_left, near, n_near,
+                               lside[y, i], lx[y, i], jloc1[k] - jloc2[k], r.neighbour_dx,
+                               r.confirm_dd)
+            if support < r.confirm_support:
+                continue
+            matched[y, i], reason[y, i], partner[y, i] = True, CONFIRMED, j
+            loc1[y, i], loc2[y, i], cost[y, i] = jloc1[k], jloc2[k], jcost[k]
+            conf[y, i] = support / n_lines * max(0.0, 1.0 - jcost[k] / 256.0)
+            disp[y, i] = jloc1[k] - jloc2[k]
+
+
+@jit
+def frame_kernel(nfeat, ifeat, maps, pop, r, edges, verdicts):
+    """The verdicts of every line of a frame (the module docstring's stages).
+    ``edges``: (``n_left``, ``n_right``: each line's edge counts; ``ledge``,
+    ``lx``, ``lside``: its left edges' numbers, columns and sides in the order
+    along the line; ``redge``: its right edges' numbers); ``verdicts``:
+    (``matched``, ``reason``: a code of :data:`REASONS`, ``partner``: the right
+    edge's position, -1 none, ``loc1``, ``loc2``, ``cost``, ``conf``), one row a
+    line, one column a left edge.  ``r``: :class:`Rules`."""
+    lines = nfeat.shape[0]
+    room = 0                              # every line's judged candidates, one after another
+    for y in range(lines):
+        room += 4 * nfeat[y, 0] * nfeat[y, 1]
+    judged = (np.empty(room, np.int64), np.empty(room, np.int64), np.empty(room, np.float64),
+              np.empty(room, np.float64), np.empty(room, np.float64),
+              np.zeros(lines + 1, np.int64))
+    first = np.zeros((lines, MAX_EDGES), np.bool_)
+    disp = np.zeros((lines, MAX_EDGES), np.float64)
+    rows1 = np.empty((7, MAX_EDGES), np.int64)
+    rows2 = np.empty((7, MAX_EDGES), np.int64)
+    near = np.empty(2 * max(r.neighbour_reach, r.confirm_reach), np.int64)
+    for y in range(lines):
+        _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, first, disp,
+                    rows1, rows2)
+    _second_pass(r, edges, verdicts, first, disp, near)
+    _, _, _, loc1, loc2, _, _ = verdicts
+    disp[:] = loc1 - loc2
+    for _ in range(r.confirm_rounds):
+        _confirm_round(r, edges, verdicts, judged, disp, near)
 
 
 def frame_verdicts(nfeat, ifeat, maps, lines, params: Params = Params()) -> list[list[Verdict]]:
@@ -320,24 +357,16 @@ def frame_verdicts(nfeat, ifeat, maps, lines, params: Params = Params()) -> list
     default constraints and ``params``, :func:`covers`) from the frame's
     slices and maps as :func:`eyes.kernels.frame_lines_kernel` makes them:
     ``nfeat`` (120, 2), ``ifeat`` (120, 2, 4, 50), ``maps`` (120, 2, 100, 17)."""
-    p = params
     shape = (LINES, MAX_EDGES)
-    n_left = np.zeros(LINES, np.int64)
-    ledge, lx, lside, redge = (np.zeros(shape, np.int64) for _ in range(4))
-    matched = np.zeros(shape, np.bool_)
-    reason = np.zeros(shape, np.int64)
-    partner = np.zeros(shape, np.int64)
-    loc1, loc2, cost, conf = (np.zeros(shape, np.float64) for _ in range(4))
-    frame_kernel(np.asarray(nfeat, np.int64), ifeat, maps, _POP, p.use_shift,
-                 float(p.grey_penalty), float(p.width_penalty), float(p.lr_tolerance),
-                 float(p.region_tolerance), float(p.region_penalty), float(p.occlusion),
-                 float(p.smooth), float(p.jump_cap), int(p.neighbour_reach), int(p.neighbour_dx),
-                 float(p.neighbour_dd), float(p.min_confidence), int(p.confirm_reach),
-                 int(p.confirm_support), float(p.confirm_dd), int(p.confirm_rounds),
-                 n_left, ledge, lx, lside, redge, matched, reason, partner, loc1, loc2, cost,
-                 conf)
-    return [_line_verdicts(y, n_left[y], ledge[y], lx[y], redge[y], matched[y], reason[y],
-                           partner[y], loc1[y], loc2[y], cost[y], conf[y]) for y in lines]
+    edges = (np.zeros(LINES, np.int64), np.zeros(LINES, np.int64),
+             *(np.zeros(shape, np.int64) for _ in range(4)))
+    verdicts = (np.zeros(shape, np.bool_), np.zeros(shape, np.int64), np.zeros(shape, np.int64),
+                *(np.zeros(shape, np.float64) for _ in range(4)))
+    frame_kernel(np.asarray(nfeat, np.int64), ifeat, maps, _POP, rules_of(params), edges,
+                 verdicts)
+    n_left, _, ledge, lx, _, redge = edges
+    return [_line_verdicts(y, n_left[y], ledge[y], lx[y], redge[y], *(a[y] for a in verdicts))
+            for y in lines]
 
 
 def _line_verdicts(y, n, ledge, lx, redge, matched, reason, partner, loc1, loc2, cost, conf):
@@ -355,4 +384,4 @@ def _line_verdicts(y, n, ledge, lx, redge, matched, reason, partner, loc1, loc2,
     return out
 
 
-__all__ = ["covers", "frame_verdicts", "frame_kernel", "REASONS"]
+__all__ = ["REASONS", "Rules", "covers", "frame_kernel", "frame_verdicts", "rules_of"]
