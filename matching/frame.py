@@ -150,12 +150,10 @@ def rules_of(p: Params) -> Rules:
 
 
 @jit
-def _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, first, disp, rows1,
-                rows2):
+def _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, rows1, rows2):
     """Stage 1 on line ``y``: its edges into ``edges``, the assignment's verdicts
     into ``verdicts`` (every left edge: matched, or why not), its judged
-    candidates (after lr and the region penalty) appended to ``judged``, the
-    matches and their disparities into ``first`` and ``disp``."""
+    candidates (after lr and the region penalty) appended to ``judged``."""
     n_left, n_right, ledge, lx, lside, redge = edges
     matched, reason, partner, loc1, loc2, cost, conf = verdicts
     ji, jj, jcost, jloc1, jloc2, jstart = judged
@@ -240,8 +238,6 @@ def _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, first, d
         matched[y, i], reason[y, i], partner[y, i] = True, MATCHED, cj[k]
         loc1[y, i], loc2[y, i], cost[y, i], conf[y, i] = (c_loc1[k], c_loc2[k],
                                                           c_cost[k], shares[t])
-        first[y, i] = True
-        disp[y, i] = c_loc1[k] - c_loc2[k]
 
 
 @jit
@@ -268,14 +264,14 @@ def _second_pass(r, edges, verdicts, first, disp, near):
 
 
 @jit
-def _confirm_round(r, edges, verdicts, judged, disp, near):
-    """Stage 3, one round on every line, each reading the verdicts (and their
-    disparities ``disp``, kept up to date) of the round before."""
+def _confirm_round(r, edges, verdicts, judged, near):
+    """Stage 3, one round on every line, each reading the verdicts of the round
+    before."""
     n_left, n_right, _, lx, lside, _ = edges
     matched, reason, partner, loc1, loc2, cost, conf = verdicts
     ji, jj, jcost, jloc1, jloc2, jstart = judged
     before = matched.copy()
-    before_disp = disp.copy()
+    before_disp = loc1 - loc2
     for y in range(len(n_left)):
         at, n = jstart[y], jstart[y + 1] - jstart[y]
         if n == 0:
@@ -317,7 +313,6 @@ def _confirm_round(r, edges, verdicts, judged, disp, near):
             matched[y, i], reason[y, i], partner[y, i] = True, CONFIRMED, j
             loc1[y, i], loc2[y, i], cost[y, i] = jloc1[k], jloc2[k], jcost[k]
             conf[y, i] = support / n_lines * max(0.0, 1.0 - jcost[k] / 256.0)
-            disp[y, i] = jloc1[k] - jloc2[k]
 
 
 @jit
@@ -336,19 +331,15 @@ def frame_kernel(nfeat, ifeat, maps, pop, r, edges, verdicts):
     judged = (np.empty(room, np.int64), np.empty(room, np.int64), np.empty(room, np.float64),
               np.empty(room, np.float64), np.empty(room, np.float64),
               np.zeros(lines + 1, np.int64))
-    first = np.zeros((lines, MAX_EDGES), np.bool_)
-    disp = np.zeros((lines, MAX_EDGES), np.float64)
     rows1 = np.empty((7, MAX_EDGES), np.int64)
     rows2 = np.empty((7, MAX_EDGES), np.int64)
     near = np.empty(2 * max(r.neighbour_reach, r.confirm_reach), np.int64)
     for y in range(lines):
-        _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, first, disp,
-                    rows1, rows2)
-    _second_pass(r, edges, verdicts, first, disp, near)
-    _, _, _, loc1, loc2, _, _ = verdicts
-    disp[:] = loc1 - loc2
+        _first_pass(y, nfeat, ifeat, maps, pop, r, edges, verdicts, judged, rows1, rows2)
+    matched, _, _, loc1, loc2, _, _ = verdicts
+    _second_pass(r, edges, verdicts, matched.copy(), loc1 - loc2, near)
     for _ in range(r.confirm_rounds):
-        _confirm_round(r, edges, verdicts, judged, disp, near)
+        _confirm_round(r, edges, verdicts, judged, near)
 
 
 def frame_verdicts(nfeat, ifeat, maps, lines, params: Params = Params()) -> list[list[Verdict]]:
