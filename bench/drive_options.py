@@ -71,6 +71,7 @@ OPTIONS = [
     "--backing map",
     "--looks-per-viewpoint 2",
     "--min-confidence 0.2",
+    "--disparity subpixel",
     "--wall-fix-far-sigmas 2",
     "--free-cells shadows",
     "--free-cells shadows --reverse on --backing map",

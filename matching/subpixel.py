@@ -83,3 +83,28 @@ def refine_verdicts(verdicts, data, profiles, max_change: float | None = None) -
         else:
             out.append(replace(v, loc1_sub=s1, loc2_sub=s2))
     return out
+
+
+def subpixel_points(results, left_vd: np.ndarray, right_vd: np.ndarray,
+                    max_change: float | None = 1.0, ds: float = 0.75,
+                    dv: float = 180.0) -> list:
+    """The located edges of a scan's line results (``estar.program.LineResult``s with an
+    improved matcher's verdicts) at sub-pixel locations: each line's matched verdicts
+    refined on the .VD pair ``left_vd``, ``right_vd`` (:func:`refine_verdicts`, at most
+    ``max_change`` px off the integer disparity), each edge located by LCSL's equations in
+    floating point there (:func:`matching.mode.located_points`; where no crossing is found,
+    the integer location's).  The error bounds stay LCSL's for a one-pixel disparity
+    error (EDISP = 1) at the refined disparity.  ``rig drive --disparity subpixel``:
+    after a scan the drive has both cameras' .VD pictures, which ESTAR never sees.
+    Returns ``rig.scan.Point``s, line by line, in the order LCSL located them."""
+    from .mode import located_points
+    out = []
+    for r in results:
+        if r.verdicts is None:
+            raise ValueError(f"line {r.iyloc} has no verdicts: sub-pixel locations need "
+                             "the improved matcher")
+        profiles = (line_profile(left_vd, r.iyloc), line_profile(right_vd, r.iyloc))
+        matched = [v for v in r.verdicts if v.matched]
+        refined = refine_verdicts(matched, r, profiles, max_change)
+        out += [p for p, _confidence in located_points(replace(r, verdicts=refined), ds, dv)]
+    return out

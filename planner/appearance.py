@@ -336,7 +336,7 @@ def _from_camera(points, rays: FloorRays):
     from .perception import camera_points
     cam, _, line, loc1, ep = camera_points(points)
     w = cam @ rays.R.T
-    return loc1.astype(int) - 1, line, ep, w, np.hypot(w[:, 0], w[:, 2])
+    return np.rint(loc1).astype(int) - 1, line, ep, w, np.hypot(w[:, 0], w[:, 2])
 
 
 def vetoed(points, rays: FloorRays, top: np.ndarray, margin_ft: float,

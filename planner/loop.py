@@ -169,6 +169,7 @@ TRACK_FREES = ("poses", "swept")
 PIVOTS = ("disc", "margin", "swept", "small-swept", "swept-ring", "swept-ring-inner")  # what a pivot needs seen free (.pivot)
 EYES = ("rig", "truth", "depth")      # whose ranges the loop sees (DriveConfig.eyes)
 MATCHES = ("1985", "improved")        # the rig's stereo matcher (matching.mode.MODES)
+DISPARITIES = ("pixel", "subpixel")   # DriveConfig.disparity: where a located edge lies
 OCCUPIEDS = ("looks", "model")        # where the map's occupied cells come from
 FEATURE_POSES = ("absolute", "drift", "none")    # the pose's share in a feature's covariance
 FLOOR_EYES = ("off", "carve", "add", "bound", "bound-add", "veto")   # planner.appearance in the loop (Perception.update)
@@ -265,6 +266,12 @@ class DriveConfig:
                                           # range finder (a diagnostic oracle that
                                           # separates the planner from the eyes;
                                           # planner.depth_eyes)
+    disparity: str = "pixel"              # "pixel": LCSL's locations, whole .BI pixels;
+                                          # "subpixel" (not 1985; a named option, match
+                                          # "improved" and eyes "rig" only): each matched
+                                          # edge at its grey step's crossing in the .VD
+                                          # pair, twice the .BI's resolution
+                                          # (matching.subpixel.subpixel_points)
     lowest_obstacle_ft: float = 0.8       # nothing lower stands on the floor (the rooms' boxes)
     blank_ft: float | None = 8.0          # columns showing nothing: free this far (assumption)
     blank_carve: str = "unknown"          # how the blank-column assumption carves: "unknown":
@@ -981,6 +988,13 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.min_confidence and cfg.match != "improved":
         raise ValueError(f"min_confidence needs the improved matcher's verdicts "
                          f"(match 'improved'), not match {cfg.match!r}")
+    if cfg.disparity not in DISPARITIES:
+        raise ValueError(f"disparity must be one of {', '.join(DISPARITIES)}, "
+                         f"not {cfg.disparity!r}")
+    if cfg.disparity == "subpixel" and (cfg.match != "improved" or cfg.eyes != "rig"):
+        raise ValueError(f"disparity 'subpixel' needs the improved matcher's verdicts and "
+                         f"the rig's own ranges (match 'improved', eyes 'rig'), not match "
+                         f"{cfg.match!r} with eyes {cfg.eyes!r}")
     if isinstance(cfg.wall_fix_far_sigmas, bool) \
             or not isinstance(cfg.wall_fix_far_sigmas, (int, float)) \
             or not 0 < cfg.wall_fix_far_sigmas < 10:
@@ -1209,7 +1223,13 @@ class Drive:
         t1, c1 = time.perf_counter(), time.thread_time()
         scan = scan_look(look.left_bi, look.right_bi, cfg.lines, cfg.match)
         scan_s = time.perf_counter() - t1
-        points = scan.points if cfg.eyes != "truth" else true_range_points(scan.points, look)
+        if cfg.disparity == "subpixel":
+            from matching.subpixel import subpixel_points
+            points = subpixel_points(scan.results, look.left_vd, look.right_vd)
+        elif cfg.eyes == "truth":
+            points = true_range_points(scan.points, look)
+        else:
+            points = scan.points
         if cfg.min_confidence:
             from matching.mode import vouched_points
             points = vouched_points(scan.results, points, cfg.min_confidence)

@@ -310,7 +310,7 @@ def floor_scan(points, R, left_centre, band, max_range: float = MAX_RANGE_FT,
     keep = filter_points(xyz_c, ep, max_range, min_range=min_range)
     room = xyz_c @ R.T + origin
     keep &= (room[:, 1] >= band[0]) & (room[:, 1] <= band[1])
-    xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], loc1[keep].astype(int), ep[keep]
+    xyz_c, cov_c, loc1, ep = xyz_c[keep], cov_c[keep], np.rint(loc1[keep]).astype(int), ep[keep]
     line, room = line[keep], room[keep]
     empty = np.zeros((0, 3))
     if not len(xyz_c) and not blank_ft:

@@ -166,7 +166,7 @@ def cmd_drive(args) -> int:
 # rule was measured (docs/planner.md), and each help says which value is the default.
 LOOP_OPTION_GROUPS = (
     ("the eyes", "what the loop sees with",
-     ("--eyes", "--match", "--head", "--assist-pivot-ft", "--min-range", "--min-confidence",
+     ("--eyes", "--match", "--disparity", "--head", "--assist-pivot-ft", "--min-range", "--min-confidence",
       "--stereo-margin")),
     ("the camera estimate", "where the loop believes the vehicle stands",
      ("--pose", "--pose-method", "--wall-points", "--wall-fix-sigmas", "--wall-fix-widen", "--wall-fix-most", "--wall-fix-far", "--wall-fix-far-sigmas", "--wall-fix-first",
@@ -194,7 +194,7 @@ def add_loop_options(p) -> None:
     ``rig drive`` and ``bench/drive.py``; each default is DriveConfig's own."""
     from planner.loop import APPROACHES, FINISHES, FINISH_INNER_FT, DriveConfig as C, EYES, HEADS, PIVOTS, FEATURE_POSES, FLOOR_EYES, LOOK_AROUNDS, \
         TURN_ROOMS, BACKINGS, RETRACE_FT, RETRACES, MOVE_RINGS, STRAIGHT_AFTER, STEERS, \
-    MAP_EXTENTS, FINE_MAPS, MATCHES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, FREE_CELLS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
+    MAP_EXTENTS, FINE_MAPS, MATCHES, DISPARITIES, OCCUPIEDS, PLAN_WALLS, POSES, PROGRESSES, STAND_INS, TRACK_FREES, LEARN_FLOORS, FREE_DRIFTS, FREE_GAPS, PROOF_HEADINGS, FLOOR_END_CHECKS, PROOF_HITS, FREE_CELLS, GOAL_EVIDENCES, GOAL_EXPIRE_LOOKS, WALL_RUNS, TILE_EDGES, WALL_HITS, ONE_GREY_RUNS, \
         WALL_POINTS, WALL_FIX_FIRSTS
     from planner.motion import PIVOT_INNER_FT, STEER_MAX_DEG
     from planner.planning import BLIND_ZONES, GOALS, PASSAGES, REJOINS, UNCERTAIN_PLANS
@@ -221,8 +221,13 @@ def add_loop_options(p) -> None:
     opt("--match", choices=MATCHES, default=C.match,
         help="the rig's stereo matcher: improved (not 1985; default since 2026-12-05: a "
              "verdict per edge, 'no match' instead of the best available; on the "
-             "in-process rig, a scan of about 75 ms against the eyes' 2) or 1985 (the eyes: ESTAR's "
-             "own match lists, bit for bit; the default before)")
+             "in-process rig, a scan of about 7 ms, compiled over the whole frame) or 1985 (the "
+             "eyes: ESTAR's own match lists, bit for bit; the default before)")
+    opt("--disparity", choices=DISPARITIES, default=C.disparity,
+        help="where a located edge lies: pixel (default: LCSL's whole .BI pixels) or "
+             "subpixel (not 1985; with --match improved and --eyes rig: each matched "
+             "edge where its grey step crosses the level halfway between its greys in "
+             "the .VD pictures, twice the .BI's resolution)")
     opt("--pose", choices=POSES, default=C.pose,
         help="the camera estimate that places each look: fused: the symbolic model's "
              "(the walk's step: the robust fix on matched vertices fused with the "
@@ -659,7 +664,7 @@ def loop_config(args, goal, fail):
     cfg = DriveConfig(goal=goal, unknown=args.unknown, search=args.search,
                        max_looks=args.max_looks, max_stuck=args.max_stuck,
                        looks_per_viewpoint=args.looks_per_viewpoint, eyes=args.eyes,
-                       match=args.match,
+                       match=args.match, disparity=args.disparity,
                        pose=args.pose, pose_method=args.pose_method,
                        clearance_at=args.clearance_at, pivot=args.pivot, growth=args.growth, voi=voi,
                        move_ring=args.move_ring, passage=args.passage, steer=args.steer,

@@ -159,6 +159,30 @@ def test_points_the_matcher_vouches_for_little_are_left_out_under_min_confidence
     assert 0 < points[0.5] < points[0.0]
 
 
+def test_subpixel_disparity_reaches_the_loop_and_needs_the_improved_rig_eyes(
+        tmp_path, monkeypatch):
+    """``--disparity subpixel`` (not the default) reaches the loop, whose first look in
+    the tiny room then places its points at fractional columns (the .VD pair's
+    crossings, ``matching.subpixel.subpixel_points``); with the 1985 matcher or another
+    eyes' ranges, or an unknown name, it is refused."""
+    from planner.loop import DISPARITIES, Drive, _check_config
+    from planner.evidence import Perception
+    assert DriveConfig.disparity == "pixel"
+    assert drive_config(monkeypatch, tmp_path, "--disparity", "subpixel").disparity == "subpixel"
+    with pytest.raises(ValueError, match="disparity must be one of pixel, subpixel"):
+        _check_config(DriveConfig(goal=(0.0, 1.0), disparity="half"))
+    for other in ({"match": "1985"}, {"eyes": "truth"}, {"eyes": "depth"}):
+        with pytest.raises(ValueError, match="needs the improved matcher's verdicts"):
+            _check_config(DriveConfig(goal=(0.0, 1.0), disparity="subpixel", **other))
+    columns = {}
+    for disparity in DISPARITIES:
+        drive = Drive(tiny_room(), State(0.0, 0.0, 0.0), DriveConfig(
+            goal=GOAL, learn_floor="off", disparity=disparity), None, False, Perception)
+        columns[disparity] = [p.loc1 for p in drive.look(1, 0, 0.0, 0.0)[2]]
+    assert all(float(c).is_integer() for c in columns["pixel"])
+    assert sum(not float(c).is_integer() for c in columns["subpixel"]) > len(columns["subpixel"]) / 2
+
+
 def test_near_visible_distance_from_the_profile():
     # pitched 25 deg down with a half height of atan(60/180): an obstacle 0.8 ft
     # tall shows from (3 - 0.8) / tan(25 + 18.43 deg) = 2.33 ft
