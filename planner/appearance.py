@@ -546,6 +546,30 @@ def raised_ends(points, rays: FloorRays, top: np.ndarray, reach: np.ndarray,
     return reach
 
 
+def beside_points(points, rays: FloorRays, reach: np.ndarray, columns: np.ndarray,
+                  width_ft: float, min_range_ft: float = 0.0) -> np.ndarray:
+    """(128,) the floor ends ``reach``, in the columns ``columns`` ((128,) bool),
+    each cut to the nearest located point (rig.scan Points, ranges from
+    ``min_range_ft``) standing within ``width_ft`` sideways of the column (the
+    camera's x at the point's range), less the point's range error.
+    ``wall_runs="flat-foot"`` (not 1985): a run of a flat floor's grey up to
+    the picture's top row may be a box face of that grey, whose edges the eyes
+    locate only at its sides; no face is wider than ``width_ft``, so beside a
+    point the run may stand on a face, and away from every point it does not."""
+    reach = np.array(reach, float)
+    points = [p for p in points if p.dp >= min_range_ft]
+    if not len(points) or not np.any(columns):
+        return reach
+    c, _line, ep, _, horiz = _from_camera(points, rays)
+    half = np.ceil(width_ft * FOCAL / np.array([p.dp for p in points], float)).astype(int)
+    near = np.maximum(horiz - ep, 0.0)
+    cut = np.full(COLS, np.inf)
+    for k in range(len(points)):
+        a, b = max(c[k] - half[k], 0), max(min(c[k] + half[k] + 1, COLS), 0)
+        cut[a:b] = np.minimum(cut[a:b], near[k])
+    return np.where(columns, np.minimum(reach, cut), reach)
+
+
 @dataclass
 class LookEnds:
     """One look's floor ends, kept for :func:`raised_by_motion`: the camera's

@@ -31,7 +31,7 @@ from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, 
     floor_rays, BOUNDING, STAND_INS, floor_run, is_tiled, keep_before_hit, nearest_greys, \
     run_shadows, \
     training_mask, vetoed, raised_columns, raised_ends, reads_floor, run_reach, texture_end, \
-    within_heading
+    within_heading, beside_points
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segment_cells
@@ -40,8 +40,8 @@ from .octree import MAX_GROWTH_FT, FREE, OCCUPIED, UNCERTAIN, UNKNOWN, VolumeOfI
     assumed_free_keys, cell_centres, cell_keys, features_cells, free_below, key_centres, \
     sight_samples, logodds_at, mark_free_rays, mark_keys_free, mark_occupied, \
     new_octree, spans_cells
-from .perception import CX_128, CY_128, FOCAL_128, MIN_RANGE_FT, camera_points, filter_points, \
-    floor_scan
+from .perception import CX_128, CY_128, FOCAL_128, MIN_RANGE_FT, BearingsApart, camera_points, \
+    filter_points, floor_scan
 
 
 # The mechanisms that make a floor-map cell FREE (free_obstacle_cells names them)
@@ -50,10 +50,14 @@ BETWEEN_EDGES = "columns between edges"         # free_ends the look proves (not
 BLANK_ASSUMPTION = "blank-column assumption"    # FloorScan.assumed, mark_assumed_free
 TWO_LOOK_SIDES = "two-look sides"               # TwoLookSides.confirm
 FLOOR_IN_VIEW = "floor in view"                 # floor_eyes (planner.appearance)
+FLAT_FOOT = "flat floor to the walls' foot"     # wall_runs="flat-foot" (_carve_flat_foot)
+FLAT_FOOT_BESIDE_FT = 3.6     # "flat-foot": no box face is wider (the rooms' boxes: at most
+                              # 2.5 ft a side, 3.5 ft across seen corner on)
+FLAT_FOOT_APART_DEG = 20.0    # "flat-foot": two looks' bearings of a cell at least this apart
 START_SPOT = "start spot"                       # the clear disc the vehicle was set down in
 TRACK = "vehicle's track"                       # its footprint at every dead-reckoned pose
 MECHANISMS = (SIGHT_TO_HIT, BETWEEN_EDGES, BLANK_ASSUMPTION, TWO_LOOK_SIDES, FLOOR_IN_VIEW,
-              START_SPOT, TRACK)
+              FLAT_FOOT, START_SPOT, TRACK)
 
 
 def in_band(keys: np.ndarray, res: float, band) -> np.ndarray:
@@ -357,7 +361,9 @@ class Perception:
         self.heading_sigmas = 2.0         # under "window": the heading's standard deviations
         self.floor_eyes = "off"           # or "carve", "add", "bound", "bound-add", "veto" (DriveConfig.floor_eyes)
         self.expire_uncertain = 0         # DriveConfig.expire_uncertain (0: off)
-        self.wall_runs = "none"           # or "texture", "past", "foot" (DriveConfig.wall_runs)
+        self.wall_runs = "none"           # or "texture", "past", "foot", "flat-foot"
+                                          # (DriveConfig.wall_runs)
+        self.foot_bearings = BearingsApart(FLAT_FOOT_APART_DEG)   # under "flat-foot"
         self.tile_edges = "break"         # or "blend" (DriveConfig.tile_edges)
         self.expire_within = None         # ((x, z), r): only the features whose two-sigma
                                           # ellipse reaches that disc expire
@@ -581,11 +587,12 @@ class Perception:
             ends_start = (fstart[assumed] if len(ends) else np.zeros(0)) if low else None
             heading_sd = math.sqrt(max(float(pose_cov[2, 2]), 0.0)) \
                 if pose_cov is not None else None
+            # "flat-foot": the texture's rule, and on a flat floor the walls' foot below
+            runs = "texture" if self.wall_runs == "flat-foot" else self.wall_runs
             texture = texture_end(picture, learned, top) \
-                if self.wall_runs == "texture" and learned is not None and top is not None \
+                if runs == "texture" and learned is not None and top is not None \
                 else None
-            reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0,
-                              self.wall_runs, texture) \
+            reach = floor_end(rays, top, self.floor_within, heading_sd or 0.0, runs, texture) \
                 if top is not None and bounded else None
             ends_now = None
             if reach is not None and self.floor_end_check == "motion" and depth is None:
@@ -615,6 +622,12 @@ class Perception:
                 # than where the bound ends it (nowhere in a column showing no end)
                 with self._carving(FLOOR_IN_VIEW):
                     self._carve_floor(fs, rays, proof_top, left, res, reach=reach)
+                if self.wall_runs == "flat-foot" and reach is not None and \
+                        learned is not None and not is_tiled(learned) and \
+                        self.floor_within is not None:
+                    with self._carving(FLAT_FOOT):
+                        self._carve_flat_foot(fs, rays, top, proof_top, reach, scan_points,
+                                              heading_sd, left, res)
             if ends_now is not None:
                 self._keep_ends(ends_now, left, res)
             if len(ends):
@@ -1096,6 +1109,10 @@ class Perception:
         or the blank-column reach) and at ``reach`` when given (the column's
         floor end, :func:`planner.appearance.floor_end`; 0: nothing), never
         past a cell any look has hit."""
+        return self._carve_keys(self._floor_keys(fs, rays, top, left, res, reach), res)
+
+    def _floor_keys(self, fs, rays, top, left, res: float, reach=None) -> np.ndarray:
+        """The packed keys of the cells :meth:`_carve_floor` carves, uncarved."""
         clip = np.zeros(128)
         for pts, cols in ((fs.hits, fs.hit_cols), (fs.free_ends, fs.free_cols)):
             if cols is None or not len(pts):
@@ -1109,18 +1126,54 @@ class Perception:
         proof = floor_proof(rays, top, clip, self.lowest_ft, res,
                             lead_in=self.proof_hits == "line")
         if proof is None:
-            return 0
+            return np.zeros(0, np.int64)
         pts, ray, _, proving = proof
         keys = cell_keys(pts, res)
         keep = keep_before_hit(keys, ray, self.hit_keys) & proving
         keep &= ~np.isin(keys, self._shadow_keys)   # free_cells="shadows"
-        keys = np.unique(keys[keep])
+        return np.unique(keys[keep])
+
+    def _carve_keys(self, keys, res: float) -> int:
+        """The floor in view's cells ``keys`` carved free; returns how many."""
         if not len(keys):
             return 0
         self.tree.updateNodes(np.ascontiguousarray(key_centres(keys, res)), False)
         self.floor_cells += len(keys)
         self._proved = np.union1d(self._proved, keys)
         return len(keys)
+
+    def _carve_flat_foot(self, fs, rays, top, proof_top, reach, scan_points, heading_sd,
+                         left, res: float) -> int:
+        """``wall_runs="flat-foot"`` (not 1985), on a flat floor: the columns whose run
+        shows no end (up to the picture's top row, or past the plan's walls) prove the
+        floor to the walls' foot (:func:`planner.appearance.wall_foot_reach`), as a wall
+        of the floor's grey shows it, but cut at every located point within
+        :data:`FLAT_FOOT_BESIDE_FT` sideways (:func:`planner.appearance.beside_points`:
+        a box face of that grey stands beside its own edges), under the look's other
+        checks (points raised off the floor, the heading's window), and a cell is
+        carved only when a look from a bearing :data:`FLAT_FOOT_APART_DEG` away proves
+        it too (:class:`planner.perception.BearingsApart`): seen head on, such a face
+        shows no edge at all.  Returns the cells carved."""
+        shown = (floor_end(rays, top, self.floor_within, heading_sd or 0.0, "none") == 0) & \
+            (top < ROWS)
+        foot = floor_end(rays, top, self.floor_within, heading_sd or 0.0, "foot")
+        shown &= foot > 0
+        if not shown.any():
+            return 0
+        far = np.where(shown, foot, reach)
+        if self.floor_end_check != "off":
+            far = raised_ends(scan_points, rays, top, far, min_range_ft=self.min_range_ft)
+        far = beside_points(scan_points, rays, far, shown, FLAT_FOOT_BESIDE_FT,
+                            self.min_range_ft)
+        if self.proof_heading == "window" and heading_sd is not None:
+            far = within_heading(far, heading_sd, self.heading_sigmas)
+        keys = self._floor_keys(fs, rays, proof_top, left, res, np.where(shown, far, 0.0))
+        keys = np.setdiff1d(keys, self._proved)
+        if not len(keys):
+            return 0
+        keys = self.foot_bearings.confirm(keys, key_centres(keys, res)[:, [0, 2]],
+                                          (left[0], left[2]))
+        return self._carve_keys(keys, res)
 
     def _raised_by_motion(self, rays, top, reach, left, res: float):
         """``floor_end_check="motion"``: the look's floor ends ``reach``

@@ -201,7 +201,7 @@ FREE_DRIFTS = ("off", "erode", "moves")   # DriveConfig.free_drift: an older loo
 GOAL_EVIDENCES = ("off", "look", "look-expire")   # DriveConfig.goal_evidence
 WALL_HITS = ("feature", "plan")          # DriveConfig.wall_hits (evidence.wall_explained)
 ONE_GREY_RUNS = ("prove", "near-seen")   # DriveConfig.one_grey_runs
-WALL_RUNS = ("none", "past", "foot", "texture")   # DriveConfig.wall_runs: a floor run up a wall of its grey
+WALL_RUNS = ("none", "past", "foot", "texture", "flat-foot")   # DriveConfig.wall_runs: a floor run up a wall of its grey
 TILE_EDGES = ("break", "blend")        # DriveConfig.tile_edges: a tile's averaged edge in a proof
 STEERS = ("off", "small", "idle")     # DriveConfig.steer: a path's first leg cut short
 GOAL_EXPIRE_LOOKS = 2                 # goal_evidence="look-expire": the looks a goal's blocker lasts
@@ -693,7 +693,12 @@ class DriveConfig:
                                           # grey, room 341, a box face of it, room 773);
                                           # "foot" (a named option, not 1985): its end is the
                                           # walls' foot less their growth; "past": that only
-                                          # for a run that ends past the walls
+                                          # for a run that ends past the walls; "flat-foot"
+                                          # (a named option, not 1985): "texture", and on a
+                                          # flat floor "foot" cut at every located point
+                                          # within a box's width, each cell proven only when
+                                          # a look from a bearing 20 deg away proves it too
+                                          # (Perception._carve_flat_foot)
     tile_edges: str = "break"             # under floor_eyes "bound-add", the proof's run of the
                                           # learned greys: a pixel of another grey ends it
                                           # ("break"), or (a named option, not 1985; "blend")

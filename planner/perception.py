@@ -494,3 +494,42 @@ class TwoLookSides:
                 del self.first[k]
         self.confirmed += len(out)
         return np.array(out, np.int64)
+
+
+class BearingsApart:
+    """Cells a look would prove held back until a look from another bearing proves
+    them too: ``confirm(keys, centres, origin)`` takes the packed keys of the cells
+    (their (N, 2) floor centres x, z) and the camera's floor position; it returns
+    the keys an earlier look had held back from a bearing at least ``apart_deg``
+    away from this one's (each cell's bearing from the camera), and holds the
+    others back under this look's position (the first look's is kept).
+    ``wall_runs="flat-foot"`` (not 1985): a box face of a flat floor's grey, seen
+    head on against a wall of that grey, looks like the wall; from another bearing
+    its box shows a side of another grey, whose edges the eyes locate and whose
+    run ends there."""
+
+    def __init__(self, apart_deg: float = 20.0):
+        if not apart_deg > 0:
+            raise ValueError(f"two bearings apart by a positive angle, not {apart_deg!r} deg")
+        self.apart_deg = float(apart_deg)
+        self.first: dict[int, tuple[float, float]] = {}    # key -> first camera position
+        self.confirmed = 0
+
+    def confirm(self, keys, centres, origin) -> np.ndarray:
+        keys = np.asarray(keys, np.int64)
+        centres = np.asarray(centres, float).reshape(-1, 2)
+        ox, oz = (float(v) for v in origin)
+        out = []
+        for k, (cx, cz) in zip(keys.tolist(), centres.tolist()):
+            seen = self.first.get(k)
+            if seen is None:
+                self.first[k] = (ox, oz)
+                continue
+            now = math.atan2(cx - ox, cz - oz)
+            then = math.atan2(cx - seen[0], cz - seen[1])
+            turn = abs((math.degrees(now - then) + 180.0) % 360.0 - 180.0)
+            if turn >= self.apart_deg:
+                out.append(k)
+                del self.first[k]
+        self.confirmed += len(out)
+        return np.array(out, np.int64)

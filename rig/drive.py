@@ -578,7 +578,10 @@ def add_loop_options(p) -> None:
              "shows no floor's end; 'foot' (not 1985): its end is the walls' foot less "
              "their growth, as a wall of the floor's grey shows it (a box face of that "
              "grey too: it collides); 'past': that only where the run ends past the "
-             "walls, not where it reaches the picture's top")
+             "walls, not where it reaches the picture's top; 'flat-foot' (not 1985): "
+             "'texture', and on a flat floor 'foot' cut at every located point within a "
+             "box's width of the column, each cell proven only when a look from a "
+             "bearing 20 deg away proves it too")
     opt("--tile-edges", choices=TILE_EDGES, default=C.tile_edges,
         help="under --floor-eyes bound-add, the floor's proof up each column's run of its "
              "learned greys: 'break' (default): a pixel of another grey ends it; 'blend' "

@@ -1181,3 +1181,45 @@ def test_a_face_of_the_floors_grey_is_found_raised_from_three_rendered_looks():
     assert np.abs(edge[:, 1] - box[2]).max() < 0.1
     flat = np.array([name == "floor" or "skirting" in name for name in on])
     assert flat.sum() > 20 and np.isnan(k[flat]).all()
+
+
+def test_a_located_point_cuts_the_floor_ends_within_a_box_width_of_its_column():
+    """By hand (``wall_runs="flat-foot"``): a point located on the ray of row 40, column
+    64, 4 ft out horizontally, its range error 0.2 ft.  A box face 1 ft wide beside it
+    spans 1 ft x 180 px / its range columns either side: those of the given columns end
+    at the point less its error, the others and the columns not given keep their ends;
+    a point nearer than the scan's minimum range cuts nothing."""
+    from planner.appearance import beside_points
+    pose = Pose(0.0, 0.0, 0.0, PITCH)
+    rays = floor_rays(pose.rotation(), pose.camera_centre("left"))
+    p = _point_on_ray(rays, 40, 64, 4.0, ep=0.2)
+    half = math.ceil(1.0 * 180.0 / p.dp)
+    assert half == math.ceil(180.0 / p.dp) and 20 < half < 45
+    reach = np.full(128, 9.0)
+    columns = np.ones(128, bool)
+    columns[70] = False
+    out = beside_points([p], rays, reach, columns, 1.0)
+    cut = np.zeros(128, bool)
+    cut[64 - half:64 + half + 1] = True
+    cut[70] = False
+    assert out[cut] == pytest.approx(3.8)
+    assert (out[~cut] == 9.0).all()
+    assert (beside_points([p], rays, reach, columns, 1.0, min_range_ft=p.dp + 0.1) == 9.0).all()
+    near = np.full(128, 2.0)                     # an end nearer than the point stays
+    assert (beside_points([p], rays, near, columns, 1.0) == 2.0).all()
+
+
+def test_a_cell_is_confirmed_by_a_second_look_from_another_bearing():
+    """``BearingsApart(20)``: a cell 5 ft ahead, first held from (0, 0); a look from
+    (0.5, 0) sees it 5.7 deg apart (held still, the first position kept), one from (2, 0)
+    21.8 deg apart confirms it, and it is held no longer; a cell at (3, 5) those two
+    looks see 19.7 deg apart stays held."""
+    from planner.perception import BearingsApart
+    b = BearingsApart(20.0)
+    keys, centres = np.array([7, 8]), np.array([[0.0, 5.0], [3.0, 5.0]])
+    assert len(b.confirm(keys, centres, (0.0, 0.0))) == 0
+    assert len(b.confirm(keys[:1], centres[:1], (0.5, 0.0))) == 0
+    assert b.confirm(keys, centres, (2.0, 0.0)).tolist() == [7]    # cell 8: 31.0, 11.3 deg
+    assert 7 not in b.first and b.first[8] == (0.0, 0.0) and b.confirmed == 1
+    with pytest.raises(ValueError, match="positive angle"):
+        BearingsApart(0.0)
