@@ -967,6 +967,30 @@ def test_room_341_is_reached_when_a_run_up_a_wall_of_a_tiles_grey_ends_before_it
     assert_reached_by_the_truth(res["texture"], goal)
 
 
+def test_room_31_is_reached_when_a_flat_floors_run_up_a_wall_of_its_grey_ends_at_its_foot(
+        monkeypatch, tmp_path):
+    # bench/drive.py's room 31 under its own odometry noise: a flat floor of grey 6, its
+    # left and back walls of 6 too, no skirting.  Every run toward them goes on up the
+    # wall to the picture's top row and, with no tiles, shows no end: under "texture" the
+    # run stops unreached (24 looks without progress); under "flat-foot" such runs prove
+    # the floor to the walls' foot where two looks from bearings 20 deg apart agree and no
+    # located point stands within a box's width, and the goal is reached.  The world's
+    # exact geometry judges it.
+    from planner.loop import DriveConfig
+    from rigtools import assert_reached_by_the_truth, bench_drives, drive_config
+    from world.room import generate_room
+    assert drive_config(monkeypatch, tmp_path, "--wall-runs", "flat-foot").wall_runs == \
+        "flat-foot"
+    monkeypatch.undo()                                  # (drive_config stubs the loop)
+    shades = {q.name: str(q.shade) for q in generate_room(31).quads}
+    assert shades["floor"] == shades["left wall"] == shades["back wall"] == "flat(6)"
+    assert not any("skirting" in name for name in shades)
+    goal, res = bench_drives(31, "wall_runs", ("texture", "flat-foot"))
+    assert not res["texture"].reached and res["texture"].reason.startswith("stopped after")
+    assert res["texture"].collisions == 0
+    assert_reached_by_the_truth(res["flat-foot"], goal)
+
+
 def test_the_floors_texture_ends_at_the_foot_of_a_face_of_one_of_its_greys():
     """texture_end by hand: a floor tiled in greys 4 and 6 (tiles 6 rows tall in
     the picture) up to row 70, and above it a face of grey 6 spotted with 5s (the
