@@ -257,7 +257,8 @@ class DriveConfig:
                                           # "improved" (not 1985; the default since: package
                                           # matching's verdict per edge on the in-process
                                           # rig, an edge without a right match left out;
-                                          # its scan 75 ms a look against the eyes' 2;
+                                          # its scan about 7 ms a look, its default rules
+                                          # compiled over the whole frame (matching.frame);
                                           # scan_look)
     eyes: str = "rig"                     # "rig": the matcher's ranges; "truth": the
                                           # true range at the same edge pixels (an oracle
