@@ -58,6 +58,7 @@ OPTIONS = [
     "--expire-uncertain 3 --occupied looks",
     "--expire-uncertain 2",
     "--goal-evidence off",
+    "--wall-runs texture",
     "--wall-runs none",
     "--wall-runs foot",
     "--wall-runs past",

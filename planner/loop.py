@@ -685,20 +685,21 @@ class DriveConfig:
                                           # (appearance.run_shadows; room 230 under reverse:
                                           # the floor seen beside a box's corner freed the
                                           # cells along its hidden face, three quarters box)
-    wall_runs: str = "texture"            # under floor_eyes "bound"/"bound-add", a column whose
+    wall_runs: str = "flat-foot"          # under floor_eyes "bound"/"bound-add", a column whose
                                           # floor run goes on up past the plan's walls or to the
                                           # picture's top: it shows no floor's end ("none");
-                                          # "texture" (not 1985; the default since 2026-12-06):
+                                          # "texture" (not 1985; the default 2026-12-06 to -08):
                                           # its end is where the floor's tiles are last seen in
                                           # it (appearance.texture_end; a wall of a tile's
                                           # grey, room 341, a box face of it, room 773);
                                           # "foot" (a named option, not 1985): its end is the
                                           # walls' foot less their growth; "past": that only
                                           # for a run that ends past the walls; "flat-foot"
-                                          # (a named option, not 1985): "texture", and on a
-                                          # flat floor "foot" cut at every located point
-                                          # within a box's width, each cell proven only when
-                                          # a look from a bearing 20 deg away proves it too
+                                          # (not 1985; the default since 2026-12-08):
+                                          # "texture", and on a flat floor "foot" cut at
+                                          # every located point within a box's width, each
+                                          # cell proven only when a look from a bearing 20
+                                          # deg away proves it too
                                           # (Perception._carve_flat_foot)
     tile_edges: str = "break"             # under floor_eyes "bound-add", the proof's run of the
                                           # learned greys: a pixel of another grey ends it

@@ -571,15 +571,16 @@ def add_loop_options(p) -> None:
              "box's corner frees no cell along its hidden face")
     opt("--wall-runs", choices=WALL_RUNS, default=C.wall_runs,
         help="under --floor-eyes bound or bound-add, a column whose floor's grey runs on "
-             "past the plan's walls or to the picture's top: 'texture' (not 1985; "
-             "default): its end is where a tiled floor's two greys are last seen in it, "
+             "past the plan's walls or to the picture's top: 'texture' (not 1985; the "
+             "default before 2026-12-08): its end is where a tiled floor's two greys are "
+             "last seen in it, "
              "no farther than the walls' foot (a wall or a box face of a tile's grey "
              "stands past the last tile; a flat floor's column shows none); 'none': it "
              "shows no floor's end; 'foot' (not 1985): its end is the walls' foot less "
              "their growth, as a wall of the floor's grey shows it (a box face of that "
              "grey too: it collides); 'past': that only where the run ends past the "
-             "walls, not where it reaches the picture's top; 'flat-foot' (not 1985): "
-             "'texture', and on a flat floor 'foot' cut at every located point within a "
+             "walls, not where it reaches the picture's top; 'flat-foot' (not 1985; "
+             "default): 'texture', and on a flat floor 'foot' cut at every located point within a "
              "box's width of the column, each cell proven only when a look from a "
              "bearing 20 deg away proves it too")
     opt("--tile-edges", choices=TILE_EDGES, default=C.tile_edges,

@@ -367,7 +367,8 @@ DRIVE_BEFORE_2026_12_05_0430 = dict(match="1985", free_gaps="keep", min_pivot_de
 DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo",
                                     goal_evidence="off", wall_fix_far=0,
                                     wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60, max_stuck=16, backing="map")
+                                    max_looks=60, max_stuck=16, backing="map",
+                                    wall_runs="texture")
 
 # The drive's defaults before 2026-12-06 16:45 (docs/planner.md, "A once-seen blocker at the
 # goal let go, a far turn held for a second look"): no once-seen blocker at the goal let go,
@@ -376,22 +377,26 @@ DRIVE_BEFORE_2026_12_06_1540 = dict(fine_map="off", floor_end_check="stereo",
 # it turns back what came at 20:30 too.
 DRIVE_BEFORE_2026_12_06_1645 = dict(goal_evidence="off", wall_fix_far=0,
                                     wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60, max_stuck=16, backing="map")
+                                    max_looks=60, max_stuck=16, backing="map",
+                                    wall_runs="texture")
 
 # The drive's defaults before 2026-12-06 20:30 (docs/planner.md, "Hits the plan's walls
 # explain"): a floor hit the plan's walls explain still starts a feature, and a tiled
 # floor's run of one of its greys proves the floor as any run.  A test that traced a drive
 # under the defaults before then pins them.
 DRIVE_BEFORE_2026_12_06_2030 = dict(wall_hits="feature", one_grey_runs="prove", finish="edge",
-                                    max_looks=60, max_stuck=16, backing="map")
+                                    max_looks=60, max_stuck=16, backing="map",
+                                    wall_runs="texture")
 
 # The drive's defaults before 2026-12-07 (docs/planner.md, "The run's end inside the goal's
 # disc"): the run ends as soon as the estimate enters the goal's disc.  A test that traced a
 # drive's last looks under the defaults before then pins it (and what came at 06:30,
 # 08:30 and 12:15 turned back too).
-DRIVE_BEFORE_2026_12_07 = dict(finish="edge", max_looks=60, max_stuck=16, backing="map")
+DRIVE_BEFORE_2026_12_07 = dict(finish="edge", max_looks=60, max_stuck=16, backing="map",
+                               wall_runs="texture")
 
 # The drive's defaults before 2026-12-07 12:15 (docs/planner.md, "Back along its own
 # way"): where it cannot turn at all, the vehicle stands and looks again.  A test that
-# traced a drive's stand-still under the defaults before then pins it.
-DRIVE_BEFORE_2026_12_07_1215 = dict(backing="map")
+# traced a drive's stand-still under the defaults before then pins it.  (These dicts since
+# 2026-12-06 15:40 also turn back the flat floor's runs to the walls' foot, 2026-12-08.)
+DRIVE_BEFORE_2026_12_07_1215 = dict(backing="map", wall_runs="texture")

@@ -948,13 +948,15 @@ def test_room_341_is_reached_when_a_run_up_a_wall_of_a_tiles_grey_ends_before_it
     # Every run toward it goes on up the wall, so under "none" nothing there is proven
     # and the run stops unreached (its 90 looks used up; with 16 without progress, before
     # 2026-12-07 08:30, it gave up at look 86; with 60 looks, before 06:30, they were
-    # used up); under "foot" (its end at the walls' foot) and "texture" (the default: its
-    # end where the tiles are last seen) the goal is reached.  The world's exact geometry
+    # used up); under "foot" (its end at the walls' foot) and "texture" (its end where the
+    # tiles are last seen; the default from 2026-12-06, and since 2026-12-08 on a tiled
+    # floor under "flat-foot") the goal is reached.  The world's exact geometry
     # judges it.  ("foot" is not the default: a box of the floor's grey before such a wall
     # it proves free as well, rooms 95 and 248, docs/planner.md.)
     from planner.loop import DriveConfig, _check_config
     from rigtools import assert_reached_by_the_truth, bench_drives, drive_config
-    assert drive_config(monkeypatch, tmp_path).wall_runs == "texture"
+    assert drive_config(monkeypatch, tmp_path).wall_runs == "flat-foot"
+    assert drive_config(monkeypatch, tmp_path, "--wall-runs", "texture").wall_runs == "texture"
     assert drive_config(monkeypatch, tmp_path, "--wall-runs", "foot").wall_runs == "foot"
     assert drive_config(monkeypatch, tmp_path, "--wall-runs", "none").wall_runs == "none"
     with pytest.raises(ValueError, match="wall_runs"):
@@ -972,7 +974,8 @@ def test_room_31_is_reached_when_a_flat_floors_run_up_a_wall_of_its_grey_ends_at
     # bench/drive.py's room 31 under its own odometry noise: a flat floor of grey 6, its
     # left and back walls of 6 too, no skirting.  Every run toward them goes on up the
     # wall to the picture's top row and, with no tiles, shows no end: under "texture" the
-    # run stops unreached (24 looks without progress); under "flat-foot" such runs prove
+    # run stops unreached (24 looks without progress); under "flat-foot" (the default since
+    # 2026-12-08) such runs prove
     # the floor to the walls' foot where two looks from bearings 20 deg apart agree and no
     # located point stands within a box's width, and the goal is reached.  The world's
     # exact geometry judges it.
