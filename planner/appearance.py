@@ -405,6 +405,16 @@ def past_walls(rays: FloorRays, top: np.ndarray, within, heading_sd: float = 0.0
     return has & ~inside       # (NaN, no floor point: outside)
 
 
+def no_end(rays: FloorRays, top: np.ndarray, within=None, heading_sd: float = 0.0):
+    """The columns whose floor run shows no end, as two (128,) masks: the run goes
+    on to the picture's top row, and (with the plan's walls ``within``) it ends
+    below it but past the walls (:func:`past_walls`)."""
+    to_top = top <= 1
+    past = past_walls(rays, top, within, heading_sd) & ~to_top if within is not None \
+        else np.zeros(COLS, bool)
+    return to_top, past
+
+
 def floor_end(rays: FloorRays, top: np.ndarray, within=None,
               heading_sd: float = 0.0, wall_runs: str = "none",
               texture: np.ndarray | None = None) -> np.ndarray:
@@ -424,9 +434,7 @@ def floor_end(rays: FloorRays, top: np.ndarray, within=None,
     walls' foot): a face of a tile's grey has none, a flat floor none
     either."""
     reach = run_reach(rays, top)
-    to_top = top <= 1
-    past = past_walls(rays, top, within, heading_sd) & ~to_top if within is not None \
-        else np.zeros(COLS, bool)
+    to_top, past = no_end(rays, top, within, heading_sd)
     reach[to_top | past] = 0.0
     if wall_runs == "texture" and texture is not None:
         shown = (to_top | past) & (texture < ROWS)

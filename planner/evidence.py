@@ -31,7 +31,7 @@ from .appearance import ROWS, LookEnds, bound_by_floor, floor_end, floor_greys, 
     floor_rays, BOUNDING, STAND_INS, floor_run, is_tiled, keep_before_hit, nearest_greys, \
     run_shadows, \
     training_mask, vetoed, raised_columns, raised_ends, reads_floor, run_reach, texture_end, \
-    within_heading, beside_points
+    within_heading, beside_points, no_end, wall_foot_reach
 from .depth_eyes import depth_floor_scan
 from .drift import LookFree, Odometry
 from .features import FloorFeatures, mahalanobis2, pose_point_covariance, segment_cells
@@ -51,13 +51,14 @@ BLANK_ASSUMPTION = "blank-column assumption"    # FloorScan.assumed, mark_assume
 TWO_LOOK_SIDES = "two-look sides"               # TwoLookSides.confirm
 FLOOR_IN_VIEW = "floor in view"                 # floor_eyes (planner.appearance)
 FLAT_FOOT = "flat floor to the walls' foot"     # wall_runs="flat-foot" (_carve_flat_foot)
-FLAT_FOOT_BESIDE_FT = 3.6     # "flat-foot": no box face is wider (the rooms' boxes: at most
-                              # 2.5 ft a side, 3.5 ft across seen corner on)
-FLAT_FOOT_APART_DEG = 20.0    # "flat-foot": two looks' bearings of a cell at least this apart
 START_SPOT = "start spot"                       # the clear disc the vehicle was set down in
 TRACK = "vehicle's track"                       # its footprint at every dead-reckoned pose
 MECHANISMS = (SIGHT_TO_HIT, BETWEEN_EDGES, BLANK_ASSUMPTION, TWO_LOOK_SIDES, FLOOR_IN_VIEW,
               FLAT_FOOT, START_SPOT, TRACK)
+
+FLAT_FOOT_BESIDE_FT = 3.6     # "flat-foot": no box face is wider (the rooms' boxes: at most
+                              # 2.5 ft a side, 3.5 ft across seen corner on)
+FLAT_FOOT_APART_DEG = 20.0    # "flat-foot": two looks' bearings of a cell at least this apart
 
 
 def in_band(keys: np.ndarray, res: float, band) -> np.ndarray:
@@ -1154,10 +1155,9 @@ class Perception:
         carved only when a look from a bearing :data:`FLAT_FOOT_APART_DEG` away proves
         it too (:class:`planner.perception.BearingsApart`): seen head on, such a face
         shows no edge at all.  Returns the cells carved."""
-        shown = (floor_end(rays, top, self.floor_within, heading_sd or 0.0, "none") == 0) & \
-            (top < ROWS)
-        foot = floor_end(rays, top, self.floor_within, heading_sd or 0.0, "foot")
-        shown &= foot > 0
+        to_top, past = no_end(rays, top, self.floor_within, heading_sd or 0.0)
+        foot = wall_foot_reach(rays, self.floor_within, heading_sd or 0.0)
+        shown = (to_top | past) & (foot > 0)
         if not shown.any():
             return 0
         far = np.where(shown, foot, reach)
