@@ -206,18 +206,22 @@ def test_room_220_is_reached_in_its_65th_look_under_90_looks_and_not_under_60(
     assert [c.true for c in res[90].cycles[:60]] == [c.true for c in res[60].cycles]
 
 
-def test_room_337_is_reached_under_24_looks_without_progress_and_not_under_16():
+def test_room_144_is_reached_under_24_looks_without_progress_and_not_under_16():
     """``max_stuck`` 24 (the default since 2026-12-07 08:30; 16 before): bench/drive.py's
-    room 337 under its own odometry noise makes no progress for 16 looks in a row and gives
-    up at its 36th look under 16 (looking round in place since its 20th); under 24 it
-    moves on at its 37th look and the goal is reached by the truth in 40, with no
-    collision.  The two runs are the same drive until the first gives up: the count only
-    decides when to stop.  ``rig drive --max-stuck`` sets it (the test above)."""
+    room 144 under its own odometry noise makes no progress for 16 looks in a row and gives
+    up at its 31st look under 16; under 24 it moves on and the goal is reached by the
+    truth in 45, with no collision.  The two runs are the same drive until the first gives
+    up: the count only decides when to stop.  ``rig drive --max-stuck`` sets it (the test
+    above).  (Room 337, traced first, reaches its goal in 34 looks under both counts on
+    the machine of 2026-12-08, with the code its test had passed on (2f58fe6): a drive
+    that another machine's libraries turn another way, not traced; 144 is another of
+    the five rooms the 24 looks won.)"""
     from rigtools import assert_reached_by_the_truth, bench_drives
-    goal, res = bench_drives(337, "max_stuck", (16, 24))
-    assert not res[16].reached and res[16].looks == 36
+    goal, res = bench_drives(144, "max_stuck", (16, 24))
+    assert not res[16].reached and res[16].looks == 31
     assert res[16].reason.startswith("stopped after 16 looks without progress")
     assert res[16].collisions == 0
     assert_reached_by_the_truth(res[24], goal)
-    assert res[24].looks == 40
-    assert [c.true for c in res[24].cycles[:36]] == [c.true for c in res[16].cycles]
+    assert res[24].looks == 45
+    n = len(res[16].cycles)
+    assert [c.true for c in res[24].cycles[:n]] == [c.true for c in res[16].cycles]
