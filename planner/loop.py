@@ -138,7 +138,8 @@ from vehicle.commands import Back, Forward, Pan, Tilt, Turn, format_commands
 from vehicle.profile import DEFAULT, VehicleProfile
 from vehicle.sim import State, Vehicle, camera_pose, odometry_covariance
 from .appearance import BOUNDING, STAND_INS as STAND_IN_SHARES, reads_floor
-from .evidence import FreeProvenance, Perception, floor_stats, mark_walls, wall_growth
+from .evidence import FLAT_FOOT_APART_DEG, FreeProvenance, Perception, floor_stats, mark_walls, \
+    wall_growth
 from .drift import Odometry, erode_by_drift
 from .features import FloorFeatures
 from .floormap import FLOOR_Y, FloorMap, empty_map, fill_one_cell_gaps
@@ -150,7 +151,7 @@ from .motion import back_prefix, disc_approach, fetch_evidence, forward_to_turn,
     push_trail, retrace, backs_over_map
 from .octree import FREE, UNKNOWN, VolumeOfInterest, memory_bytes
 from .perception import BLANK_LIMITS, BLANK_SIDES, MAX_RANGE_FT, PLACES, SIGHT_LINES, \
-    TwoLookSides
+    BearingsApart, TwoLookSides
 from .passage import narrow_cells
 from .planning import GOAL_SLACK_FT, GOALS, PASSAGES, UNCERTAIN_PLANS, plan as plan_path, true_optimum
 from .search import NoPath, clearance_map, path_length
@@ -701,6 +702,13 @@ class DriveConfig:
                                           # cell proven only when a look from a bearing 20
                                           # deg away proves it too
                                           # (Perception._carve_flat_foot)
+    flat_foot_apart_deg: float = FLAT_FOOT_APART_DEG   # under wall_runs "flat-foot": the
+                                          # bearings of a cell from the two looks that must
+                                          # both prove it, at least this far apart (20;
+                                          # Perception.foot_bearings; 30, a named option:
+                                          # room 95 under looks_per_viewpoint 1 drove into a
+                                          # box face of the floor's grey whose front row two
+                                          # bearings 22 deg apart proved)
     tile_edges: str = "break"             # under floor_eyes "bound-add", the proof's run of the
                                           # learned greys: a pixel of another grey ends it
                                           # ("break"), or (a named option, not 1985; "blend")
@@ -995,6 +1003,11 @@ def _check_config(cfg: DriveConfig) -> None:
     if cfg.min_confidence and cfg.match != "improved":
         raise ValueError(f"min_confidence needs the improved matcher's verdicts "
                          f"(match 'improved'), not match {cfg.match!r}")
+    if isinstance(cfg.flat_foot_apart_deg, bool) or \
+            not isinstance(cfg.flat_foot_apart_deg, (int, float)) or \
+            not 0 < cfg.flat_foot_apart_deg < 180:
+        raise ValueError(f"flat_foot_apart_deg must be an angle in degrees above 0 and "
+                         f"under 180, not {cfg.flat_foot_apart_deg!r}")
     if cfg.disparity not in DISPARITIES:
         raise ValueError(f"disparity must be one of {', '.join(DISPARITIES)}, "
                          f"not {cfg.disparity!r}")
@@ -1066,6 +1079,7 @@ def _perception(cfg: DriveConfig, prof: VehicleProfile, factory) -> Perception:
     model.floor_end_check, model.proof_hits = cfg.floor_end_check, cfg.proof_hits
     model.free_cells = cfg.free_cells
     model.wall_runs, model.tile_edges = cfg.wall_runs, cfg.tile_edges
+    model.foot_bearings = BearingsApart(cfg.flat_foot_apart_deg)
     model.wall_hits, model.one_grey_runs = cfg.wall_hits, cfg.one_grey_runs
     model.expire_uncertain = int(cfg.expire_uncertain)
     if cfg.goal_evidence == "look-expire" and not cfg.expire_uncertain and cfg.occupied == "model":

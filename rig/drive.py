@@ -177,7 +177,7 @@ LOOP_OPTION_GROUPS = (
     ("the map: what is free", "what a look proves free, and what is assumed free",
      ("--floor-eyes", "--sight-lines", "--blank-ft", "--blank-carve", "--carve", "--blank-px",
       "--blank-limit", "--blank-sides", "--sides-apart", "--stand-in", "--learn-floor",
-      "--proof-hits", "--free-cells", "--wall-hits", "--one-grey-runs", "--wall-runs", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
+      "--proof-hits", "--free-cells", "--wall-hits", "--one-grey-runs", "--wall-runs", "--flat-foot-apart", "--tile-edges", "--floor-end-check", "--proof-heading", "--free-drift", "--free-gaps",
       "--track-free")),
     ("the path", "the search over the floor map",
      ("--unknown", "--search", "--margin", "--clearance-at", "--passage", "--goal-region", "--uncertain",
@@ -583,6 +583,10 @@ def add_loop_options(p) -> None:
              "default): 'texture', and on a flat floor 'foot' cut at every located point within a "
              "box's width of the column, each cell proven only when a look from a "
              "bearing 20 deg away proves it too")
+    opt("--flat-foot-apart", type=float, default=C.flat_foot_apart_deg, metavar="DEG",
+        help="under --wall-runs flat-foot: how far apart, in degrees, the bearings of a "
+             "cell from the two looks that must both prove it stand at least (default "
+             f"{C.flat_foot_apart_deg:g})")
     opt("--tile-edges", choices=TILE_EDGES, default=C.tile_edges,
         help="under --floor-eyes bound-add, the floor's proof up each column's run of its "
              "learned greys: 'break' (default): a pixel of another grey ends it; 'blend' "
@@ -704,6 +708,7 @@ def loop_config(args, goal, fail):
                        floor_end_check=args.floor_end_check, proof_hits=args.proof_hits,
                        free_cells=args.free_cells,
                        goal_evidence=args.goal_evidence, wall_runs=args.wall_runs,
+                       flat_foot_apart_deg=args.flat_foot_apart,
                        wall_hits=args.wall_hits, one_grey_runs=args.one_grey_runs,
                        tile_edges=args.tile_edges,
                        wall_points=args.wall_points,

@@ -305,6 +305,9 @@ def test_rig_drive_passes_its_options_to_the_loop(tmp_path, monkeypatch):
     c = drive_config(monkeypatch, tmp_path)
     assert c.clearance_at == "anywhere" and c.growth == "covariance"
     assert c.looks_per_viewpoint == 3
+    assert c.flat_foot_apart_deg == 20.0
+    assert drive_config(monkeypatch, tmp_path, "--flat-foot-apart",
+                        "30").flat_foot_apart_deg == 30.0
     assert (c.look_around, c.progress, c.uncertain, c.track_free, c.profile.reverse) == \
         ("evidence", "moved", "core", "poses", False)   # look_around: since 2026-12-04;
                                                         # uncertain: since 2026-12-05

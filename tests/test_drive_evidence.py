@@ -444,3 +444,15 @@ def test_room_3_is_reached_when_the_plan_may_pass_the_outer_sigma():
     assert "16 looks without progress" in res["blocked"].reason
     assert_reached_by_the_truth(res["core"], goal)
     assert any("past uncertain features' outer sigma" in c.note for c in res["core"].cycles)
+
+
+def test_room_73_is_reached_looking_once_from_each_place():
+    # bench/drive.py's room 73 under its own odometry noise: with three looks from each
+    # place (the default) the drive stops without progress; looking once from each place
+    # and driving on to the next (looks_per_viewpoint 1, a named option) it reaches the
+    # goal.  The world's exact geometry judges it.
+    from rigtools import assert_reached_by_the_truth, bench_drives
+    goal, res = bench_drives(73, "looks_per_viewpoint", (1, 3))
+    assert not res[3].reached and res[3].reason.startswith("stopped after 24 looks")
+    assert res[3].collisions == 0
+    assert_reached_by_the_truth(res[1], goal)

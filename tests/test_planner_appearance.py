@@ -1250,3 +1250,30 @@ def test_a_cell_is_confirmed_by_a_second_look_from_another_bearing():
     assert 7 not in b.first and b.first[8] == (0.0, 0.0) and b.confirmed == 1
     with pytest.raises(ValueError, match="positive angle"):
         BearingsApart(0.0)
+
+
+def test_room_95_keeps_out_of_a_box_face_of_the_floors_grey_only_under_bearings_30_deg_apart(
+        monkeypatch, tmp_path):
+    # bench/drive.py's room 95 under its own odometry noise, with the evidence looked at once
+    # from each place (looks_per_viewpoint 1, a named option): box 5's front (x -6.81..-4.95
+    # at z 4.29, 2.8 ft tall) is of grey 5 on a flat floor of 5, before a left wall of 5.
+    # Under flat-foot with bearings 20 deg apart (the default) two looks 22 deg apart (looks
+    # 4 and 20) prove its front row of cells, the vehicle drives up to the face and its
+    # pivot there runs into the box; with 30 deg (`--flat-foot-apart 30`) it keeps out.
+    # The world's exact geometry judges both: the true footprint against the true room.
+    from planner.loop import HIT, DriveConfig, _check_config
+    from rigtools import bench_drives, drive_config
+    from world.room import generate_room
+    assert drive_config(monkeypatch, tmp_path, "--flat-foot-apart",
+                        "30").flat_foot_apart_deg == 30.0
+    monkeypatch.undo()                                  # (drive_config stubs the loop)
+    for bad in (0.0, -5.0, 180.0, True):
+        with pytest.raises(ValueError, match="flat_foot_apart_deg must be"):
+            _check_config(DriveConfig(goal=(0.0, 5.0), flat_foot_apart_deg=bad))
+    shades = {q.name: str(q.shade) for q in generate_room(95).quads}
+    assert shades["floor"] == shades["box 5 front"] == shades["left wall"] == "flat(5)"
+    goal, res = bench_drives(95, "flat_foot_apart_deg", (20.0, 30.0), looks_per_viewpoint=1)
+    assert res[20.0].collisions == 1 and res[20.0].reason == HIT
+    end = res[20.0].true_track[-1]
+    assert -6.81 < end.x < -4.947 and 4.293 - 1.0 < end.z < 4.293   # before box 5's front
+    assert res[30.0].collisions == 0
