@@ -213,9 +213,9 @@ def test_room_144_is_reached_under_24_looks_without_progress_and_not_under_16():
     truth in 45, with no collision.  The two runs are the same drive until the first gives
     up: the count only decides when to stop.  ``rig drive --max-stuck`` sets it (the test
     above).  (Room 337, traced first, reaches its goal in 34 looks under both counts on
-    the machine of 2026-12-08, with the code its test had passed on (2f58fe6): a drive
-    that another machine's libraries turn another way, not traced; 144 is another of
-    the five rooms the 24 looks won.)"""
+    the machine of 2026-12-08, with the code its test had passed on (2f58fe6): most
+    likely that machine's library versions turn the drive another way, not traced; 144
+    is another of the five rooms the 24 looks won.)"""
     from rigtools import assert_reached_by_the_truth, bench_drives
     goal, res = bench_drives(144, "max_stuck", (16, 24))
     assert not res[16].reached and res[16].looks == 31
